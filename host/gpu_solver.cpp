@@ -1,0 +1,256 @@
+#include "gpu_solver.hpp"
+
+#include <chrono>
+#include <numeric>
+
+#include "vk/context.hpp"
+
+namespace pbflow {
+
+namespace {
+constexpr uint32_t kReduceThreads = 256;  // reduce_stats.comp and reduce_final.comp
+struct ReduceFinalPush {
+  uint32_t partial_count, particle_count;
+  float mass;
+};
+uint32_t partial_count(uint32_t n) { return (n + kReduceThreads - 1) / kReduceThreads; }
+}  // namespace
+
+GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector<glm::dvec3>& x0)
+    : ctx_(ctx),
+      d_(d),
+      sim_(d.to_gpu(uint32_t(x0.size()))),
+      n_(uint32_t(x0.size())),
+      viscosity_pass_(d.solver.xsph > 0 || d.solver.vorticity > 0),
+      vorticity_pass_(d.solver.vorticity > 0),
+      correction_pass_(d.solver.method == Method::Ldc),
+      density_(ctx, "density", 3, sizeof(SimConstants)),
+      correction_(ctx, "correction_force", 4, sizeof(SimConstants)),
+      predict_(ctx, "predict", 3, sizeof(SimConstants)),
+      lambda_(ctx, "constraint_lambda", 3, sizeof(SimConstants)),
+      apply_(ctx, "constraint_apply", 4, sizeof(SimConstants)),
+      velocity_(ctx, "velocity_update", 3, sizeof(SimConstants)),
+      viscosity_(ctx, "viscosity_vorticity", 5, sizeof(SimConstants)),
+      vorticity_(ctx, "vorticity_force", 4, sizeof(SimConstants)),
+      reduce_(ctx, "reduce_stats", 3, sizeof(SimConstants), kReduceThreads),
+      reduce_final_(ctx, "reduce_final", 2, sizeof(ReduceFinalPush), kReduceThreads),
+      grid_(ctx, sim_),
+      rho_(ctx, n_ * sizeof(float)),
+      lambda_buf_(ctx, n_ * sizeof(float)),
+      partials_(ctx, partial_count(n_) * sizeof(glm::vec4)),
+      result_(ctx, sizeof(glm::vec4), vk::Memory::Host),
+      cmd_(ctx),
+      timer_(ctx, 2) {
+  for (auto& b : vec4_) b = vk::Buffer(ctx, n_ * sizeof(glm::vec4));
+  for (auto& b : id_) b = vk::Buffer(ctx, n_ * sizeof(uint32_t));
+  // Model no more than the scene needs: vorticity storage only when a pass uses it.
+  if (viscosity_pass_) omega_ = vk::Buffer(ctx, n_ * sizeof(glm::vec4));
+  ParticleState s;
+  s.x = x0;
+  s.v.assign(n_, glm::dvec3(0.0));
+  s.x_pred = x0;
+  upload(s);
+}
+
+std::string GpuSolver::device_name() const { return ctx_.info().name; }
+
+void GpuSolver::upload(const ParticleState& s) {
+  auto pack = [&](const std::vector<glm::dvec3>& a) {
+    std::vector<glm::vec4> out(n_, glm::vec4(0.0f));
+    for (uint32_t i = 0; i < n_ && i < a.size(); ++i) out[i] = glm::vec4(glm::vec3(a[i]), 0.0f);
+    return out;
+  };
+  vec4_[role_[X]].upload(std::span<const glm::vec4>(pack(s.x)));
+  vec4_[role_[V]].upload(std::span<const glm::vec4>(pack(s.v)));
+  vec4_[role_[XPred]].upload(std::span<const glm::vec4>(pack(s.x_pred)));
+  std::vector<uint32_t> ids(n_);
+  std::iota(ids.begin(), ids.end(), 0u);
+  id_[id_current_].upload(std::span<const uint32_t>(ids));
+  density_current_ = false;
+}
+
+ParticleState GpuSolver::download() const {
+  auto ids = id_[id_current_].download<uint32_t>(n_);
+  auto unpack3 = [&](const vk::Buffer& b) {
+    auto raw = b.download<glm::vec4>(n_);
+    std::vector<glm::dvec3> out(n_);
+    for (uint32_t i = 0; i < n_; ++i) out[ids[i]] = glm::dvec3(glm::vec3(raw[i]));
+    return out;
+  };
+  auto unpack1 = [&](const vk::Buffer& b) {
+    auto raw = b.download<float>(n_);
+    std::vector<double> out(n_);
+    for (uint32_t i = 0; i < n_; ++i) out[ids[i]] = raw[i];
+    return out;
+  };
+  ParticleState s;
+  s.x = unpack3(at(X));
+  s.v = unpack3(at(V));
+  s.x_pred = unpack3(at(XPred));
+  if (viscosity_pass_) s.omega = unpack3(omega_);
+  s.rho = unpack1(rho_);
+  s.lambda = unpack1(lambda_buf_);
+  return s;
+}
+
+void GpuSolver::bind_particle_pass(const vk::Program& p) {
+  cmd_.set_program(p);
+  cmd_.push(sim_);
+}
+
+void GpuSolver::grid_at_positions() {
+  grid_.build(cmd_, sim_, {&at(X), &at(V), &id_[id_current_]}, {&at(Spare0), &at(Spare1), &id_[1 - id_current_]});
+  swap_roles(X, Spare0);
+  swap_roles(V, Spare1);
+  id_current_ = 1 - id_current_;
+}
+
+void GpuSolver::grid_at_predictions() {
+  // v is not carried: velocity_update() recomputes it from x and x_pred.
+  grid_.build(cmd_, sim_, {&at(XPred), &at(X), &id_[id_current_]},
+              {&at(Spare0), &at(Spare1), &id_[1 - id_current_]});
+  swap_roles(XPred, Spare0);
+  swap_roles(X, Spare1);
+  id_current_ = 1 - id_current_;
+}
+
+void GpuSolver::density() {
+  bind_particle_pass(density_);
+  cmd_.bind(0, grid_.cell_start());
+  cmd_.bind(1, at(X));
+  cmd_.bind(2, rho_);
+  cmd_.dispatch(n_);
+}
+
+void GpuSolver::correction() {
+  bind_particle_pass(correction_);
+  cmd_.bind(0, grid_.cell_start());
+  cmd_.bind(1, at(X));
+  cmd_.bind(2, rho_);
+  cmd_.bind(3, at(V));
+  cmd_.dispatch(n_);
+}
+
+void GpuSolver::predict() {
+  bind_particle_pass(predict_);
+  cmd_.bind(0, at(X));
+  cmd_.bind(1, at(V));
+  cmd_.bind(2, at(XPred));
+  cmd_.dispatch(n_);
+}
+
+void GpuSolver::constraint_lambda() {
+  bind_particle_pass(lambda_);
+  cmd_.bind(0, grid_.cell_start());
+  cmd_.bind(1, at(XPred));
+  cmd_.bind(2, lambda_buf_);
+  cmd_.dispatch(n_);
+}
+
+void GpuSolver::constraint_apply() {
+  // Jacobi: every particle reads the same x_pred, so the result goes to a spare array.
+  bind_particle_pass(apply_);
+  cmd_.bind(0, grid_.cell_start());
+  cmd_.bind(1, at(XPred));
+  cmd_.bind(2, lambda_buf_);
+  cmd_.bind(3, at(Spare0));
+  cmd_.dispatch(n_);
+  swap_roles(XPred, Spare0);
+}
+
+void GpuSolver::velocity_update() {
+  bind_particle_pass(velocity_);
+  cmd_.bind(0, at(X));
+  cmd_.bind(1, at(XPred));
+  cmd_.bind(2, at(V));
+  cmd_.dispatch(n_);
+  swap_roles(X, XPred);  // x = x_pred, without a copy
+}
+
+void GpuSolver::viscosity_vorticity() {
+  bind_particle_pass(viscosity_);
+  cmd_.bind(0, grid_.cell_start());
+  cmd_.bind(1, at(X));
+  cmd_.bind(2, at(V));
+  cmd_.bind(3, at(Spare0));
+  cmd_.bind(4, omega_);
+  cmd_.dispatch(n_);
+  swap_roles(V, Spare0);
+}
+
+void GpuSolver::vorticity_force() {
+  bind_particle_pass(vorticity_);
+  cmd_.bind(0, grid_.cell_start());
+  cmd_.bind(1, at(X));
+  cmd_.bind(2, omega_);
+  cmd_.bind(3, at(V));
+  cmd_.dispatch(n_);
+}
+
+void GpuSolver::record_step() {
+  if (correction_pass_) {
+    if (!density_current_) {
+      grid_at_positions();
+      density();
+    }
+    correction();
+  }
+  predict();
+  grid_at_predictions();
+  for (int k = 0; k < d_.solver.iterations; ++k) {
+    constraint_lambda();
+    constraint_apply();
+  }
+  velocity_update();
+  if (viscosity_pass_) viscosity_vorticity();
+  if (vorticity_pass_) vorticity_force();
+  density_current_ = false;
+}
+
+void GpuSolver::record_measures() {
+  grid_at_positions();
+  density();
+  cmd_.set_program(reduce_);
+  cmd_.push(sim_);
+  cmd_.bind(0, rho_);
+  cmd_.bind(1, at(V));
+  cmd_.bind(2, partials_);
+  cmd_.dispatch(n_);
+  cmd_.set_program(reduce_final_);
+  cmd_.push(ReduceFinalPush{partial_count(n_), n_, sim_.mass});
+  cmd_.bind(0, partials_);
+  cmd_.bind(1, result_);
+  cmd_.dispatch(1);
+  density_current_ = true;
+}
+
+FrameStats GpuSolver::read_measures() const {
+  const auto* r = static_cast<const float*>(result_.mapped());
+  FrameStats s;
+  s.mean_compression = r[0];
+  s.max_compression = r[1];
+  s.kinetic_energy = r[2];
+  s.max_speed = r[3];
+  return s;
+}
+
+FrameStats GpuSolver::advance(int steps) {
+  auto start = std::chrono::steady_clock::now();
+  begin();
+  timer_.reset(cmd_);
+  timer_.mark(cmd_);
+  for (int k = 0; k < steps; ++k) record_step();
+  timer_.mark(cmd_);
+  record_measures();
+  finish();
+  FrameStats s = read_measures();
+  if (steps > 0) {
+    double ms = timer_.available()
+                    ? timer_.read_ms()[1]
+                    : std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    s.step_ms = ms / steps;
+  }
+  return s;
+}
+
+}  // namespace pbflow

@@ -1,0 +1,70 @@
+#pragma once
+// The solver on Vulkan compute: every pass of DESIGN.md's step is one shader, and a
+// whole frame (all its steps and the measures) is one command buffer.
+#include <array>
+#include <memory>
+
+#include "gpu_grid.hpp"
+#include "params.hpp"
+#include "solver.hpp"
+#include "vk/buffer.hpp"
+#include "vk/commands.hpp"
+#include "vk/program.hpp"
+#include "vk/timer.hpp"
+
+namespace pbflow {
+
+class GpuSolver : public Solver {
+ public:
+  GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector<glm::dvec3>& x0);
+
+  FrameStats advance(int steps) override;
+  size_t particle_count() const override { return n_; }
+  std::string device_name() const override;
+
+  // Pass-level access for the tests: begin(), record passes, finish() submits and waits.
+  void begin() { cmd_.begin(); }
+  void finish() { cmd_.submit_and_wait(); }
+  void grid_at_positions();    // sorts x, v, id by the cells of x
+  void grid_at_predictions();  // sorts x, x_pred, id by the cells of x_pred
+  void density();
+  void correction();
+  void predict();
+  void constraint_lambda();
+  void constraint_apply();
+  void velocity_update();
+  void viscosity_vorticity();
+  void vorticity_force();
+  void record_step();
+  void record_measures();  // grid and density at x, then the reductions
+
+  void upload(const ParticleState& s);  // x, v, x_pred, in id order
+  ParticleState download() const;       // everything, in id order
+
+ private:
+  enum Slot { X, V, XPred, Spare0, Spare1, kSlots };  // roles of the vec4 arrays, swapped on the host
+  const vk::Buffer& at(Slot s) const { return vec4_[role_[s]]; }
+  void swap_roles(Slot a, Slot b) { std::swap(role_[a], role_[b]); }
+  void bind_particle_pass(const vk::Program& p);
+  FrameStats read_measures() const;
+
+  const vk::Context& ctx_;
+  Derived d_;
+  SimConstants sim_;
+  uint32_t n_;
+  bool viscosity_pass_, vorticity_pass_, correction_pass_;
+  bool density_current_ = false;  // rho and the grid already match x (measures were just taken)
+
+  vk::Program density_, correction_, predict_, lambda_, apply_, velocity_, viscosity_, vorticity_;
+  vk::Program reduce_, reduce_final_;
+  GpuGrid grid_;
+  std::array<vk::Buffer, kSlots> vec4_;
+  std::array<int, kSlots> role_{X, V, XPred, Spare0, Spare1};
+  std::array<vk::Buffer, 2> id_;
+  int id_current_ = 0;
+  vk::Buffer rho_, lambda_buf_, omega_, partials_, result_;
+  vk::CommandList cmd_;
+  vk::GpuTimer timer_;
+};
+
+}  // namespace pbflow

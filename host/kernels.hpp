@@ -1,0 +1,33 @@
+#pragma once
+// SPH kernels in double precision for the reference solver and parameter set-up.
+// shaders/common.glsl has the same kernels in float.
+#include <glm/glm.hpp>
+
+#include <numbers>
+
+namespace pbflow::kernels {
+
+inline double poly6_coef(double h) { return 315.0 / (64.0 * std::numbers::pi * std::pow(h, 9)); }
+inline double spiky_coef(double h) { return 45.0 / (std::numbers::pi * std::pow(h, 6)); }
+
+// W_poly6 for squared distance r2.
+inline double poly6(double r2, double h) {
+  double d = h * h - r2;
+  return d > 0 ? poly6_coef(h) * d * d * d : 0.0;
+}
+
+// Gradient of W_spiky with respect to x_i, d = x_i - x_j.
+inline glm::dvec3 spiky_grad(const glm::dvec3& d, double h) {
+  double r = glm::length(d);
+  if (r <= 0 || r >= h) return glm::dvec3(0.0);
+  double s = h - r;
+  return (-spiky_coef(h) * s * s / r) * d;
+}
+
+// W_spiky itself (for the kernel tests: its gradient is checked against finite differences).
+inline double spiky(double r, double h) {
+  double s = h - r;
+  return r < h ? spiky_coef(h) / 3.0 * s * s * s : 0.0;  // 15/(pi h^6) (h - r)^3
+}
+
+}  // namespace pbflow::kernels

@@ -1,0 +1,117 @@
+#include "params.hpp"
+
+#include <cmath>
+
+#include "kernels.hpp"
+#include "scene.hpp"
+
+namespace pbflow {
+
+SolverParams SolverParams::defaults() {
+  SolverParams p;
+  // The seed paper's claim is about ldc at one iteration; that is what a user gets first.
+  p.method = Method::Ldc;
+  p.iterations = 1;
+  // dt = 1/120 s at 60 fps: a falling column of 0.8 m reaches ~4 m/s, i.e. under
+  // two particle spacings (at 0.02 m) per step, the usual PBF budget.
+  p.substeps = 2;
+  // h = 2 spacings: ~33 neighbours inside h on a lattice (4/3 pi 2^3), the usual SPH choice.
+  p.kernel_ratio = 2.0;
+  p.rest_density = 1000.0;  // water, kg/m^3
+  // eps relative to the denominator's own scale makes the relaxation independent of
+  // resolution (an absolute eps would change meaning with spacing). 1% barely slows
+  // convergence and keeps lambda bounded for particles with few neighbours.
+  p.relaxation = 0.01;
+  // Macklin & Mueller 2013, section 4: k = 0.1, n = 4, dq = 0.2 h.
+  p.scorr_k = 0.1;
+  p.scorr_n = 4.0;
+  p.scorr_dq = 0.2;
+  // XSPH c: 2% of the kernel-averaged relative velocity per step damps particle noise
+  // without visibly thickening a dam break.
+  p.xsph = 0.02;
+  p.vorticity = 0.0;  // off unless a scene asks: it adds energy and a pass
+  // K, 1/s^2: chosen from the sweep in bench/results/ldc_k_sweep_lavapipe.md.
+  p.ldc_k = 2000.0;
+  return p;
+}
+
+double lattice_mass(double spacing, double h, double rho0) {
+  int n = int(std::ceil(h / spacing));
+  double sum = 0;
+  for (int i = -n; i <= n; ++i)
+    for (int j = -n; j <= n; ++j)
+      for (int k = -n; k <= n; ++k) {
+        glm::dvec3 d = spacing * glm::dvec3(i, j, k);
+        sum += kernels::poly6(glm::dot(d, d), h);
+      }
+  return rho0 / sum;
+}
+
+double lattice_gradient_sq(double spacing, double h, double mass, double rho0) {
+  int n = int(std::ceil(h / spacing));
+  glm::dvec3 grad_i(0.0);
+  double sum = 0;
+  for (int i = -n; i <= n; ++i)
+    for (int j = -n; j <= n; ++j)
+      for (int k = -n; k <= n; ++k) {
+        glm::dvec3 g = (mass / rho0) * kernels::spiky_grad(spacing * glm::dvec3(i, j, k), h);
+        grad_i += g;
+        sum += glm::dot(g, g);
+      }
+  return sum + glm::dot(grad_i, grad_i);
+}
+
+Derived derive(const Scene& scene) {
+  Derived d;
+  d.solver = scene.solver;
+  const double s = scene.particle_spacing;
+  d.h = scene.solver.kernel_ratio * s;
+  d.dt = 1.0 / (scene.fps * scene.solver.substeps);
+  d.rho0 = scene.solver.rest_density;
+  d.mass = lattice_mass(s, d.h, d.rho0);
+  const double gradient_sq = lattice_gradient_sq(s, d.h, d.mass, d.rho0);
+  d.epsilon = scene.solver.relaxation * gradient_sq;
+  d.scorr_scale = scene.solver.scorr_k / gradient_sq;
+  d.scorr_inv_wdq = 1.0 / kernels::poly6(std::pow(scene.solver.scorr_dq * d.h, 2), d.h);
+  d.gravity = scene.gravity;
+  d.domain_min = scene.domain.min;
+  d.domain_max = scene.domain.max;
+  // Particles are spheres of diameter `spacing`: their centres stay half a spacing off the walls.
+  d.wall_min = d.domain_min + 0.5 * s;
+  d.wall_max = d.domain_max - 0.5 * s;
+  glm::dvec3 size = d.domain_max - d.domain_min;
+  if (glm::any(glm::lessThan(size, glm::dvec3(s))))
+    throw InputError("the domain must be at least one particle_spacing wide on every axis");
+  glm::dvec3 cells = glm::ceil(size / d.h);
+  if (cells.x * cells.y * cells.z > 1 << 26)
+    throw InputError("the domain holds too many grid cells (over 2^26) at this particle_spacing");
+  d.grid = glm::ivec3(cells);
+  return d;
+}
+
+SimConstants Derived::to_gpu(uint32_t count) const {
+  SimConstants c{};
+  c.domain_min = domain_min;
+  c.h = float(h);
+  c.domain_max = domain_max;
+  c.dt = float(dt);
+  c.gravity = gravity;
+  c.mass = float(mass);
+  c.grid = grid;
+  c.count = count;
+  c.wall_min = wall_min;
+  c.rho0 = float(rho0);
+  c.wall_max = wall_max;
+  c.epsilon = float(epsilon);
+  c.poly6_coef = float(kernels::poly6_coef(h));
+  c.spiky_coef = float(kernels::spiky_coef(h));
+  c.ldc_k = solver.method == Method::Ldc ? float(solver.ldc_k) : 0.0f;
+  c.scorr_k = float(scorr_scale);
+  c.scorr_inv_wdq = float(scorr_inv_wdq);
+  c.scorr_n = float(solver.scorr_n);
+  c.xsph_c = float(solver.xsph);
+  c.vorticity_eps = float(solver.vorticity);
+  return c;
+}
+
+}  // namespace pbflow

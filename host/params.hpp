@@ -1,0 +1,68 @@
+#pragma once
+// Solver parameters: what a scene sets (SolverParams, with every default and its
+// reason in params.cpp) and what the passes read (SimConstants, derived from them).
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <string>
+
+namespace pbflow {
+
+enum class Method { Pbf, Ldc };
+Method parse_method(const std::string& name);  // throws std::invalid_argument
+const char* method_name(Method m);
+
+struct SolverParams {
+  Method method;
+  int iterations;          // constraint iterations per step
+  int substeps;            // steps per frame: dt = 1 / (fps * substeps)
+  double kernel_ratio;     // h / particle spacing
+  double rest_density;     // rho0, kg/m^3
+  double relaxation;       // eps as a fraction of an interior particle's sum |grad C|^2
+  double scorr_k;          // tensile term strength, as an equivalent compression (dimensionless)
+  double scorr_n;          // tensile term exponent
+  double scorr_dq;         // tensile term reference distance, as a fraction of h
+  double xsph;             // XSPH viscosity c (fraction of the neighbour-averaged relative velocity)
+  double vorticity;        // vorticity confinement epsilon, m/s (0: off)
+  double ldc_k;            // LDC strength K, 1/s^2
+
+  static SolverParams defaults();
+};
+
+// Push-constant block shared by all particle passes; layout mirrors `Sim` in
+// shaders/common.glsl (std430: a vec3 followed by a float fills 16 bytes).
+struct SimConstants {
+  glm::vec3 domain_min; float h;
+  glm::vec3 domain_max; float dt;
+  glm::vec3 gravity; float mass;
+  glm::ivec3 grid; uint32_t count;
+  glm::vec3 wall_min; float rho0;
+  glm::vec3 wall_max; float epsilon;
+  float poly6_coef, spiky_coef, ldc_k, scorr_k;
+  float scorr_inv_wdq, scorr_n, xsph_c, vorticity_eps;
+};
+static_assert(sizeof(SimConstants) == 128, "SimConstants must match shaders/common.glsl and fit 128 bytes");
+
+struct Scene;
+
+// Everything a pass needs, in double for the reference solver; to_gpu() narrows it.
+struct Derived {
+  glm::dvec3 domain_min, domain_max, wall_min, wall_max, gravity;
+  glm::ivec3 grid;
+  double h, dt, mass, rho0, epsilon;
+  double scorr_inv_wdq;
+  // s_corr in the units of lambda (m^2): k divided by an interior particle's sum |grad C|^2,
+  // so that k reads as the compression the tensile term is worth at r = dq.
+  double scorr_scale;
+  SolverParams solver;
+
+  SimConstants to_gpu(uint32_t count) const;
+};
+Derived derive(const Scene& scene);
+
+// Particle mass that gives an interior particle of a cubic lattice of `spacing` exactly rho0.
+double lattice_mass(double spacing, double h, double rho0);
+// sum_k |grad_k C_i|^2 for that particle: the scale of the constraint's denominator.
+double lattice_gradient_sq(double spacing, double h, double mass, double rho0);
+
+}  // namespace pbflow

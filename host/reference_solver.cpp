@@ -1,0 +1,191 @@
+#include "reference_solver.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "kernels.hpp"
+
+namespace pbflow {
+
+using glm::dvec3;
+
+ReferenceSolver::ReferenceSolver(const Derived& d, const std::vector<dvec3>& x0) : d_(d) {
+  size_t n = x0.size();
+  state.x = x0;
+  state.v.assign(n, dvec3(0.0));
+  state.x_pred = x0;
+  state.omega.assign(n, dvec3(0.0));
+  state.rho.assign(n, 0.0);
+  state.lambda.assign(n, 0.0);
+  cells_.resize(size_t(d.grid.x) * d.grid.y * d.grid.z);
+}
+
+glm::ivec3 ReferenceSolver::cell_of(const dvec3& x) const {
+  dvec3 c = glm::clamp(glm::floor((x - d_.domain_min) / d_.h), dvec3(0.0), dvec3(d_.grid - 1));
+  return glm::ivec3(c);
+}
+
+// Visits j for every particle binned in the 27 cells around xi (distance not tested).
+template <class F>
+void ReferenceSolver::for_each_neighbour(const dvec3& xi, F&& visit) const {
+  glm::ivec3 c = cell_of(xi);
+  for (int z = std::max(c.z - 1, 0); z <= std::min(c.z + 1, d_.grid.z - 1); ++z)
+    for (int y = std::max(c.y - 1, 0); y <= std::min(c.y + 1, d_.grid.y - 1); ++y)
+      for (int x = std::max(c.x - 1, 0); x <= std::min(c.x + 1, d_.grid.x - 1); ++x)
+        for (size_t j : cells_[cell_id({x, y, z})]) visit(j);
+}
+
+void ReferenceSolver::build_grid(const std::vector<dvec3>& at) {
+  for (auto& cell : cells_) cell.clear();
+  for (size_t i = 0; i < at.size(); ++i) cells_[cell_id(cell_of(at[i]))].push_back(i);
+}
+
+void ReferenceSolver::density() {
+  for (size_t i = 0; i < state.x.size(); ++i) {
+    double sum = 0;
+    for_each_neighbour(state.x[i], [&](size_t j) {
+      dvec3 d = state.x[i] - state.x[j];
+      sum += kernels::poly6(glm::dot(d, d), d_.h);
+    });
+    state.rho[i] = d_.mass * sum;
+  }
+}
+
+dvec3 ReferenceSolver::correction_force(size_t i) const {
+  dvec3 f(0.0);
+  for_each_neighbour(state.x[i], [&](size_t j) {
+    dvec3 d = state.x[j] - state.x[i];
+    double r = glm::length(d);
+    if (r > 0 && r < d_.h) f += ((state.rho[j] - state.rho[i]) / d_.rho0) * d_.h * (1 - r / d_.h) * (d / r);
+  });
+  double k = d_.solver.method == Method::Ldc ? d_.solver.ldc_k : 0.0;
+  return -k * f;
+}
+
+void ReferenceSolver::correction() {
+  std::vector<dvec3> f(state.x.size());
+  for (size_t i = 0; i < f.size(); ++i) f[i] = correction_force(i);
+  for (size_t i = 0; i < f.size(); ++i) state.v[i] += f[i] * d_.dt;
+}
+
+void ReferenceSolver::predict() {
+  for (size_t i = 0; i < state.x.size(); ++i) {
+    state.v[i] += d_.gravity * d_.dt;
+    state.x_pred[i] = project_to_walls(state.x[i] + state.v[i] * d_.dt);
+  }
+}
+
+void ReferenceSolver::constraint_lambda() {
+  const double s = d_.mass / d_.rho0;
+  for (size_t i = 0; i < state.x.size(); ++i) {
+    const dvec3 xi = state.x_pred[i];
+    double w_sum = 0, grad_sq = 0;
+    dvec3 grad_i(0.0);
+    for_each_neighbour(xi, [&](size_t j) {
+      dvec3 d = xi - state.x_pred[j];
+      w_sum += kernels::poly6(glm::dot(d, d), d_.h);
+      dvec3 g = s * kernels::spiky_grad(d, d_.h);  // grad_j C_i = -g, and g adds to grad_i C_i
+      grad_i += g;
+      grad_sq += glm::dot(g, g);
+    });
+    double c = std::max(d_.mass * w_sum / d_.rho0 - 1.0, 0.0);
+    state.lambda[i] = -c / (grad_sq + glm::dot(grad_i, grad_i) + d_.epsilon);
+  }
+}
+
+void ReferenceSolver::constraint_apply() {
+  std::vector<dvec3> next(state.x.size());
+  const double inv_wdq = d_.scorr_inv_wdq, k = d_.scorr_scale, n = d_.solver.scorr_n;
+  for (size_t i = 0; i < next.size(); ++i) {
+    const dvec3 xi = state.x_pred[i];
+    dvec3 dp(0.0);
+    for_each_neighbour(xi, [&](size_t j) {
+      dvec3 d = xi - state.x_pred[j];
+      double s_corr = k > 0 ? -k * std::pow(kernels::poly6(glm::dot(d, d), d_.h) * inv_wdq, n) : 0.0;
+      dp += (state.lambda[i] + state.lambda[j] + s_corr) * kernels::spiky_grad(d, d_.h);
+    });
+    next[i] = project_to_walls(xi + (d_.mass / d_.rho0) * dp);
+  }
+  state.x_pred = std::move(next);
+}
+
+void ReferenceSolver::velocity_update() {
+  for (size_t i = 0; i < state.x.size(); ++i) {
+    state.v[i] = (state.x_pred[i] - state.x[i]) / d_.dt;
+    state.x[i] = state.x_pred[i];
+  }
+}
+
+void ReferenceSolver::viscosity_vorticity() {
+  const double volume = d_.mass / d_.rho0;
+  std::vector<dvec3> v_next(state.x.size());
+  for (size_t i = 0; i < v_next.size(); ++i) {
+    dvec3 smooth(0.0), curl(0.0);
+    for_each_neighbour(state.x[i], [&](size_t j) {
+      dvec3 d = state.x[i] - state.x[j];
+      dvec3 vij = state.v[j] - state.v[i];
+      smooth += vij * kernels::poly6(glm::dot(d, d), d_.h);
+      curl += glm::cross(vij, kernels::spiky_grad(d, d_.h));
+    });
+    v_next[i] = state.v[i] + d_.solver.xsph * volume * smooth;
+    state.omega[i] = volume * curl;
+  }
+  state.v = std::move(v_next);
+}
+
+void ReferenceSolver::vorticity_force() {
+  for (size_t i = 0; i < state.x.size(); ++i) {
+    dvec3 eta(0.0);
+    for_each_neighbour(state.x[i], [&](size_t j) {
+      eta += glm::length(state.omega[j]) * kernels::spiky_grad(state.x[i] - state.x[j], d_.h);
+    });
+    double len = glm::length(eta);
+    if (len > 1e-9) state.v[i] += (d_.solver.vorticity * d_.dt / len) * glm::cross(eta, state.omega[i]);
+  }
+}
+
+void ReferenceSolver::step() {
+  const SolverParams& p = d_.solver;
+  if (p.method == Method::Ldc) {
+    build_grid(state.x);
+    density();
+    correction();
+  }
+  predict();
+  build_grid(state.x_pred);
+  for (int k = 0; k < p.iterations; ++k) {
+    constraint_lambda();
+    constraint_apply();
+  }
+  velocity_update();
+  if (p.xsph > 0 || p.vorticity > 0) viscosity_vorticity();
+  if (p.vorticity > 0) vorticity_force();
+}
+
+FrameStats ReferenceSolver::measure() {
+  build_grid(state.x);
+  density();
+  FrameStats s;
+  for (size_t i = 0; i < state.x.size(); ++i) {
+    double c = std::max(state.rho[i] / d_.rho0 - 1.0, 0.0);
+    s.mean_compression += c;
+    s.max_compression = std::max(s.max_compression, c);
+    double v2 = glm::dot(state.v[i], state.v[i]);
+    s.kinetic_energy += 0.5 * d_.mass * v2;
+    s.max_speed = std::max(s.max_speed, std::sqrt(v2));
+  }
+  s.mean_compression /= double(std::max<size_t>(state.x.size(), 1));
+  return s;
+}
+
+FrameStats ReferenceSolver::advance(int steps) {
+  auto start = std::chrono::steady_clock::now();
+  for (int k = 0; k < steps; ++k) step();
+  double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  FrameStats s = measure();
+  s.step_ms = steps > 0 ? ms / steps : 0.0;
+  return s;
+}
+
+}  // namespace pbflow

@@ -1,0 +1,51 @@
+#pragma once
+// The C++ reference: the same passes in the same order as the GPU solver, in double
+// precision and written for clarity. Tests compare every GPU pass with it; it is also
+// the CPU baseline (--device cpu).
+#include <vector>
+
+#include "params.hpp"
+#include "solver.hpp"
+
+namespace pbflow {
+
+class ReferenceSolver : public Solver {
+ public:
+  ReferenceSolver(const Derived& d, const std::vector<glm::dvec3>& x0);
+
+  FrameStats advance(int steps) override;
+  size_t particle_count() const override { return state.x.size(); }
+  std::string device_name() const override { return "cpu (C++ reference)"; }
+
+  void step();
+  FrameStats measure();  // grid and density at x, then the measures
+
+  // The passes of one step (DESIGN.md), public so that tests can run them one by one.
+  void build_grid(const std::vector<glm::dvec3>& at);  // bins particles by cell
+  void density();                                      // rho at x
+  void correction();                                   // v += f_LDC dt
+  void predict();                                      // v += g dt, x_pred
+  void constraint_lambda();                            // lambda at x_pred
+  void constraint_apply();                             // x_pred += dp
+  void velocity_update();                              // v from x_pred - x; x = x_pred
+  void viscosity_vorticity();                          // XSPH, omega
+  void vorticity_force();                              // v += f_vort dt
+
+  // The LDC acceleration on particle i (from rho and x); correction() applies it.
+  glm::dvec3 correction_force(size_t i) const;
+
+  const Derived& derived() const { return d_; }
+  ParticleState state;
+
+ private:
+  template <class F>
+  void for_each_neighbour(const glm::dvec3& xi, F&& visit) const;
+  glm::ivec3 cell_of(const glm::dvec3& x) const;
+  size_t cell_id(const glm::ivec3& c) const { return (size_t(c.z) * d_.grid.y + c.y) * d_.grid.x + c.x; }
+  glm::dvec3 project_to_walls(const glm::dvec3& x) const { return glm::clamp(x, d_.wall_min, d_.wall_max); }
+
+  Derived d_;
+  std::vector<std::vector<size_t>> cells_;  // particles binned by cell at the last build_grid
+};
+
+}  // namespace pbflow

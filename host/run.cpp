@@ -1,0 +1,103 @@
+#include "run.hpp"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+
+#include "gpu_solver.hpp"
+#include "reference_solver.hpp"
+#include "scene.hpp"
+#include "stats_csv.hpp"
+#include "vk/context.hpp"
+
+namespace pbflow {
+
+std::vector<std::string> scene_overrides(const RunOptions& o) {
+  std::vector<std::string> all = o.params;
+  if (!o.method.empty()) all.push_back("solver.method=\"" + o.method + "\"");
+  if (o.iterations) all.push_back("solver.iterations=" + std::to_string(o.iterations));
+  if (o.frames) all.push_back("frames=" + std::to_string(o.frames));
+  return all;
+}
+
+std::unique_ptr<Solver> make_solver(const std::string& device, bool validate, const Derived& d,
+                                    const std::vector<glm::dvec3>& x0, std::unique_ptr<vk::Context>& ctx) {
+  if (device == "cpu") return std::make_unique<ReferenceSolver>(d, x0);
+  ctx = std::make_unique<vk::Context>(vk::Context::Options{device, validate, 0});
+  return std::make_unique<GpuSolver>(*ctx, d, x0);
+}
+
+namespace {
+
+class Progress {
+ public:
+  Progress(int frames, bool enabled) : frames_(frames), enabled_(enabled && isatty(STDERR_FILENO)) {}
+  void update(int frame, double sim_time, double elapsed_s) {
+    if (!enabled_) return;
+    double rate = frame / std::max(elapsed_s, 1e-9);
+    double left = (frames_ - 1 - frame) / std::max(rate, 1e-9);
+    std::fprintf(stderr, "\rframe %d/%d  t = %.2f s  %.1f frames/s  %.0f s left   ", frame + 1, frames_, sim_time,
+                 rate, left);
+  }
+  void done() {
+    if (enabled_) std::fprintf(stderr, "\r%*s\r", 70, "");
+  }
+
+ private:
+  int frames_;
+  bool enabled_;
+};
+
+}  // namespace
+
+int run(const RunOptions& o) {
+  Scene scene = load_scene(o.scene, scene_overrides(o));
+  Derived d = derive(scene);
+  std::vector<glm::dvec3> x0 = initial_particles(scene);
+
+  std::unique_ptr<vk::Context> ctx;
+  std::unique_ptr<Solver> solver = make_solver(o.device, o.validate, d, x0, ctx);
+
+  std::filesystem::create_directories(o.out);
+  StatsCsv csv(std::filesystem::path(o.out) / "stats.csv");
+  if (!o.quiet) {
+    std::cerr << "pbflow: " << scene.name << ", " << x0.size() << " particles, " << method_name(scene.solver.method)
+              << " with " << scene.solver.iterations << " iteration(s), " << scene.solver.substeps
+              << " substeps per frame, on " << solver->device_name() << "\n";
+    if (o.render) std::cerr << "pbflow: frames are not rendered yet (capture/ is not built); writing stats only\n";
+  }
+
+  Progress progress(scene.frames, !o.quiet);
+  auto start = std::chrono::steady_clock::now();
+  double sum_mean = 0, worst = 0, sum_step_ms = 0;
+  for (int frame = 0; frame < scene.frames; ++frame) {
+    FrameStats s = solver->advance(frame == 0 ? 0 : scene.solver.substeps);
+    double t = frame / scene.fps;
+    csv.write(frame, t, s);
+    sum_mean += s.mean_compression;
+    worst = std::max(worst, s.max_compression);
+    sum_step_ms += s.step_ms;
+    progress.update(frame, t, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  }
+  progress.done();
+  double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  long steps = long(scene.frames - 1) * scene.solver.substeps;
+  if (!o.quiet) {
+    double solver_s = sum_step_ms / 1000.0 * scene.solver.substeps;
+    std::cout << "particles " << x0.size() << ", steps " << steps << ", wall " << wall << " s, "
+              << (steps > 0 ? double(x0.size()) * steps / solver_s : 0.0) << " particle-steps/s (solver time "
+              << solver_s << " s), mean compression " << sum_mean / scene.frames << ", max compression " << worst
+              << "\nstats: " << (std::filesystem::path(o.out) / "stats.csv").string() << "\n";
+  }
+  if (ctx && !ctx->validation_messages().empty()) {
+    std::cerr << "pbflow: " << ctx->validation_messages().size() << " Vulkan validation message(s)\n";
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace pbflow

@@ -1,0 +1,40 @@
+#pragma once
+// `pbflow run`: scene -> solver -> stats.csv, with progress and a summary.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "params.hpp"
+#include "solver.hpp"
+
+namespace pbflow {
+
+namespace vk {
+class Context;
+}
+
+struct RunOptions {
+  std::string scene = "dam_break";
+  std::vector<std::string> params;  // --param key=value, applied in order
+  std::string method;               // empty: the scene's
+  int iterations = 0;               // 0: the scene's
+  int frames = 0;                   // 0: the scene's
+  std::string out = "out";
+  std::string device = "auto";
+  bool validate = false;
+  bool render = true;
+  bool quiet = false;
+};
+
+// The scene's overrides: --param entries, then the dedicated options (which win).
+std::vector<std::string> scene_overrides(const RunOptions& o);
+
+// A solver for `device` ("cpu" for the reference, else a Vulkan device); `ctx` is
+// filled for Vulkan devices and must outlive the solver.
+std::unique_ptr<Solver> make_solver(const std::string& device, bool validate, const Derived& d,
+                                    const std::vector<glm::dvec3>& x0, std::unique_ptr<vk::Context>& ctx);
+
+// Runs the scene; returns the exit status (DESIGN.md). Throws InputError for bad input.
+int run(const RunOptions& o);
+
+}  // namespace pbflow

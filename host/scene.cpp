@@ -1,0 +1,218 @@
+#include "scene.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+namespace pbflow {
+
+const std::vector<std::pair<std::string_view, std::string_view>>& builtin_scenes_text();  // generated (cmake/embed.cmake)
+
+namespace {
+
+using nlohmann::json;
+
+// The keys a scene may have; anything else is an error naming its path.
+const json& schema() {
+  static const json s = json::parse(R"({
+    "description": "", "domain": {"min": 0, "max": 0}, "particle_spacing": 0,
+    "fluid_blocks": [], "gravity": 0, "fps": 0, "frames": 0,
+    "solver": {"method": 0, "iterations": 0, "substeps": 0, "kernel_ratio": 0, "rest_density": 0,
+               "relaxation": 0, "scorr_k": 0, "scorr_n": 0, "scorr_dq": 0, "xsph": 0,
+               "vorticity": 0, "ldc_k": 0},
+    "camera": {"eye": 0, "target": 0, "fov": 0}
+  })");
+  return s;
+}
+
+void reject_unknown(const json& j, const json& allowed, const std::string& path) {
+  if (!j.is_object()) throw InputError("scene key '" + path + "' must be an object");
+  for (auto it = j.begin(); it != j.end(); ++it) {
+    std::string key = path.empty() ? it.key() : path + "." + it.key();
+    if (!allowed.contains(it.key())) throw InputError("unknown scene key '" + key + "'");
+    if (allowed[it.key()].is_object()) reject_unknown(it.value(), allowed[it.key()], key);
+  }
+}
+
+double number(const json& j, const std::string& key, double fallback) {
+  if (!j.contains(key)) return fallback;
+  if (!j[key].is_number()) throw InputError("scene key '" + key + "' must be a number");
+  return j[key].get<double>();
+}
+
+glm::dvec3 vec3(const json& j, const std::string& key, const std::string& path, glm::dvec3 fallback) {
+  if (!j.contains(key)) return fallback;
+  const json& a = j[key];
+  if (!a.is_array() || a.size() != 3 || !a[0].is_number() || !a[1].is_number() || !a[2].is_number())
+    throw InputError("scene key '" + path + "' must be an array of three numbers");
+  return {a[0].get<double>(), a[1].get<double>(), a[2].get<double>()};
+}
+
+Box box(const json& j, const std::string& path) {
+  if (!j.is_object()) throw InputError("scene key '" + path + "' must be an object with min and max");
+  for (auto it = j.begin(); it != j.end(); ++it)
+    if (it.key() != "min" && it.key() != "max") throw InputError("unknown scene key '" + path + "." + it.key() + "'");
+  if (!j.contains("min") || !j.contains("max")) throw InputError("scene key '" + path + "' needs min and max");
+  Box b{vec3(j, "min", path + ".min", {}), vec3(j, "max", path + ".max", {})};
+  if (!(b.max.x > b.min.x && b.max.y > b.min.y && b.max.z > b.min.z))
+    throw InputError("scene key '" + path + "': max must exceed min on every axis");
+  return b;
+}
+
+void require(bool ok, const std::string& message) {
+  if (!ok) throw InputError(message);
+}
+
+void apply_override(json& j, const std::string& assignment) {
+  auto eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0) throw InputError("--param '" + assignment + "' must be key=value");
+  std::string key = assignment.substr(0, eq), text = assignment.substr(eq + 1);
+  // Walk the schema so that a typo is caught here, naming the key.
+  const json* allowed = &schema();
+  json* target = &j;
+  std::stringstream parts(key);
+  std::string part, done;
+  while (std::getline(parts, part, '.')) {
+    done += (done.empty() ? "" : ".") + part;
+    if (!allowed->is_object() || !allowed->contains(part)) throw InputError("--param: unknown scene key '" + done + "'");
+    allowed = &(*allowed)[part];
+    target = &(*target)[part];
+  }
+  json value = json::parse(text, nullptr, false);
+  *target = value.is_discarded() ? json(text) : value;
+}
+
+}  // namespace
+
+Method parse_method(const std::string& name) {
+  if (name == "pbf") return Method::Pbf;
+  if (name == "ldc") return Method::Ldc;
+  throw std::invalid_argument("method must be pbf or ldc, not '" + name + "'");
+}
+
+const char* method_name(Method m) { return m == Method::Pbf ? "pbf" : "ldc"; }
+
+Scene parse_scene(const std::string& json_text, const std::string& origin, const std::vector<std::string>& overrides) {
+  json j;
+  try {
+    j = json::parse(json_text);
+  } catch (const json::parse_error& e) {
+    throw InputError(origin + ": JSON syntax error: " + e.what());
+  }
+  for (const std::string& o : overrides) apply_override(j, o);
+  reject_unknown(j, schema(), "");
+
+  Scene s;
+  s.name = origin;
+  s.description = j.value("description", "");
+  require(j.contains("domain"), "scene needs a 'domain'");
+  s.domain = box(j["domain"], "domain");
+  require(j.contains("particle_spacing"), "scene needs a 'particle_spacing'");
+  s.particle_spacing = number(j, "particle_spacing", 0);
+  require(s.particle_spacing > 0, "particle_spacing must be positive");
+  require(j.contains("fluid_blocks") && j["fluid_blocks"].is_array() && !j["fluid_blocks"].empty(),
+          "scene needs a non-empty array 'fluid_blocks'");
+  for (size_t i = 0; i < j["fluid_blocks"].size(); ++i) {
+    std::string path = "fluid_blocks[" + std::to_string(i) + "]";
+    Box b = box(j["fluid_blocks"][i], path);
+    require(glm::all(glm::greaterThanEqual(b.min, s.domain.min)) && glm::all(glm::lessThanEqual(b.max, s.domain.max)),
+            path + " must lie inside the domain");
+    s.fluid_blocks.push_back(b);
+  }
+  s.gravity = vec3(j, "gravity", "gravity", {0, -9.81, 0});
+  s.fps = number(j, "fps", 60);
+  require(s.fps > 0, "fps must be positive");
+  double frames = number(j, "frames", 240);
+  require(frames >= 1 && frames == std::floor(frames), "frames must be a whole number of at least 1");
+  s.frames = int(frames);
+
+  s.solver = SolverParams::defaults();
+  const json solver = j.value("solver", json::object());
+  SolverParams& p = s.solver;
+  if (solver.contains("method")) {
+    require(solver["method"].is_string(), "solver.method must be \"pbf\" or \"ldc\"");
+    try {
+      p.method = parse_method(solver["method"].get<std::string>());
+    } catch (const std::invalid_argument& e) {
+      throw InputError(std::string("solver.") + e.what());
+    }
+  }
+  auto whole = [&](const char* key, int fallback, int lo, int hi) {
+    double v = number(solver, key, fallback);
+    require(v == std::floor(v) && v >= lo && v <= hi,
+            std::string("solver.") + key + " must be a whole number from " + std::to_string(lo) + " to " +
+                std::to_string(hi));
+    return int(v);
+  };
+  p.iterations = whole("iterations", p.iterations, 1, 1000);
+  p.substeps = whole("substeps", p.substeps, 1, 1000);
+  p.kernel_ratio = number(solver, "kernel_ratio", p.kernel_ratio);
+  require(p.kernel_ratio > 1 && p.kernel_ratio <= 4, "solver.kernel_ratio (h / spacing) must be in (1, 4]");
+  p.rest_density = number(solver, "rest_density", p.rest_density);
+  require(p.rest_density > 0, "solver.rest_density must be positive");
+  p.relaxation = number(solver, "relaxation", p.relaxation);
+  require(p.relaxation > 0, "solver.relaxation must be positive");
+  p.scorr_k = number(solver, "scorr_k", p.scorr_k);
+  require(p.scorr_k >= 0, "solver.scorr_k must not be negative");
+  p.scorr_n = number(solver, "scorr_n", p.scorr_n);
+  require(p.scorr_n >= 1, "solver.scorr_n must be at least 1");
+  p.scorr_dq = number(solver, "scorr_dq", p.scorr_dq);
+  require(p.scorr_dq > 0 && p.scorr_dq < 1, "solver.scorr_dq (a fraction of h) must be in (0, 1)");
+  p.xsph = number(solver, "xsph", p.xsph);
+  require(p.xsph >= 0 && p.xsph <= 1, "solver.xsph must be in [0, 1]");
+  p.vorticity = number(solver, "vorticity", p.vorticity);
+  require(p.vorticity >= 0, "solver.vorticity must not be negative");
+  p.ldc_k = number(solver, "ldc_k", p.ldc_k);
+  require(p.ldc_k >= 0, "solver.ldc_k must not be negative");
+
+  glm::dvec3 centre = 0.5 * (s.domain.min + s.domain.max), size = s.domain.max - s.domain.min;
+  const json camera = j.value("camera", json::object());
+  s.camera.target = vec3(camera, "target", "camera.target", centre);
+  s.camera.eye = vec3(camera, "eye", "camera.eye", centre + glm::dvec3(0, 0.4 * size.y, 1.6 * glm::length(size)));
+  s.camera.fov_degrees = number(camera, "fov", 45);
+  require(s.camera.fov_degrees > 1 && s.camera.fov_degrees < 179, "camera.fov must be in (1, 179) degrees");
+  require(glm::length(s.camera.eye - s.camera.target) > 0, "camera.eye and camera.target must differ");
+  return s;
+}
+
+Scene load_scene(const std::string& name_or_path, const std::vector<std::string>& overrides) {
+  for (const auto& [name, text] : builtin_scenes_text())
+    if (name == name_or_path) return parse_scene(std::string(text), std::string(name), overrides);
+  std::ifstream file(name_or_path);
+  if (!file)
+    throw InputError("no built-in scene or readable file named '" + name_or_path + "' (see 'pbflow scenes')");
+  std::stringstream text;
+  text << file.rdbuf();
+  return parse_scene(text.str(), name_or_path, overrides);
+}
+
+std::vector<BuiltinScene> builtin_scenes() {
+  std::vector<BuiltinScene> out;
+  for (const auto& [name, text] : builtin_scenes_text())
+    out.push_back({std::string(name), json::parse(text).value("description", "")});
+  return out;
+}
+
+std::vector<glm::dvec3> initial_particles(const Scene& scene) {
+  const double s = scene.particle_spacing;
+  std::vector<glm::dvec3> points;
+  for (size_t b = 0; b < scene.fluid_blocks.size(); ++b) {
+    const Box& box = scene.fluid_blocks[b];
+    glm::ivec3 n = glm::ivec3(glm::floor((box.max - box.min) / s + 1e-9));
+    for (int k = 0; k < n.z; ++k)
+      for (int j = 0; j < n.y; ++j)
+        for (int i = 0; i < n.x; ++i) {
+          glm::dvec3 x = box.min + s * (glm::dvec3(i, j, k) + 0.5);
+          bool earlier = false;
+          for (size_t e = 0; e < b && !earlier; ++e)
+            earlier = glm::all(glm::greaterThanEqual(x, scene.fluid_blocks[e].min)) &&
+                      glm::all(glm::lessThan(x, scene.fluid_blocks[e].max));
+          if (!earlier) points.push_back(x);
+        }
+  }
+  if (points.empty()) throw InputError("the fluid blocks hold no particle at this particle_spacing");
+  return points;
+}
+
+}  // namespace pbflow

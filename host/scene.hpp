@@ -1,0 +1,56 @@
+#pragma once
+// Scenes: the JSON format of DESIGN.md, built-in scenes, --param overrides, and the
+// particles a scene's fluid blocks start with.
+#include <glm/glm.hpp>
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "params.hpp"
+
+namespace pbflow {
+
+// Bad input (scene file, override, option): the CLI exits with status 2.
+struct InputError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct Box {
+  glm::dvec3 min, max;
+};
+
+struct Camera {
+  glm::dvec3 eye, target;
+  double fov_degrees;
+};
+
+struct Scene {
+  std::string name;
+  std::string description;
+  Box domain;
+  double particle_spacing;
+  std::vector<Box> fluid_blocks;
+  glm::dvec3 gravity;
+  double fps;
+  int frames;
+  SolverParams solver;
+  Camera camera;
+};
+
+// SCENE is a built-in name or a JSON file; overrides are "dotted.key=value" (value
+// read as JSON, else as a string). Throws InputError naming the problem.
+Scene load_scene(const std::string& name_or_path, const std::vector<std::string>& overrides = {});
+Scene parse_scene(const std::string& json_text, const std::string& origin,
+                  const std::vector<std::string>& overrides = {});
+
+struct BuiltinScene {
+  std::string name, description;
+};
+std::vector<BuiltinScene> builtin_scenes();
+
+// Lattice points of `particle_spacing` filling the fluid blocks (cell centres, so
+// that a block [a, b] holds (b - a)/spacing particles per axis); overlaps counted once.
+std::vector<glm::dvec3> initial_particles(const Scene& scene);
+
+}  // namespace pbflow

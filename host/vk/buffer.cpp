@@ -1,0 +1,86 @@
+#include "vk/buffer.hpp"
+
+#include <string>
+
+#include "vk/check.hpp"
+#include "vk/context.hpp"
+#include "vk/commands.hpp"
+
+namespace pbflow::vk {
+
+Buffer::Buffer(const Context& ctx, VkDeviceSize bytes, Memory memory) : ctx_(&ctx), bytes_(bytes) {
+  if (bytes == 0) bytes = 4;  // Vulkan forbids empty buffers; an empty scene still binds something
+  if (bytes > ctx.limits().maxStorageBufferRange)
+    throw Error("a buffer of " + std::to_string(bytes) + " bytes exceeds the device's storage buffer limit of " +
+                std::to_string(ctx.limits().maxStorageBufferRange) + " bytes (fewer particles needed)");
+  VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+  info.size = bytes;
+  info.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
+               VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+  info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+  VK_CHECK(vkCreateBuffer(ctx.device(), &info, nullptr, &buffer_));
+  try {
+    VkMemoryRequirements req;
+    vkGetBufferMemoryRequirements(ctx.device(), buffer_, &req);
+    VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    alloc.allocationSize = req.size;
+    alloc.memoryTypeIndex = ctx.memory_type(
+        req.memoryTypeBits, memory == Memory::Host
+                                ? VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT
+                                : VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+    VK_CHECK(vkAllocateMemory(ctx.device(), &alloc, nullptr, &memory_));
+    VK_CHECK(vkBindBufferMemory(ctx.device(), buffer_, memory_, 0));
+    if (memory == Memory::Host) VK_CHECK(vkMapMemory(ctx.device(), memory_, 0, VK_WHOLE_SIZE, 0, &mapped_));
+  } catch (...) {
+    release();
+    throw;
+  }
+}
+
+Buffer& Buffer::operator=(Buffer&& o) noexcept {
+  if (this != &o) {
+    release();
+    ctx_ = std::exchange(o.ctx_, nullptr);
+    buffer_ = std::exchange(o.buffer_, VK_NULL_HANDLE);
+    memory_ = std::exchange(o.memory_, VK_NULL_HANDLE);
+    bytes_ = std::exchange(o.bytes_, 0);
+    mapped_ = std::exchange(o.mapped_, nullptr);
+  }
+  return *this;
+}
+
+void Buffer::release() noexcept {
+  if (!ctx_) return;
+  if (buffer_) vkDestroyBuffer(ctx_->device(), buffer_, nullptr);
+  if (memory_) vkFreeMemory(ctx_->device(), memory_, nullptr);  // unmaps too
+  buffer_ = VK_NULL_HANDLE;
+  memory_ = VK_NULL_HANDLE;
+  mapped_ = nullptr;
+}
+
+void Buffer::upload(const void* data, VkDeviceSize bytes) {
+  if (bytes > bytes_) throw Error("upload of " + std::to_string(bytes) + " bytes into a smaller buffer");
+  if (bytes == 0) return;
+  Buffer staging(*ctx_, bytes, Memory::Host);
+  std::memcpy(staging.mapped(), data, bytes);
+  ctx_->submit_and_wait([&](VkCommandBuffer cb) {
+    VkBufferCopy region{0, 0, bytes};
+    vkCmdCopyBuffer(cb, staging.handle(), buffer_, 1, &region);
+    memory_barrier(cb);  // the copy is visible to the shaders of later submissions
+  });
+}
+
+void Buffer::download(void* data, VkDeviceSize bytes) const {
+  if (bytes > bytes_) throw Error("download of " + std::to_string(bytes) + " bytes from a smaller buffer");
+  if (bytes == 0) return;
+  Buffer staging(*ctx_, bytes, Memory::Host);
+  ctx_->submit_and_wait([&](VkCommandBuffer cb) {
+    memory_barrier(cb);  // earlier shader writes are visible to the copy
+    VkBufferCopy region{0, 0, bytes};
+    vkCmdCopyBuffer(cb, buffer_, staging.handle(), 1, &region);
+    memory_barrier(cb);  // and the copy to the host
+  });
+  std::memcpy(data, staging.mapped(), bytes);
+}
+
+}  // namespace pbflow::vk

@@ -1,0 +1,116 @@
+#include "vk/commands.hpp"
+
+#include <algorithm>
+#include <string>
+
+#include "vk/buffer.hpp"
+#include "vk/check.hpp"
+#include "vk/context.hpp"
+#include "vk/program.hpp"
+
+namespace pbflow::vk {
+
+void memory_barrier(VkCommandBuffer cb) {
+  VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+  barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_HOST_WRITE_BIT;
+  barrier.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT |
+                          VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_HOST_READ_BIT;
+  constexpr VkPipelineStageFlags stages =
+      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_HOST_BIT;
+  vkCmdPipelineBarrier(cb, stages, stages, 0, 1, &barrier, 0, nullptr, 0, nullptr);
+}
+
+CommandList::CommandList(const Context& ctx) : ctx_(&ctx) {
+  VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+  alloc.commandPool = ctx.command_pool();
+  alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  alloc.commandBufferCount = 1;
+  VK_CHECK(vkAllocateCommandBuffers(ctx.device(), &alloc, &cb_));
+  VkFenceCreateInfo fence{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+  try {
+    VK_CHECK(vkCreateFence(ctx.device(), &fence, nullptr, &fence_));
+  } catch (...) {
+    release();
+    throw;
+  }
+}
+
+void CommandList::release() noexcept {
+  if (fence_) vkDestroyFence(ctx_->device(), fence_, nullptr);
+  if (cb_) vkFreeCommandBuffers(ctx_->device(), ctx_->command_pool(), 1, &cb_);
+  fence_ = VK_NULL_HANDLE;
+  cb_ = VK_NULL_HANDLE;
+}
+
+void CommandList::begin() {
+  VK_CHECK(vkResetCommandBuffer(cb_, 0));
+  VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  VK_CHECK(vkBeginCommandBuffer(cb_, &begin));
+  program_ = nullptr;
+}
+
+void CommandList::submit_and_wait() {
+  VK_CHECK(vkEndCommandBuffer(cb_));
+  VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+  submit.commandBufferCount = 1;
+  submit.pCommandBuffers = &cb_;
+  VK_CHECK(vkResetFences(ctx_->device(), 1, &fence_));
+  VK_CHECK(vkQueueSubmit(ctx_->queue(), 1, &submit, fence_));
+  VK_CHECK(vkWaitForFences(ctx_->device(), 1, &fence_, VK_TRUE, UINT64_MAX));
+}
+
+void CommandList::set_program(const Program& program) {
+  if (program.bindings() > kMaxBindings)
+    throw Error("program " + program.name() + " has more bindings than CommandList supports");
+  program_ = &program;
+  bound_.fill({});
+  vkCmdBindPipeline(cb_, VK_PIPELINE_BIND_POINT_COMPUTE, program.pipeline());
+}
+
+void CommandList::bind(uint32_t binding, const Buffer& buffer) {
+  if (!program_ || binding >= program_->bindings())
+    throw Error("bind(" + std::to_string(binding) + ") outside the bindings of the current program");
+  bound_[binding] = {buffer.handle(), 0, VK_WHOLE_SIZE};
+}
+
+void CommandList::push_bytes(const void* data, uint32_t bytes) {
+  if (!program_ || bytes != program_->push_bytes())
+    throw Error("push constants of " + std::to_string(bytes) + " bytes do not match program " +
+                (program_ ? program_->name() : std::string("(none)")));
+  vkCmdPushConstants(cb_, program_->layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, bytes, data);
+}
+
+void CommandList::dispatch(uint32_t invocations) {
+  if (!program_) throw Error("dispatch without a program");
+  if (invocations == 0) return;
+  std::array<VkWriteDescriptorSet, kMaxBindings> writes{};
+  for (uint32_t i = 0; i < program_->bindings(); ++i) {
+    if (!bound_[i].buffer)
+      throw Error("program " + program_->name() + ": binding " + std::to_string(i) + " was not bound");
+    writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    writes[i].dstBinding = i;
+    writes[i].descriptorCount = 1;
+    writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    writes[i].pBufferInfo = &bound_[i];
+  }
+  ctx_->push_descriptor_set(cb_, VK_PIPELINE_BIND_POINT_COMPUTE, program_->layout(), 0, program_->bindings(),
+                            writes.data());
+  // Large particle counts can exceed the group-count limit in x: fold the rest into y.
+  uint32_t groups = (invocations + program_->workgroup_size() - 1) / program_->workgroup_size();
+  uint32_t gx = std::min(groups, ctx_->limits().maxComputeWorkGroupCount[0]);
+  uint32_t gy = (groups + gx - 1) / gx;
+  vkCmdDispatch(cb_, gx, gy, 1);
+  memory_barrier(cb_);
+}
+
+void CommandList::fill(const Buffer& buffer, uint32_t value) {
+  vkCmdFillBuffer(cb_, buffer.handle(), 0, VK_WHOLE_SIZE, value);
+  memory_barrier(cb_);
+}
+
+void CommandList::timestamp(VkQueryPool pool, uint32_t query) {
+  vkCmdWriteTimestamp(cb_, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, pool, query);
+}
+
+}  // namespace pbflow::vk

@@ -1,0 +1,52 @@
+#pragma once
+// A small compute command API in the manner of Granite: set_program, bind, push,
+// dispatch. Every dispatch is followed by a barrier, since each pass of the solver
+// reads what the previous one wrote.
+#include <vulkan/vulkan.h>
+
+#include <array>
+
+namespace pbflow::vk {
+
+class Context;
+class Buffer;
+class Program;
+
+// Makes all earlier compute, transfer and host writes visible to later commands and the host.
+void memory_barrier(VkCommandBuffer cb);
+
+class CommandList {
+ public:
+  explicit CommandList(const Context& ctx);
+  ~CommandList() { release(); }
+  CommandList(const CommandList&) = delete;
+  CommandList& operator=(const CommandList&) = delete;
+
+  void begin();
+  void submit_and_wait();  // ends recording, submits, waits for the GPU to finish
+
+  void set_program(const Program& program);
+  void bind(uint32_t binding, const Buffer& buffer);
+  template <class T>
+  void push(const T& constants) { push_bytes(&constants, sizeof(T)); }
+  // Runs the program over `invocations` threads (gl_GlobalInvocationID folded to 1D by
+  // shaders/common.glsl's thread_index()), then a barrier.
+  void dispatch(uint32_t invocations);
+
+  void fill(const Buffer& buffer, uint32_t value);
+  void timestamp(VkQueryPool pool, uint32_t query);
+  VkCommandBuffer handle() const { return cb_; }
+
+ private:
+  static constexpr uint32_t kMaxBindings = 12;
+  void push_bytes(const void* data, uint32_t bytes);
+  void release() noexcept;
+
+  const Context* ctx_;
+  VkCommandBuffer cb_ = VK_NULL_HANDLE;
+  VkFence fence_ = VK_NULL_HANDLE;
+  const Program* program_ = nullptr;
+  std::array<VkDescriptorBufferInfo, kMaxBindings> bound_{};
+};
+
+}  // namespace pbflow::vk

@@ -1,0 +1,87 @@
+#include "vk/program.hpp"
+
+#include <utility>
+#include <vector>
+
+#include "shader_library.hpp"
+#include "vk/check.hpp"
+#include "vk/context.hpp"
+
+namespace pbflow::vk {
+
+Program::Program(const Context& ctx, std::string_view shader, uint32_t bindings, uint32_t push_bytes,
+                 uint32_t workgroup_size)
+    : ctx_(&ctx),
+      name_(shader),
+      bindings_(bindings),
+      push_bytes_(push_bytes),
+      workgroup_size_(workgroup_size ? workgroup_size : ctx.workgroup_size()) {
+  VkShaderModule module = VK_NULL_HANDLE;
+  try {
+    std::vector<VkDescriptorSetLayoutBinding> slots(bindings);
+    for (uint32_t i = 0; i < bindings; ++i)
+      slots[i] = {i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
+    VkDescriptorSetLayoutCreateInfo set{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    set.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
+    set.bindingCount = bindings;
+    set.pBindings = slots.data();
+    VK_CHECK(vkCreateDescriptorSetLayout(ctx.device(), &set, nullptr, &set_layout_));
+
+    VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, push_bytes};
+    VkPipelineLayoutCreateInfo layout{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    layout.setLayoutCount = 1;
+    layout.pSetLayouts = &set_layout_;
+    layout.pushConstantRangeCount = push_bytes ? 1 : 0;
+    layout.pPushConstantRanges = &range;
+    VK_CHECK(vkCreatePipelineLayout(ctx.device(), &layout, nullptr, &layout_));
+
+    auto words = shaders::spirv(shader);
+    VkShaderModuleCreateInfo code{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+    code.codeSize = words.size_bytes();
+    code.pCode = words.data();
+    VK_CHECK(vkCreateShaderModule(ctx.device(), &code, nullptr, &module));
+
+    VkSpecializationMapEntry entry{0, 0, sizeof(uint32_t)};
+    VkSpecializationInfo spec{1, &entry, sizeof(uint32_t), &workgroup_size_};
+    VkComputePipelineCreateInfo pipe{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+    pipe.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+    pipe.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+    pipe.stage.module = module;
+    pipe.stage.pName = "main";
+    pipe.stage.pSpecializationInfo = &spec;
+    pipe.layout = layout_;
+    VK_CHECK(vkCreateComputePipelines(ctx.device(), VK_NULL_HANDLE, 1, &pipe, nullptr, &pipeline_));
+  } catch (...) {
+    if (module) vkDestroyShaderModule(ctx.device(), module, nullptr);
+    release();
+    throw;
+  }
+  vkDestroyShaderModule(ctx.device(), module, nullptr);  // the pipeline keeps what it needs
+}
+
+Program& Program::operator=(Program&& o) noexcept {
+  if (this != &o) {
+    release();
+    ctx_ = std::exchange(o.ctx_, nullptr);
+    name_ = std::move(o.name_);
+    set_layout_ = std::exchange(o.set_layout_, VK_NULL_HANDLE);
+    layout_ = std::exchange(o.layout_, VK_NULL_HANDLE);
+    pipeline_ = std::exchange(o.pipeline_, VK_NULL_HANDLE);
+    bindings_ = o.bindings_;
+    push_bytes_ = o.push_bytes_;
+    workgroup_size_ = o.workgroup_size_;
+  }
+  return *this;
+}
+
+void Program::release() noexcept {
+  if (!ctx_) return;
+  if (pipeline_) vkDestroyPipeline(ctx_->device(), pipeline_, nullptr);
+  if (layout_) vkDestroyPipelineLayout(ctx_->device(), layout_, nullptr);
+  if (set_layout_) vkDestroyDescriptorSetLayout(ctx_->device(), set_layout_, nullptr);
+  pipeline_ = VK_NULL_HANDLE;
+  layout_ = VK_NULL_HANDLE;
+  set_layout_ = VK_NULL_HANDLE;
+}
+
+}  // namespace pbflow::vk

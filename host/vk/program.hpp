@@ -1,0 +1,45 @@
+#pragma once
+// A compute program: one embedded shader, its storage-buffer bindings (pushed per
+// dispatch with VK_KHR_push_descriptor) and a push-constant block. Move-only.
+#include <vulkan/vulkan.h>
+
+#include <string>
+#include <string_view>
+
+namespace pbflow::vk {
+
+class Context;
+
+class Program {
+ public:
+  Program() = default;
+  // shader: name of shaders/<shader>.comp; bindings: storage buffers 0..bindings-1;
+  // push_bytes: size of the push-constant block; workgroup_size: local_size_x
+  // (specialisation constant 0), 0 for the device's choice.
+  Program(const Context& ctx, std::string_view shader, uint32_t bindings, uint32_t push_bytes,
+          uint32_t workgroup_size = 0);
+  ~Program() { release(); }
+  Program(Program&& o) noexcept { *this = std::move(o); }
+  Program& operator=(Program&& o) noexcept;
+  Program(const Program&) = delete;
+  Program& operator=(const Program&) = delete;
+
+  VkPipeline pipeline() const { return pipeline_; }
+  VkPipelineLayout layout() const { return layout_; }
+  uint32_t bindings() const { return bindings_; }
+  uint32_t push_bytes() const { return push_bytes_; }
+  uint32_t workgroup_size() const { return workgroup_size_; }
+  const std::string& name() const { return name_; }
+
+ private:
+  void release() noexcept;
+
+  const Context* ctx_ = nullptr;
+  std::string name_;
+  VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
+  VkPipelineLayout layout_ = VK_NULL_HANDLE;
+  VkPipeline pipeline_ = VK_NULL_HANDLE;
+  uint32_t bindings_ = 0, push_bytes_ = 0, workgroup_size_ = 0;
+};
+
+}  // namespace pbflow::vk

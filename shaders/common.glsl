@@ -1,0 +1,64 @@
+// Shared by every particle pass: the simulation constants (mirrors SimConstants in
+// host/params.hpp), the SPH kernels (mirrors host/kernels.hpp) and the grid lookup.
+
+layout(push_constant) uniform Sim {
+  vec3 domain_min; float h;
+  vec3 domain_max; float dt;
+  vec3 gravity; float mass;
+  ivec3 grid; uint count;
+  vec3 wall_min; float rho0;
+  vec3 wall_max; float epsilon;
+  float poly6_coef; float spiky_coef; float ldc_k; float scorr_k;  // scorr_k: k / (interior sum |grad C|^2)
+  float scorr_inv_wdq; float scorr_n; float xsph_c; float vorticity_eps;
+} sim;
+
+// Dispatches larger than the group-count limit fold into y (CommandList::dispatch).
+uint thread_index() {
+  return gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x;
+}
+
+// poly6: W(r) = 315/(64 pi h^9) (h^2 - r^2)^3 for r < h.
+float poly6(float r2) {
+  float d = sim.h * sim.h - r2;
+  return d > 0.0 ? sim.poly6_coef * d * d * d : 0.0;
+}
+
+// Gradient of the spiky kernel with respect to x_i, for d = x_i - x_j and r = |d|:
+// -45/(pi h^6) (h - r)^2 d/r for 0 < r < h.
+vec3 spiky_grad(vec3 d, float r) {
+  if (r <= 0.0 || r >= sim.h) return vec3(0.0);
+  float s = sim.h - r;
+  return (-sim.spiky_coef * s * s / r) * d;
+}
+
+ivec3 cell_of(vec3 x) {
+  // Clamp in float first: a NaN or far-away position still maps to a valid cell.
+  vec3 c = clamp(floor((x - sim.domain_min) / sim.h), vec3(0.0), vec3(sim.grid - 1));
+  return ivec3(c);
+}
+
+uint cell_id(ivec3 c) { return uint((c.z * sim.grid.y + c.y) * sim.grid.x + c.x); }
+
+// (W(r)/W(dq))^n, by squaring for the usual n = 4: pow() is slow on CPU Vulkan.
+float tensile_power(float ratio) {
+  if (sim.scorr_n == 4.0) {
+    float r2 = ratio * ratio;
+    return r2 * r2;
+  }
+  return pow(ratio, sim.scorr_n);
+}
+
+vec3 project_to_walls(vec3 x) { return clamp(x, sim.wall_min, sim.wall_max); }
+
+// Loops j over every particle binned in the 27 cells around position xi (the body
+// tests the distance). Cells are numbered x-fastest, so each row of three cells is
+// one contiguous range of the sorted particles: nine ranges instead of 27.
+// Needs a buffer `cell_start` (exclusive prefix sum of particles per cell).
+#define FOR_EACH_NEIGHBOUR(xi, j)                                                         \
+  ivec3 c_##j = cell_of(xi);                                                              \
+  int lo_##j = max(c_##j.x - 1, 0), hi_##j = min(c_##j.x + 1, sim.grid.x - 1);            \
+  for (int z_##j = max(c_##j.z - 1, 0); z_##j <= min(c_##j.z + 1, sim.grid.z - 1); ++z_##j) \
+    for (int y_##j = max(c_##j.y - 1, 0); y_##j <= min(c_##j.y + 1, sim.grid.y - 1); ++y_##j) \
+      for (uint j = cell_start[cell_id(ivec3(lo_##j, y_##j, z_##j))],                     \
+                end_##j = cell_start[cell_id(ivec3(hi_##j, y_##j, z_##j)) + 1];           \
+           j < end_##j; ++j)

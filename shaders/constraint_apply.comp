@@ -1,0 +1,27 @@
+#version 450
+// dp_i = (m/rho0) sum_j (lambda_i + lambda_j + s_corr) grad W_spiky(x*_i - x*_j), with the
+// tensile term s_corr = -k (W(r)/W(dq))^n; x*_i += dp_i, then out of the walls.
+#extension GL_GOOGLE_include_directive : require
+layout(local_size_x_id = 0) in;
+#include "common.glsl"
+
+layout(std430, binding = 0) readonly buffer CellStart { uint cell_start[]; };
+layout(std430, binding = 1) readonly buffer XPred { vec4 x_pred[]; };
+layout(std430, binding = 2) readonly buffer Lambda { float lambda[]; };
+layout(std430, binding = 3) writeonly buffer XOut { vec4 x_out[]; };
+
+void main() {
+  uint i = thread_index();
+  if (i >= sim.count) return;
+  vec3 xi = x_pred[i].xyz;
+  float lambda_i = lambda[i];
+  vec3 dp = vec3(0.0);
+  FOR_EACH_NEIGHBOUR(xi, j) {
+    vec3 d = xi - x_pred[j].xyz;
+    float r2 = dot(d, d);
+    if (r2 >= sim.h * sim.h) continue;
+    float s_corr = sim.scorr_k > 0.0 ? -sim.scorr_k * tensile_power(poly6(r2) * sim.scorr_inv_wdq) : 0.0;
+    dp += (lambda_i + lambda[j] + s_corr) * spiky_grad(d, sqrt(r2));
+  }
+  x_out[i] = vec4(project_to_walls(xi + (sim.mass / sim.rho0) * dp), 0.0);
+}

@@ -1,0 +1,30 @@
+#version 450
+// lambda_i = -C_i / (sum_k |grad_k C_i|^2 + eps), C_i = max(rho_i/rho0 - 1, 0) at the predicted positions.
+#extension GL_GOOGLE_include_directive : require
+layout(local_size_x_id = 0) in;
+#include "common.glsl"
+
+layout(std430, binding = 0) readonly buffer CellStart { uint cell_start[]; };
+layout(std430, binding = 1) readonly buffer XPred { vec4 x_pred[]; };
+layout(std430, binding = 2) writeonly buffer Lambda { float lambda[]; };
+
+void main() {
+  uint i = thread_index();
+  if (i >= sim.count) return;
+  vec3 xi = x_pred[i].xyz;
+  float w_sum = 0.0;
+  vec3 grad_i = vec3(0.0);  // grad of C_i with respect to x_i, times rho0/m
+  float grad_sq = 0.0;      // sum over j != i of |grad_j C_i|^2, times (rho0/m)^2
+  FOR_EACH_NEIGHBOUR(xi, j) {
+    vec3 d = xi - x_pred[j].xyz;
+    float r2 = dot(d, d);
+    if (r2 >= sim.h * sim.h) continue;
+    w_sum += poly6(r2);
+    vec3 g = spiky_grad(d, sqrt(r2));
+    grad_i += g;
+    grad_sq += dot(g, g);
+  }
+  float s = sim.mass / sim.rho0;
+  float c = max(sim.mass * w_sum / sim.rho0 - 1.0, 0.0);
+  lambda[i] = -c / (s * s * (grad_sq + dot(grad_i, grad_i)) + sim.epsilon);
+}

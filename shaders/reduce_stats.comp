@@ -1,0 +1,33 @@
+#version 450
+// Per-workgroup partial measures: (sum c_i, max c_i, sum |v_i|^2, max |v_i|^2),
+// c_i = max(rho_i/rho0 - 1, 0). reduce_final.comp combines the partials.
+#extension GL_GOOGLE_include_directive : require
+layout(local_size_x = 256) in;
+#include "common.glsl"
+
+layout(std430, binding = 0) readonly buffer Rho { float rho[]; };
+layout(std430, binding = 1) readonly buffer V { vec4 v[]; };
+layout(std430, binding = 2) writeonly buffer Partials { vec4 partials[]; };
+
+shared vec4 acc[256];
+
+void main() {
+  uint i = thread_index();
+  uint t = gl_LocalInvocationID.x;
+  vec4 mine = vec4(0.0);
+  if (i < sim.count) {
+    float c = max(rho[i] / sim.rho0 - 1.0, 0.0);
+    float s2 = dot(v[i].xyz, v[i].xyz);
+    mine = vec4(c, c, s2, s2);
+  }
+  acc[t] = mine;
+  barrier();
+  for (uint half_ = 128; half_ > 0; half_ >>= 1) {
+    if (t < half_) {
+      vec4 a = acc[t], b = acc[t + half_];
+      acc[t] = vec4(a.x + b.x, max(a.y, b.y), a.z + b.z, max(a.w, b.w));
+    }
+    barrier();
+  }
+  if (t == 0) partials[gl_WorkGroupID.x + gl_WorkGroupID.y * gl_NumWorkGroups.x] = acc[0];
+}

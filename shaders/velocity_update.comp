@@ -1,0 +1,15 @@
+#version 450
+// v_i = (x*_i - x_i) / dt; the host then makes x* the new x.
+#extension GL_GOOGLE_include_directive : require
+layout(local_size_x_id = 0) in;
+#include "common.glsl"
+
+layout(std430, binding = 0) readonly buffer X { vec4 x[]; };
+layout(std430, binding = 1) readonly buffer XPred { vec4 x_pred[]; };
+layout(std430, binding = 2) writeonly buffer V { vec4 v[]; };
+
+void main() {
+  uint i = thread_index();
+  if (i >= sim.count) return;
+  v[i] = vec4((x_pred[i].xyz - x[i].xyz) / sim.dt, 0.0);
+}
