@@ -1,0 +1,107 @@
+// The local density correction force: its sign, its zeros and its linearity in K,
+// on the reference and on the GPU.
+#include "gpu_solver.hpp"
+#include "reference_solver.hpp"
+#include "support.hpp"
+
+namespace pbflow {
+namespace {
+
+// A slab of fluid whose left half is denser: its particles sit closer together in x.
+ParticleState two_density_slab(const Scene& scene) {
+  ParticleState st;
+  const double s = scene.particle_spacing;
+  double x = 0.5 * s;
+  for (int i = 0; i < 16; ++i) {
+    for (int j = 0; j < 8; ++j)
+      for (int k = 0; k < 8; ++k) st.x.emplace_back(x, (j + 0.5) * s, (k + 0.5) * s);
+    x += i < 8 ? 0.85 * s : s;
+  }
+  size_t n = st.x.size();
+  st.v.assign(n, glm::dvec3(0.0));
+  st.x_pred = st.x;
+  st.omega.assign(n, glm::dvec3(0.0));
+  st.rho.assign(n, 0.0);
+  st.lambda.assign(n, 0.0);
+  return st;
+}
+
+Scene slab_scene(const std::string& method, double k) {
+  return test::test_scene("hydrostatic", {"solver.method=\"" + method + "\"", "solver.ldc_k=" + std::to_string(k)});
+}
+
+std::vector<glm::dvec3> reference_forces(const Scene& scene, const ParticleState& st) {
+  ReferenceSolver ref(derive(scene), st.x);
+  ref.state = st;
+  ref.build_grid(ref.state.x);
+  ref.density();
+  std::vector<glm::dvec3> f;
+  for (size_t i = 0; i < st.x.size(); ++i) f.push_back(ref.correction_force(i));
+  return f;
+}
+
+TEST(LdcForce, ZeroForUniformDensity) {
+  // Interior lattice particles all have rho0: no density difference, no force.
+  Scene scene = slab_scene("ldc", 2000);
+  ParticleState st;
+  for (int i = 0; i < 10; ++i)
+    for (int j = 0; j < 10; ++j)
+      for (int k = 0; k < 10; ++k) st.x.push_back(0.02 * glm::dvec3(i + 0.5, j + 0.5, k + 0.5));
+  st.v.assign(st.x.size(), glm::dvec3(0.0));
+  auto f = reference_forces(scene, st);
+  size_t centre = (5 * 10 + 5) * 10 + 5;  // more than h from every face of the block
+  EXPECT_LT(glm::length(f[centre]), 1e-9);
+  double largest = 0;
+  for (auto& fi : f) largest = std::max(largest, glm::length(fi));
+  EXPECT_GT(largest, 1.0);  // the block's surface, with its density deficit, does feel a force
+}
+
+TEST(LdcForce, PointsFromDenserToLessDense) {
+  Scene scene = slab_scene("ldc", 2000);
+  ParticleState st = two_density_slab(scene);
+  auto f = reference_forces(scene, st);
+  // Particles at the density step (x-columns 6..9), away from the y/z faces.
+  int checked = 0;
+  for (size_t i = 0; i < st.x.size(); ++i) {
+    int column = int(i / 64), j = int(i / 8 % 8), k = int(i % 8);
+    if (column < 6 || column > 9 || j < 3 || j > 4 || k < 3 || k > 4) continue;
+    EXPECT_GT(f[i].x, 0.0) << "particle " << i << " is pushed toward the denser side";
+    ++checked;
+  }
+  EXPECT_EQ(checked, 16);
+}
+
+TEST(LdcForce, LinearInK) {
+  ParticleState st = two_density_slab(slab_scene("ldc", 1));
+  auto f1 = reference_forces(slab_scene("ldc", 1000), st);
+  auto f3 = reference_forces(slab_scene("ldc", 3000), st);
+  for (size_t i = 0; i < f1.size(); ++i) EXPECT_LT(glm::length(f3[i] - 3.0 * f1[i]), 1e-9 * (1 + glm::length(f3[i])));
+}
+
+TEST(LdcForce, ZeroForPbf) {
+  ParticleState st = two_density_slab(slab_scene("pbf", 2000));
+  for (auto& fi : reference_forces(slab_scene("pbf", 2000), st)) EXPECT_EQ(glm::length(fi), 0.0);
+}
+
+class LdcGpuTest : public test::GpuTest {};
+
+TEST_F(LdcGpuTest, GpuForceMatchesReferenceAndDirection) {
+  Scene scene = slab_scene("ldc", 2000);
+  ParticleState st = two_density_slab(scene);
+  Derived d = derive(scene);
+  GpuSolver gpu(test::gpu(), d, st.x);
+  gpu.begin();
+  gpu.grid_at_positions();
+  gpu.density();
+  gpu.correction();
+  gpu.finish();
+  ParticleState g = gpu.download();
+  std::vector<glm::dvec3> dv_ref;
+  for (const auto& f : reference_forces(scene, st)) dv_ref.push_back(f * d.dt);
+  test::ErrorReport e = test::compare(g.v, dv_ref, "LDC dv on a two-density slab");
+  EXPECT_LE(e.max_abs, 1e-3 * e.scale);
+  EXPECT_GT(e.scale, 0.0);
+}
+
+}  // namespace
+}  // namespace pbflow

@@ -1,0 +1,83 @@
+#include "support.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+namespace pbflow::test {
+
+vk::Context& gpu() {
+  static vk::Context ctx(vk::Context::Options{"auto", true, 0});
+  return ctx;
+}
+
+Scene test_scene(const std::string& name, const std::vector<std::string>& overrides) {
+  return load_scene(name, overrides);
+}
+
+ParticleState jittered_state(const Scene& scene, unsigned seed) {
+  std::mt19937 rng(seed);
+  const double s = scene.particle_spacing;
+  std::uniform_real_distribution<double> jitter(-0.2 * s, 0.2 * s), speed(-0.5, 0.5);
+  Derived d = derive(scene);
+  ParticleState st;
+  for (const glm::dvec3& p : initial_particles(scene)) {
+    glm::dvec3 x = glm::clamp(p + glm::dvec3(jitter(rng), jitter(rng), jitter(rng)), d.wall_min, d.wall_max);
+    st.x.push_back(x);
+    st.v.emplace_back(speed(rng), speed(rng), speed(rng));
+    st.x_pred.push_back(glm::clamp(x + glm::dvec3(jitter(rng), jitter(rng), jitter(rng)), d.wall_min, d.wall_max));
+  }
+  size_t n = st.x.size();
+  st.omega.assign(n, glm::dvec3(0.0));
+  st.rho.assign(n, 0.0);
+  st.lambda.assign(n, 0.0);
+  return st;
+}
+
+namespace {
+ErrorReport report(const std::vector<double>& err, const std::vector<double>& mag, const std::string& what) {
+  ErrorReport r;
+  for (double m : mag) r.scale = std::max(r.scale, m);
+  double floor = std::max(1e-3 * r.scale, 1e-30);
+  for (size_t i = 0; i < err.size(); ++i) {
+    double rel = err[i] / std::max(mag[i], floor);
+    r.max_abs = std::max(r.max_abs, err[i]);
+    r.mean_abs += err[i];
+    r.max_rel = std::max(r.max_rel, rel);
+    r.mean_rel += rel;
+  }
+  r.mean_abs /= std::max<size_t>(err.size(), 1);
+  r.mean_rel /= std::max<size_t>(err.size(), 1);
+  std::printf("  %-34s n=%zu  max|ref| %.3e  abs err max %.3e mean %.3e  rel err max %.3e mean %.3e\n",
+              what.c_str(), err.size(), r.scale, r.max_abs, r.mean_abs, r.max_rel, r.mean_rel);
+  return r;
+}
+}  // namespace
+
+ErrorReport compare(const std::vector<double>& gpu, const std::vector<double>& ref, const std::string& what) {
+  EXPECT_EQ(gpu.size(), ref.size()) << what;
+  std::vector<double> err(ref.size()), mag(ref.size());
+  for (size_t i = 0; i < ref.size() && i < gpu.size(); ++i) {
+    err[i] = std::abs(gpu[i] - ref[i]);
+    mag[i] = std::abs(ref[i]);
+  }
+  return report(err, mag, what);
+}
+
+ErrorReport compare(const std::vector<glm::dvec3>& gpu, const std::vector<glm::dvec3>& ref, const std::string& what) {
+  EXPECT_EQ(gpu.size(), ref.size()) << what;
+  std::vector<double> err(ref.size()), mag(ref.size());
+  for (size_t i = 0; i < ref.size() && i < gpu.size(); ++i) {
+    err[i] = glm::length(gpu[i] - ref[i]);
+    mag[i] = glm::length(ref[i]);
+  }
+  return report(err, mag, what);
+}
+
+std::vector<glm::dvec3> difference(const std::vector<glm::dvec3>& a, const std::vector<glm::dvec3>& b) {
+  std::vector<glm::dvec3> d(a.size());
+  for (size_t i = 0; i < a.size(); ++i) d[i] = a[i] - b[i];
+  return d;
+}
+
+}  // namespace pbflow::test

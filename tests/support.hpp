@@ -1,0 +1,47 @@
+#pragma once
+// Shared by the tests: the validated Vulkan context, test scenes, and GPU-vs-reference
+// error reports (max and mean, absolute and relative, printed for every comparison).
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "params.hpp"
+#include "scene.hpp"
+#include "solver.hpp"
+#include "vk/context.hpp"
+
+namespace pbflow::test {
+
+// One Vulkan context with the validation layer on, shared by all GPU tests.
+vk::Context& gpu();
+
+// Every GPU test derives from this: it fails when a validation message appeared.
+class GpuTest : public ::testing::Test {
+ protected:
+  void SetUp() override { messages_before_ = gpu().validation_messages().size(); }
+  void TearDown() override {
+    auto messages = gpu().validation_messages();
+    EXPECT_EQ(messages.size(), messages_before_) << "Vulkan validation: " << messages.back();
+  }
+
+ private:
+  size_t messages_before_ = 0;
+};
+
+Scene test_scene(const std::string& name, const std::vector<std::string>& overrides = {});
+
+// A non-trivial state: lattice positions jittered, random velocities and predictions.
+ParticleState jittered_state(const Scene& scene, unsigned seed = 7);
+
+struct ErrorReport {
+  double max_abs = 0, mean_abs = 0, max_rel = 0, mean_rel = 0, scale = 0;
+};
+// Relative errors divide by max(|ref_i|, 1e-3 * scale), scale = max |ref|, so that
+// values near zero do not blow the relative error up.
+ErrorReport compare(const std::vector<double>& gpu, const std::vector<double>& ref, const std::string& what);
+ErrorReport compare(const std::vector<glm::dvec3>& gpu, const std::vector<glm::dvec3>& ref, const std::string& what);
+
+std::vector<glm::dvec3> difference(const std::vector<glm::dvec3>& a, const std::vector<glm::dvec3>& b);
+
+}  // namespace pbflow::test
