@@ -3,6 +3,8 @@
 // shaders/common.glsl has the same kernels in float.
 #include <glm/glm.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <numbers>
 
 namespace pbflow::kernels {
@@ -28,6 +30,16 @@ inline glm::dvec3 spiky_grad(const glm::dvec3& d, double h) {
 inline double spiky(double r, double h) {
   double s = h - r;
   return r < h ? spiky_coef(h) / 3.0 * s * s * s : 0.0;  // 15/(pi h^6) (h - r)^3
+}
+
+// Fraction of the poly6 kernel's volume beyond a plane at distance a (shaders/common.glsl).
+inline double wall_fraction(double a, double h) {
+  double u = std::clamp(a / h, 0.0, 1.0), u2 = u * u;
+  return 0.5 - (315.0 / 256.0) * u * (1.0 + u2 * (-4.0 / 3.0 + u2 * (6.0 / 5.0 + u2 * (-4.0 / 7.0 + u2 / 9.0))));
+}
+inline double wall_fraction_slope(double a, double h) {
+  double u = std::clamp(a / h, 0.0, 1.0), t = 1.0 - u * u;
+  return -(315.0 / 256.0) * t * t * t * t / h;
 }
 
 }  // namespace pbflow::kernels

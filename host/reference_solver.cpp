@@ -36,6 +36,16 @@ void ReferenceSolver::for_each_neighbour(const dvec3& xi, F&& visit) const {
         for (size_t j : cells_[cell_id({x, y, z})]) visit(j);
 }
 
+double ReferenceSolver::wall_density(const dvec3& x, dvec3& grad) const {
+  double f = 0;
+  for (int a = 0; a < 3; ++a) {
+    double lo = x[a] - d_.domain_min[a], hi = d_.domain_max[a] - x[a];
+    f += kernels::wall_fraction(lo, d_.h) + kernels::wall_fraction(hi, d_.h);
+    grad[a] = d_.rho0 * (kernels::wall_fraction_slope(lo, d_.h) - kernels::wall_fraction_slope(hi, d_.h));
+  }
+  return d_.rho0 * f;
+}
+
 void ReferenceSolver::build_grid(const std::vector<dvec3>& at) {
   for (auto& cell : cells_) cell.clear();
   for (size_t i = 0; i < at.size(); ++i) cells_[cell_id(cell_of(at[i]))].push_back(i);
@@ -48,7 +58,8 @@ void ReferenceSolver::density() {
       dvec3 d = state.x[i] - state.x[j];
       sum += kernels::poly6(glm::dot(d, d), d_.h);
     });
-    state.rho[i] = d_.mass * sum;
+    dvec3 wall_grad;
+    state.rho[i] = d_.mass * sum + wall_density(state.x[i], wall_grad);
   }
 }
 
@@ -89,8 +100,11 @@ void ReferenceSolver::constraint_lambda() {
       grad_i += g;
       grad_sq += glm::dot(g, g);
     });
-    double c = std::max(d_.mass * w_sum / d_.rho0 - 1.0, 0.0);
-    state.lambda[i] = -c / (grad_sq + glm::dot(grad_i, grad_i) + d_.epsilon);
+    dvec3 wall_grad;
+    double rho = d_.mass * w_sum + wall_density(xi, wall_grad);
+    dvec3 own = grad_i + wall_grad / d_.rho0;  // grad_i C_i, the walls included
+    double c = std::max(rho / d_.rho0 - 1.0, 0.0);
+    state.lambda[i] = -c / (grad_sq + glm::dot(own, own) + d_.epsilon);
   }
 }
 
@@ -105,7 +119,9 @@ void ReferenceSolver::constraint_apply() {
       double s_corr = k > 0 ? -k * std::pow(kernels::poly6(glm::dot(d, d), d_.h) * inv_wdq, n) : 0.0;
       dp += (state.lambda[i] + state.lambda[j] + s_corr) * kernels::spiky_grad(d, d_.h);
     });
-    next[i] = project_to_walls(xi + (d_.mass / d_.rho0) * dp);
+    dvec3 wall_grad;  // the walls push with the particle's own lambda
+    wall_density(xi, wall_grad);
+    next[i] = project_to_walls(xi + (d_.mass / d_.rho0) * dp + state.lambda[i] * wall_grad / d_.rho0);
   }
   state.x_pred = std::move(next);
 }

@@ -31,6 +31,29 @@ vec3 spiky_grad(vec3 d, float r) {
   return (-sim.spiky_coef * s * s / r) * d;
 }
 
+// Walls as if the fluid continued past them: each wall adds rho0 times the fraction of
+// the poly6 kernel's volume beyond it, F(a) = int_a^h (pi K6 / 4)(h^2 - z^2)^4 dz at
+// distance a (closed form in u = a/h; F(0) = 1/2, F(h) = 0). Without it, particles at a
+// wall miss half their neighbours and pile up against it (host/kernels.hpp mirrors this).
+float wall_fraction(float a) {
+  float u = clamp(a / sim.h, 0.0, 1.0), u2 = u * u;
+  return 0.5 - (315.0 / 256.0) * u * (1.0 + u2 * (-4.0 / 3.0 + u2 * (6.0 / 5.0 + u2 * (-4.0 / 7.0 + u2 / 9.0))));
+}
+float wall_fraction_slope(float a) {  // dF/da
+  float u = clamp(a / sim.h, 0.0, 1.0), t = 1.0 - u * u;
+  return -(315.0 / 256.0) * t * t * t * t / sim.h;
+}
+// The walls' density at x and its gradient with respect to x.
+float wall_density(vec3 x, out vec3 grad) {
+  vec3 lo = x - sim.domain_min, hi = sim.domain_max - x;
+  float f = 0.0;
+  for (int a = 0; a < 3; ++a) {
+    f += wall_fraction(lo[a]) + wall_fraction(hi[a]);
+    grad[a] = sim.rho0 * (wall_fraction_slope(lo[a]) - wall_fraction_slope(hi[a]));
+  }
+  return sim.rho0 * f;
+}
+
 ivec3 cell_of(vec3 x) {
   // Clamp in float first: a NaN or far-away position still maps to a valid cell.
   vec3 c = clamp(floor((x - sim.domain_min) / sim.h), vec3(0.0), vec3(sim.grid - 1));

@@ -23,5 +23,8 @@ void main() {
     float s_corr = sim.scorr_k > 0.0 ? -sim.scorr_k * tensile_power(poly6(r2) * sim.scorr_inv_wdq) : 0.0;
     dp += (lambda_i + lambda[j] + s_corr) * spiky_grad(d, sqrt(r2));
   }
-  x_out[i] = vec4(project_to_walls(xi + (sim.mass / sim.rho0) * dp), 0.0);
+  // The walls push with the particle's own lambda (they have none of their own).
+  vec3 wall_grad;
+  wall_density(xi, wall_grad);
+  x_out[i] = vec4(project_to_walls(xi + (sim.mass / sim.rho0) * dp + lambda_i * wall_grad / sim.rho0), 0.0);
 }

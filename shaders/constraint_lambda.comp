@@ -24,7 +24,10 @@ void main() {
     grad_i += g;
     grad_sq += dot(g, g);
   }
+  vec3 wall_grad;
+  float rho = sim.mass * w_sum + wall_density(xi, wall_grad);
   float s = sim.mass / sim.rho0;
-  float c = max(sim.mass * w_sum / sim.rho0 - 1.0, 0.0);
-  lambda[i] = -c / (s * s * (grad_sq + dot(grad_i, grad_i)) + sim.epsilon);
+  vec3 own = s * grad_i + wall_grad / sim.rho0;  // grad_i C_i, the walls included
+  float c = max(rho / sim.rho0 - 1.0, 0.0);
+  lambda[i] = -c / (s * s * grad_sq + dot(own, own) + sim.epsilon);
 }

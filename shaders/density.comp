@@ -1,5 +1,5 @@
 #version 450
-// rho_i = sum_j m W_poly6(x_i - x_j), self included.
+// rho_i = sum_j m W_poly6(x_i - x_j), self included, plus the walls' share.
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x_id = 0) in;
 #include "common.glsl"
@@ -17,5 +17,6 @@ void main() {
     vec3 d = xi - x[j].xyz;
     sum += poly6(dot(d, d));
   }
-  rho[i] = sim.mass * sum;
+  vec3 wall_grad;
+  rho[i] = sim.mass * sum + wall_density(xi, wall_grad);
 }
