@@ -37,13 +37,16 @@ void ReferenceSolver::for_each_neighbour(const dvec3& xi, F&& visit) const {
 }
 
 double ReferenceSolver::wall_density(const dvec3& x, dvec3& grad) const {
-  double f = 0;
+  double kept = 1;  // fraction of the kernel volume in front of all walls
+  dvec3 dlog;       // d log(kept) / dx
   for (int a = 0; a < 3; ++a) {
     double lo = x[a] - d_.domain_min[a], hi = d_.domain_max[a] - x[a];
-    f += kernels::wall_fraction(lo, d_.h) + kernels::wall_fraction(hi, d_.h);
-    grad[a] = d_.rho0 * (kernels::wall_fraction_slope(lo, d_.h) - kernels::wall_fraction_slope(hi, d_.h));
+    double f_lo = kernels::wall_fraction(lo, d_.h), f_hi = kernels::wall_fraction(hi, d_.h);
+    kept *= (1 - f_lo) * (1 - f_hi);
+    dlog[a] = -kernels::wall_fraction_slope(lo, d_.h) / (1 - f_lo) + kernels::wall_fraction_slope(hi, d_.h) / (1 - f_hi);
   }
-  return d_.rho0 * f;
+  grad = -d_.rho0 * kept * dlog;
+  return d_.rho0 * (1 - kept);
 }
 
 void ReferenceSolver::build_grid(const std::vector<dvec3>& at) {

@@ -43,15 +43,20 @@ float wall_fraction_slope(float a) {  // dF/da
   float u = clamp(a / sim.h, 0.0, 1.0), t = 1.0 - u * u;
   return -(315.0 / 256.0) * t * t * t * t / sim.h;
 }
-// The walls' density at x and its gradient with respect to x.
+// The walls' density at x and its gradient with respect to x. The kept fractions
+// (1 - F) multiply, so that at edges and corners the volume behind two or three walls
+// is not counted twice.
 float wall_density(vec3 x, out vec3 grad) {
   vec3 lo = x - sim.domain_min, hi = sim.domain_max - x;
-  float f = 0.0;
+  float kept = 1.0;
+  vec3 dlog;  // d log(kept) / dx
   for (int a = 0; a < 3; ++a) {
-    f += wall_fraction(lo[a]) + wall_fraction(hi[a]);
-    grad[a] = sim.rho0 * (wall_fraction_slope(lo[a]) - wall_fraction_slope(hi[a]));
+    float f_lo = wall_fraction(lo[a]), f_hi = wall_fraction(hi[a]);
+    kept *= (1.0 - f_lo) * (1.0 - f_hi);
+    dlog[a] = -wall_fraction_slope(lo[a]) / (1.0 - f_lo) + wall_fraction_slope(hi[a]) / (1.0 - f_hi);
   }
-  return sim.rho0 * f;
+  grad = -sim.rho0 * kept * dlog;
+  return sim.rho0 * (1.0 - kept);
 }
 
 ivec3 cell_of(vec3 x) {
