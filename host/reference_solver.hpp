@@ -34,6 +34,9 @@ class ReferenceSolver : public Solver {
   // The LDC acceleration on particle i (from rho and x); correction() applies it.
   glm::dvec3 correction_force(size_t i) const;
 
+  // The walls' density at x (the fluid continued past them) and its gradient.
+  double wall_density(const glm::dvec3& x, glm::dvec3& grad) const;
+
   const Derived& derived() const { return d_; }
   ParticleState state;
 
@@ -42,8 +45,6 @@ class ReferenceSolver : public Solver {
   void for_each_neighbour(const glm::dvec3& xi, F&& visit) const;
   glm::ivec3 cell_of(const glm::dvec3& x) const;
   size_t cell_id(const glm::ivec3& c) const { return (size_t(c.z) * d_.grid.y + c.y) * d_.grid.x + c.x; }
-  // The walls' density at x (the fluid continued past them) and its gradient.
-  double wall_density(const glm::dvec3& x, glm::dvec3& grad) const;
   glm::dvec3 project_to_walls(const glm::dvec3& x) const { return glm::clamp(x, d_.wall_min, d_.wall_max); }
 
   Derived d_;

@@ -155,6 +155,8 @@ TEST(ReferenceGrid, DensityMatchesBruteForce) {
       glm::dvec3 dd = st.x[i] - st.x[j];
       rho += d.mass * kernels::poly6(glm::dot(dd, dd), d.h);
     }
+    glm::dvec3 unused;
+    rho += ref.wall_density(st.x[i], unused);
     ASSERT_NEAR(ref.state.rho[i], rho, 1e-12 * rho) << "particle " << i;
   }
 }

@@ -26,6 +26,8 @@ const Bounds kBounds[] = {
     {"ldc", 0.6, 2.5, 0.002, 0.02},
 };
 
+void PrintTo(const Bounds& b, std::ostream* os) { *os << b.method; }
+
 class RestTest : public test::GpuTest, public ::testing::WithParamInterface<Bounds> {};
 
 TEST_P(RestTest, TankStaysAtRestFor2Seconds) {
