@@ -54,24 +54,26 @@ ErrorReport report(const std::vector<double>& err, const std::vector<double>& ma
 }
 }  // namespace
 
-ErrorReport compare(const std::vector<double>& gpu, const std::vector<double>& ref, const std::string& what) {
+namespace {
+// Error and magnitude of every element, with `norm` giving a scalar per element.
+template <class T, class Norm>
+ErrorReport compare_with(const std::vector<T>& gpu, const std::vector<T>& ref, const std::string& what, Norm norm) {
   EXPECT_EQ(gpu.size(), ref.size()) << what;
   std::vector<double> err(ref.size()), mag(ref.size());
   for (size_t i = 0; i < ref.size() && i < gpu.size(); ++i) {
-    err[i] = std::abs(gpu[i] - ref[i]);
-    mag[i] = std::abs(ref[i]);
+    err[i] = norm(gpu[i] - ref[i]);
+    mag[i] = norm(ref[i]);
   }
   return report(err, mag, what);
 }
+}  // namespace
+
+ErrorReport compare(const std::vector<double>& gpu, const std::vector<double>& ref, const std::string& what) {
+  return compare_with(gpu, ref, what, [](double v) { return std::abs(v); });
+}
 
 ErrorReport compare(const std::vector<glm::dvec3>& gpu, const std::vector<glm::dvec3>& ref, const std::string& what) {
-  EXPECT_EQ(gpu.size(), ref.size()) << what;
-  std::vector<double> err(ref.size()), mag(ref.size());
-  for (size_t i = 0; i < ref.size() && i < gpu.size(); ++i) {
-    err[i] = glm::length(gpu[i] - ref[i]);
-    mag[i] = glm::length(ref[i]);
-  }
-  return report(err, mag, what);
+  return compare_with(gpu, ref, what, [](const glm::dvec3& v) { return glm::length(v); });
 }
 
 std::vector<glm::dvec3> difference(const std::vector<glm::dvec3>& a, const std::vector<glm::dvec3>& b) {
