@@ -2,7 +2,6 @@
 // The solver on Vulkan compute: every pass of DESIGN.md's step is one shader, and a
 // whole frame (all its steps and the measures) is one command buffer.
 #include <array>
-#include <memory>
 
 #include "gpu_grid.hpp"
 #include "params.hpp"

@@ -94,7 +94,7 @@ void expect_exact_neighbours(const Derived& d, const std::vector<glm::vec4>& x) 
 
 Derived box_domain(glm::dvec3 size, double spacing) {
   std::string max = "[" + std::to_string(size.x) + "," + std::to_string(size.y) + "," + std::to_string(size.z) + "]";
-  Scene s = test::test_scene("hydrostatic", {"domain.max=" + max, "particle_spacing=" + std::to_string(spacing),
+  Scene s = load_scene("hydrostatic", {"domain.max=" + max, "particle_spacing=" + std::to_string(spacing),
                                              "fluid_blocks=[{\"min\":[0,0,0],\"max\":" + max + "}]"});
   return derive(s);
 }
@@ -143,7 +143,7 @@ TEST_F(GridTest, ManyCellsNeedThreeScanLevels) {
 }
 
 TEST(ReferenceGrid, DensityMatchesBruteForce) {
-  Scene scene = test::test_scene("dam_break", {"particle_spacing=0.04"});
+  Scene scene = load_scene("dam_break", {"particle_spacing=0.04"});
   Derived d = derive(scene);
   ParticleState st = test::jittered_state(scene);
   ReferenceSolver ref(d, st.x);

@@ -27,7 +27,7 @@ ParticleState two_density_slab(const Scene& scene) {
 }
 
 Scene slab_scene(const std::string& method, double k) {
-  return test::test_scene("hydrostatic", {"solver.method=\"" + method + "\"", "solver.ldc_k=" + std::to_string(k)});
+  return load_scene("hydrostatic", {"solver.method=\"" + method + "\"", "solver.ldc_k=" + std::to_string(k)});
 }
 
 std::vector<glm::dvec3> reference_forces(const Scene& scene, const ParticleState& st) {

@@ -14,7 +14,7 @@ constexpr double kPassTolerance = 1e-4;  // max error / max |reference value|
 class PassTest : public test::GpuTest {
  protected:
   // Coarse dam break with every optional pass switched on.
-  Scene scene = test::test_scene("dam_break", {"particle_spacing=0.04", "solver.xsph=0.05", "solver.vorticity=0.1"});
+  Scene scene = load_scene("dam_break", {"particle_spacing=0.04", "solver.xsph=0.05", "solver.vorticity=0.1"});
   Derived d = derive(scene);
   ParticleState input = test::jittered_state(scene);
   GpuSolver gpu{test::gpu(), d, input.x};
@@ -141,7 +141,7 @@ TEST_F(PassTest, Measures) {
 class StepTest : public test::GpuTest, public ::testing::WithParamInterface<const char*> {};
 
 TEST_P(StepTest, SeveralStepsAgree) {
-  Scene scene = test::test_scene("dam_break", {"particle_spacing=0.04", std::string("solver.method=\"") + GetParam() + "\"",
+  Scene scene = load_scene("dam_break", {"particle_spacing=0.04", std::string("solver.method=\"") + GetParam() + "\"",
                                                "solver.iterations=2", "solver.vorticity=0.1"});
   Derived d = derive(scene);
   auto x0 = initial_particles(scene);
@@ -172,7 +172,7 @@ class LatticeDensityTest : public test::GpuTest {};
 // The mass is calibrated so that an interior lattice particle has rho0 exactly; the
 // wall term approximates the missing neighbours by a continuum, good to a few percent.
 TEST_F(LatticeDensityTest, InteriorIsRestDensityAndWallsAreClose) {
-  Scene scene = test::test_scene("hydrostatic");
+  Scene scene = load_scene("hydrostatic");
   Derived d = derive(scene);
   auto x0 = initial_particles(scene);
   GpuSolver gpu(test::gpu(), d, x0);

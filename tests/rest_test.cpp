@@ -32,7 +32,7 @@ class RestTest : public test::GpuTest, public ::testing::WithParamInterface<Boun
 
 TEST_P(RestTest, TankStaysAtRestFor2Seconds) {
   const Bounds& b = GetParam();
-  Scene scene = test::test_scene("hydrostatic", {"particle_spacing=0.05", "solver.iterations=4", "solver.substeps=4",
+  Scene scene = load_scene("hydrostatic", {"particle_spacing=0.05", "solver.iterations=4", "solver.substeps=4",
                                                  std::string("solver.method=\"") + b.method + "\""});
   Derived d = derive(scene);
   GpuSolver solver(test::gpu(), d, initial_particles(scene));

@@ -11,10 +11,6 @@ vk::Context& gpu() {
   return ctx;
 }
 
-Scene test_scene(const std::string& name, const std::vector<std::string>& overrides) {
-  return load_scene(name, overrides);
-}
-
 ParticleState jittered_state(const Scene& scene, unsigned seed) {
   std::mt19937 rng(seed);
   const double s = scene.particle_spacing;

@@ -29,8 +29,6 @@ class GpuTest : public ::testing::Test {
   size_t messages_before_ = 0;
 };
 
-Scene test_scene(const std::string& name, const std::vector<std::string>& overrides = {});
-
 // A non-trivial state: lattice positions jittered, random velocities and predictions.
 ParticleState jittered_state(const Scene& scene, unsigned seed = 7);
 
