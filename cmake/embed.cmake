@@ -46,13 +46,18 @@ std::span<const uint32_t> spirv(std::string_view name) {
   set(${out_var} ${cpp} PARENT_SCOPE)
 endfunction()
 
-# embed_text(OUT_VAR function_name files): generates a .cpp whose function returns
-# {stem, contents} for every file, read again whenever a file changes.
+# embed_text(OUT_VAR function_name files [KEEP_EXTENSION]): generates a .cpp whose
+# function returns {stem, contents} ({file name, contents} with KEEP_EXTENSION) for
+# every file, read again whenever a file changes.
 function(embed_text out_var fn files)
   set(gen ${CMAKE_BINARY_DIR}/generated)
   set(entries "")
+  set(part NAME_WE)
+  if("KEEP_EXTENSION" IN_LIST ARGN)
+    set(part NAME)
+  endif()
   foreach(f ${files})
-    get_filename_component(name ${f} NAME_WE)
+    get_filename_component(name ${f} ${part})
     file(READ ${f} text)
     string(APPEND entries "      {\"${name}\", R\"pbflow_embed(${text})pbflow_embed\"},\n")
     set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${f})

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <numeric>
 
+#include "vk/check.hpp"
 #include "vk/context.hpp"
 
 namespace pbflow {
@@ -91,6 +92,23 @@ ParticleState GpuSolver::download() const {
   s.rho = unpack1(rho_);
   s.lambda = unpack1(lambda_buf_);
   return s;
+}
+
+ParticleFrame GpuSolver::read_frame() const {
+  return {at(X).download<glm::vec4>(n_), at(V).download<glm::vec4>(n_), rho_.download<float>(n_)};
+}
+
+void GpuSolver::copy_frame(const vk::Buffer& dst) const {
+  if (dst.bytes() < frame_bytes(n_)) throw vk::Error("copy_frame: destination buffer too small");
+  const VkDeviceSize vec4s = n_ * sizeof(glm::vec4), floats = n_ * sizeof(float);
+  ctx_.submit_and_wait([&](VkCommandBuffer cb) {
+    vk::memory_barrier(cb);  // the frame's shader writes are visible to the copies
+    VkBufferCopy x{0, 0, vec4s}, v{0, vec4s, vec4s}, rho{0, 2 * vec4s, floats};
+    vkCmdCopyBuffer(cb, at(X).handle(), dst.handle(), 1, &x);
+    vkCmdCopyBuffer(cb, at(V).handle(), dst.handle(), 1, &v);
+    vkCmdCopyBuffer(cb, rho_.handle(), dst.handle(), 1, &rho);
+    vk::memory_barrier(cb);
+  });
 }
 
 void GpuSolver::bind_particle_pass(const vk::Program& p) {

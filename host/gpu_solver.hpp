@@ -18,6 +18,9 @@ class GpuSolver : public Solver {
   GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector<glm::dvec3>& x0);
 
   FrameStats advance(int steps) override;
+  ParticleFrame read_frame() const override;
+  // Copies x, v and rho (frame_bytes layout) into `dst` on the device: no host round trip.
+  void copy_frame(const vk::Buffer& dst) const;
   size_t particle_count() const override { return n_; }
   std::string device_name() const override;
 

@@ -1,8 +1,10 @@
 // pbflow command line: run, scenes, devices.
 #include <CLI/CLI.hpp>
+#include <csignal>
 #include <cstdio>
 #include <iostream>
 
+#include "gl_context.hpp"
 #include "run.hpp"
 #include "scene.hpp"
 #include "vk/check.hpp"
@@ -30,6 +32,7 @@ int list_scenes() {
 }  // namespace
 
 int main(int argc, char** argv) {
+  std::signal(SIGPIPE, SIG_IGN);  // a dying ffmpeg shows as a failed write, not a silent exit
   CLI::App app{"pbflow: position based fluids with local density correction, on Vulkan compute"};
   app.require_subcommand(0, 1);
 
@@ -47,6 +50,16 @@ int main(int argc, char** argv) {
   run_cmd->add_flag("--quiet", run.quiet, "no progress line or summary");
   bool no_render = false;
   run_cmd->add_flag("--no-render", no_render, "simulate only, write no images");
+  run_cmd->add_option("--style", run.style, "fluid | particles | density | speed")
+      ->check(CLI::IsMember({"fluid", "particles", "density", "speed"}))
+      ->capture_default_str();
+  run_cmd->add_option("--width", run.width, "image width in pixels")->check(CLI::Range(16, 16384))->capture_default_str();
+  run_cmd->add_option("--height", run.height, "image height in pixels")
+      ->check(CLI::Range(16, 16384))
+      ->capture_default_str();
+  run_cmd->add_option("--video", run.video, "also encode the frames into this .mp4 (needs ffmpeg)");
+  run_cmd->add_flag("--readback", run.readback, "read particles back through the host even where zero-copy works");
+  run_cmd->add_flag("--verbose", run.verbose, "say how frames are rendered (EGL platform, GL, particle path)");
 
   CLI::App* scenes_cmd = app.add_subcommand("scenes", "list the built-in scenes");
   CLI::App* devices_cmd = app.add_subcommand("devices", "list the Vulkan devices and their limits");
@@ -68,6 +81,9 @@ int main(int argc, char** argv) {
   } catch (const pbflow::InputError& e) {
     std::cerr << "pbflow: " << e.what() << "\n";
     return 2;
+  } catch (const pbflow::gl::Error& e) {  // no EGL/GL: the machine cannot render; --no-render still works
+    std::cerr << "pbflow: cannot render: " << e.what() << " (--no-render simulates without images)\n";
+    return 1;
   } catch (const pbflow::vk::DeviceSelectionError& e) {
     std::cerr << "pbflow: " << e.what() << "\n";
     return 2;

@@ -198,6 +198,16 @@ FrameStats ReferenceSolver::measure() {
   return s;
 }
 
+ParticleFrame ReferenceSolver::read_frame() const {
+  ParticleFrame f;
+  for (size_t i = 0; i < state.x.size(); ++i) {
+    f.x.emplace_back(glm::vec3(state.x[i]), 0.0f);
+    f.v.emplace_back(glm::vec3(state.v[i]), 0.0f);
+    f.rho.push_back(float(state.rho[i]));
+  }
+  return f;
+}
+
 FrameStats ReferenceSolver::advance(int steps) {
   auto start = std::chrono::steady_clock::now();
   for (int k = 0; k < steps; ++k) step();

@@ -14,6 +14,7 @@ class ReferenceSolver : public Solver {
   ReferenceSolver(const Derived& d, const std::vector<glm::dvec3>& x0);
 
   FrameStats advance(int steps) override;
+  ParticleFrame read_frame() const override;
   size_t particle_count() const override { return state.x.size(); }
   std::string device_name() const override { return "cpu (C++ reference)"; }
 

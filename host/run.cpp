@@ -8,6 +8,7 @@
 #include <fstream>
 #include <iostream>
 
+#include "frame_capture.hpp"
 #include "gpu_solver.hpp"
 #include "reference_solver.hpp"
 #include "scene.hpp"
@@ -52,6 +53,30 @@ class Progress {
   bool enabled_;
 };
 
+std::unique_ptr<capture::FrameCapture> make_capture(const RunOptions& o, const Scene& scene, const Solver& solver,
+                                                    const vk::Context* vk) {
+  if (o.width < 16 || o.height < 16 || o.width > 16384 || o.height > 16384)
+    throw InputError("--width and --height must be between 16 and 16384 pixels");
+  capture::CaptureOptions c;
+  c.view.width = o.width;
+  c.view.height = o.height;
+  c.view.style = capture::parse_style(o.style);
+  c.view.camera = scene.camera;
+  c.view.domain = scene.domain;
+  c.view.particle_radius = 0.5 * scene.particle_spacing;
+  c.view.rest_density = scene.solver.rest_density;
+  // Red in the speed style: the speed of a fall through the domain's height.
+  c.view.speed_scale =
+      std::max(std::sqrt(2.0 * glm::length(scene.gravity) * (scene.domain.max.y - scene.domain.min.y)), 0.1);
+  c.frames_dir = std::filesystem::path(o.out) / "frames";
+  c.frame_count = scene.frames;
+  c.video = o.video;
+  c.fps = scene.fps;
+  c.allow_shared = !o.readback;
+  c.debug = o.validate;
+  return std::make_unique<capture::FrameCapture>(c, solver, vk);
+}
+
 }  // namespace
 
 int run(const RunOptions& o) {
@@ -61,14 +86,17 @@ int run(const RunOptions& o) {
 
   std::unique_ptr<vk::Context> ctx;
   std::unique_ptr<Solver> solver = make_solver(o.device, o.validate, d, x0, ctx);
+  const std::filesystem::path out(o.out);
+  std::unique_ptr<capture::FrameCapture> capture;
+  if (o.render) capture = make_capture(o, scene, *solver, ctx.get());
 
-  std::filesystem::create_directories(o.out);
-  StatsCsv csv(std::filesystem::path(o.out) / "stats.csv");
+  std::filesystem::create_directories(out);
+  StatsCsv csv(out / "stats.csv");
   if (!o.quiet) {
     std::cerr << "pbflow: " << scene.name << ", " << x0.size() << " particles, " << method_name(scene.solver.method)
               << " with " << scene.solver.iterations << " iteration(s), " << scene.solver.substeps
               << " substeps per frame, on " << solver->device_name() << "\n";
-    if (o.render) std::cerr << "pbflow: frames are not rendered yet (capture/ is not built); writing stats only\n";
+    if (capture && o.verbose) std::cerr << "pbflow: rendering with " << capture->description() << "\n";
   }
 
   Progress progress(scene.frames, !o.quiet);
@@ -78,26 +106,39 @@ int run(const RunOptions& o) {
     FrameStats s = solver->advance(frame == 0 ? 0 : scene.solver.substeps);
     double t = frame / scene.fps;
     csv.write(frame, t, s);
+    if (capture) capture->write(frame, *solver);
     sum_mean += s.mean_compression;
     worst = std::max(worst, s.max_compression);
     sum_step_ms += s.step_ms;
     progress.update(frame, t, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   }
+  if (capture) capture->finish();
   progress.done();
   double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   long steps = long(scene.frames - 1) * scene.solver.substeps;
   if (!o.quiet) {
     double solver_s = sum_step_ms / 1000.0 * scene.solver.substeps;
+    double render_s = capture ? capture->seconds() : 0.0, simulated_s = (scene.frames - 1) / scene.fps;
     std::cout << "particles " << x0.size() << ", steps " << steps << ", wall " << wall << " s, "
               << (steps > 0 ? double(x0.size()) * steps / solver_s : 0.0) << " particle-steps/s (solver time "
               << solver_s << " s), mean compression " << sum_mean / scene.frames << ", max compression " << worst
-              << "\nstats: " << (std::filesystem::path(o.out) / "stats.csv").string() << "\n";
+              << "\nreal-time factor " << simulated_s / std::max(wall - render_s, 1e-9) << " simulating";
+    if (capture)
+      std::cout << ", " << simulated_s / wall << " with rendering (" << 1000.0 * render_s / scene.frames
+                << " ms per frame)\nframes: " << (out / "frames").string() << "/";
+    if (!o.video.empty()) std::cout << "\nvideo: " << o.video;
+    std::cout << "\nstats: " << (out / "stats.csv").string() << "\n";
   }
+  int status = 0;
   if (ctx && !ctx->validation_messages().empty()) {
     std::cerr << "pbflow: " << ctx->validation_messages().size() << " Vulkan validation message(s)\n";
-    return 1;
+    status = 1;
   }
-  return 0;
+  if (capture && !capture->gl_errors().empty()) {
+    std::cerr << "pbflow: OpenGL error: " << capture->gl_errors().front() << "\n";
+    status = 1;
+  }
+  return status;
 }
 
 }  // namespace pbflow

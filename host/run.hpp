@@ -24,6 +24,12 @@ struct RunOptions {
   bool validate = false;
   bool render = true;
   bool quiet = false;
+  bool verbose = false;
+  // Rendering (capture/): image size, style, video file, and the particle path.
+  int width = 1280, height = 720;
+  std::string style = "fluid";
+  std::string video;      // empty: no video
+  bool readback = false;  // force the read-back path even where zero-copy works
 };
 
 // The scene's overrides: --param entries, then the dedicated options (which win).

@@ -19,11 +19,21 @@ struct ParticleState {
   std::vector<double> rho, lambda;
 };
 
+// What capture and export read after a frame, in float: positions (xyz, w unused),
+// velocities (xyz, w unused) and densities, in the solver's own particle order.
+// On the GPU the same three arrays lie back to back in one buffer (frame_bytes).
+struct ParticleFrame {
+  std::vector<glm::vec4> x, v;
+  std::vector<float> rho;
+};
+inline size_t frame_bytes(size_t n) { return n * (2 * sizeof(glm::vec4) + sizeof(float)); }
+
 class Solver {
  public:
   virtual ~Solver() = default;
   // Runs `steps` time steps (0: none), then measures at the final positions.
   virtual FrameStats advance(int steps) = 0;
+  virtual ParticleFrame read_frame() const = 0;  // the state after the last advance()
   virtual size_t particle_count() const = 0;
   virtual std::string device_name() const = 0;
 };

@@ -18,12 +18,21 @@ Buffer::Buffer(const Context& ctx, VkDeviceSize bytes, Memory memory) : ctx_(&ct
   info.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
                VK_BUFFER_USAGE_TRANSFER_DST_BIT;
   info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+  VkExternalMemoryBufferCreateInfo external{VK_STRUCTURE_TYPE_EXTERNAL_MEMORY_BUFFER_CREATE_INFO};
+  external.handleTypes = VK_EXTERNAL_MEMORY_HANDLE_TYPE_OPAQUE_FD_BIT;
+  if (memory == Memory::Shared) {
+    if (!ctx.external_memory_fd()) throw Error("this Vulkan device cannot export memory (VK_KHR_external_memory_fd)");
+    info.pNext = &external;
+  }
   VK_CHECK(vkCreateBuffer(ctx.device(), &info, nullptr, &buffer_));
   try {
     VkMemoryRequirements req;
     vkGetBufferMemoryRequirements(ctx.device(), buffer_, &req);
+    VkExportMemoryAllocateInfo export_info{VK_STRUCTURE_TYPE_EXPORT_MEMORY_ALLOCATE_INFO};
+    export_info.handleTypes = VK_EXTERNAL_MEMORY_HANDLE_TYPE_OPAQUE_FD_BIT;
     VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-    alloc.allocationSize = req.size;
+    if (memory == Memory::Shared) alloc.pNext = &export_info;
+    alloc.allocationSize = allocation_bytes_ = req.size;
     alloc.memoryTypeIndex = ctx.memory_type(
         req.memoryTypeBits, memory == Memory::Host
                                 ? VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT
@@ -44,6 +53,7 @@ Buffer& Buffer::operator=(Buffer&& o) noexcept {
     buffer_ = std::exchange(o.buffer_, VK_NULL_HANDLE);
     memory_ = std::exchange(o.memory_, VK_NULL_HANDLE);
     bytes_ = std::exchange(o.bytes_, 0);
+    allocation_bytes_ = std::exchange(o.allocation_bytes_, 0);
     mapped_ = std::exchange(o.mapped_, nullptr);
   }
   return *this;
@@ -56,6 +66,16 @@ void Buffer::release() noexcept {
   buffer_ = VK_NULL_HANDLE;
   memory_ = VK_NULL_HANDLE;
   mapped_ = nullptr;
+}
+
+int Buffer::export_fd() const {
+  if (!ctx_ || !ctx_->external_memory_fd()) throw Error("export_fd: the buffer's memory cannot be exported");
+  VkMemoryGetFdInfoKHR info{VK_STRUCTURE_TYPE_MEMORY_GET_FD_INFO_KHR};
+  info.memory = memory_;
+  info.handleType = VK_EXTERNAL_MEMORY_HANDLE_TYPE_OPAQUE_FD_BIT;
+  int fd = -1;
+  VK_CHECK(ctx_->get_memory_fd(ctx_->device(), &info, &fd));
+  return fd;
 }
 
 void Buffer::upload(const void* data, VkDeviceSize bytes) {

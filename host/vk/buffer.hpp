@@ -14,6 +14,7 @@ class Context;
 enum class Memory {
   Device,  // device-local; filled and read through staging copies
   Host,    // host-visible and coherent, mapped for its whole life (readback of small results)
+  Shared,  // device-local and exportable as an opaque fd (Context::external_memory_fd)
 };
 
 class Buffer {
@@ -29,6 +30,9 @@ class Buffer {
   VkBuffer handle() const { return buffer_; }
   VkDeviceSize bytes() const { return bytes_; }
   void* mapped() const { return mapped_; }  // Memory::Host only
+  VkDeviceSize allocation_bytes() const { return allocation_bytes_; }
+  // A new fd for the memory (Memory::Shared only); whoever imports it owns it.
+  int export_fd() const;
 
   // Whole-buffer transfers through a staging buffer (one submit each); tests and set-up only.
   void upload(const void* data, VkDeviceSize bytes);
@@ -49,7 +53,7 @@ class Buffer {
   const Context* ctx_ = nullptr;
   VkBuffer buffer_ = VK_NULL_HANDLE;
   VkDeviceMemory memory_ = VK_NULL_HANDLE;
-  VkDeviceSize bytes_ = 0;
+  VkDeviceSize bytes_ = 0, allocation_bytes_ = 0;
   void* mapped_ = nullptr;
 };
 

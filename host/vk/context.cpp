@@ -113,17 +113,18 @@ int compute_queue_family(VkPhysicalDevice pd) {
   return -1;
 }
 
-bool has_extensions(VkPhysicalDevice pd) {
+bool has_extension(VkPhysicalDevice pd, const char* want) {
   uint32_t n = 0;
   VK_CHECK(vkEnumerateDeviceExtensionProperties(pd, nullptr, &n, nullptr));
   std::vector<VkExtensionProperties> ext(n);
   VK_CHECK(vkEnumerateDeviceExtensionProperties(pd, nullptr, &n, ext.data()));
-  for (const char* want : kRequiredDeviceExtensions)
-    if (std::none_of(ext.begin(), ext.end(), [&](const VkExtensionProperties& e) {
-          return std::strcmp(e.extensionName, want) == 0;
-        }))
-      return false;
-  return true;
+  return std::any_of(ext.begin(), ext.end(),
+                     [&](const VkExtensionProperties& e) { return std::strcmp(e.extensionName, want) == 0; });
+}
+
+bool has_extensions(VkPhysicalDevice pd) {
+  return std::all_of(std::begin(kRequiredDeviceExtensions), std::end(kRequiredDeviceExtensions),
+                     [&](const char* want) { return has_extension(pd, want); });
 }
 
 DeviceInfo describe(VkPhysicalDevice pd, uint32_t index) {
@@ -251,13 +252,23 @@ Context::Context(const Options& options) : validate_(options.validate) {
     VkDeviceCreateInfo info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
     info.queueCreateInfoCount = 1;
     info.pQueueCreateInfos = &queue;
-    info.enabledExtensionCount = uint32_t(std::size(kRequiredDeviceExtensions));
-    info.ppEnabledExtensionNames = kRequiredDeviceExtensions;
+    // Optional: exporting memory lets the renderer read solver buffers without a host copy.
+    std::vector<const char*> extensions(std::begin(kRequiredDeviceExtensions), std::end(kRequiredDeviceExtensions));
+    external_memory_fd_ = has_extension(physical_, VK_KHR_EXTERNAL_MEMORY_FD_EXTENSION_NAME);
+    if (external_memory_fd_) extensions.push_back(VK_KHR_EXTERNAL_MEMORY_FD_EXTENSION_NAME);
+    info.enabledExtensionCount = uint32_t(extensions.size());
+    info.ppEnabledExtensionNames = extensions.data();
     VK_CHECK(vkCreateDevice(physical_, &info, nullptr, &device_));
     vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
     push_descriptor_set = reinterpret_cast<PFN_vkCmdPushDescriptorSetKHR>(
         vkGetDeviceProcAddr(device_, "vkCmdPushDescriptorSetKHR"));
     if (!push_descriptor_set) throw Error("vkCmdPushDescriptorSetKHR is not available");
+    if (external_memory_fd_)
+      get_memory_fd = reinterpret_cast<PFN_vkGetMemoryFdKHR>(vkGetDeviceProcAddr(device_, "vkGetMemoryFdKHR"));
+    VkPhysicalDeviceIDProperties id{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ID_PROPERTIES};
+    VkPhysicalDeviceProperties2 props2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &id};
+    vkGetPhysicalDeviceProperties2(physical_, &props2);
+    std::copy(std::begin(id.deviceUUID), std::end(id.deviceUUID), device_uuid_.begin());
 
     VkCommandPoolCreateInfo pool{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
     pool.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;

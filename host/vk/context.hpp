@@ -3,6 +3,7 @@
 // every other Vulkan object borrows it and must be destroyed before it.
 #include <vulkan/vulkan.h>
 
+#include <array>
 #include <functional>
 #include <mutex>
 #include <string>
@@ -50,6 +51,12 @@ class Context {
   uint32_t memory_type(uint32_t type_bits, VkMemoryPropertyFlags wanted) const;
   PFN_vkCmdPushDescriptorSetKHR push_descriptor_set = nullptr;
 
+  // Memory export for the renderer (VK_KHR_external_memory_fd, optional); GL matches
+  // its device by this UUID before it imports anything.
+  bool external_memory_fd() const { return external_memory_fd_ && get_memory_fd; }
+  PFN_vkGetMemoryFdKHR get_memory_fd = nullptr;
+  const std::array<uint8_t, VK_UUID_SIZE>& device_uuid() const { return device_uuid_; }
+
   // Records commands into a one-time command buffer, submits them and waits.
   void submit_and_wait(const std::function<void(VkCommandBuffer)>& record) const;
 
@@ -76,6 +83,8 @@ class Context {
   VkPhysicalDeviceLimits limits_{};
   VkPhysicalDeviceMemoryProperties memory_{};
   uint32_t workgroup_size_ = 64;
+  bool external_memory_fd_ = false;
+  std::array<uint8_t, VK_UUID_SIZE> device_uuid_{};
   mutable std::mutex messages_mutex_;
   std::vector<std::string> messages_;
 };

@@ -1,0 +1,49 @@
+#pragma once
+// The capture stage of a run: after each frame, particles to GL, render, write
+// DIR/frames/frame_NNNNN.png, and feed the video when one is asked for.
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include "gl_context.hpp"
+#include "particle_transfer.hpp"
+#include "renderer.hpp"
+#include "video.hpp"
+
+namespace pbflow::capture {
+
+struct CaptureOptions {
+  View view;
+  std::filesystem::path frames_dir;  // DIR/frames
+  int frame_count = 0;               // fixes the width of the frame numbers
+  std::filesystem::path video;       // empty: none
+  double fps = 60;
+  bool allow_shared = true;  // false forces the read-back path
+  bool debug = false;        // GL debug context; errors() reports what it saw
+};
+
+class FrameCapture {
+ public:
+  // Makes the GL context and checks everything it can before any frame is written.
+  FrameCapture(const CaptureOptions& options, const Solver& solver, const vk::Context* vk);
+  ~FrameCapture();
+
+  void write(int frame, const Solver& solver);
+  void finish();  // completes the video
+
+  std::filesystem::path frame_path(int frame) const;
+  std::string description() const;  // GL platform, renderer and transfer path
+  double seconds() const { return seconds_; }  // spent rendering and writing so far
+  std::vector<std::string> gl_errors() const { return gl_.errors(); }
+
+ private:
+  CaptureOptions options_;
+  gl::Context gl_;
+  Renderer renderer_;
+  std::unique_ptr<ParticleTransfer> transfer_;
+  std::unique_ptr<VideoEncoder> video_;
+  int digits_ = 5;
+  double seconds_ = 0;
+};
+
+}  // namespace pbflow::capture

@@ -1,0 +1,100 @@
+#include "gl_objects.hpp"
+
+#include <string_view>
+#include <vector>
+
+#include "gl_context.hpp"
+
+namespace pbflow {
+const std::vector<std::pair<std::string_view, std::string_view>>& render_shaders_text();
+}
+
+namespace pbflow::gl {
+
+Object make_buffer(GLsizeiptr bytes, GLbitfield flags) {
+  GLuint id = 0;
+  glCreateBuffers(1, &id);
+  glNamedBufferStorage(id, std::max<GLsizeiptr>(bytes, 4), nullptr, flags);
+  return {id, [](GLuint b) { glDeleteBuffers(1, &b); }};
+}
+
+Object make_texture(GLenum format, int width, int height) {
+  GLuint id = 0;
+  glCreateTextures(GL_TEXTURE_2D, 1, &id);
+  glTextureStorage2D(id, 1, format, width, height);
+  glTextureParameteri(id, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTextureParameteri(id, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glTextureParameteri(id, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(id, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  return {id, [](GLuint t) { glDeleteTextures(1, &t); }};
+}
+
+Object make_framebuffer(std::initializer_list<GLuint> colour, GLuint depth) {
+  GLuint id = 0;
+  glCreateFramebuffers(1, &id);
+  Object fb(id, [](GLuint f) { glDeleteFramebuffers(1, &f); });
+  std::vector<GLenum> draw;
+  for (GLuint tex : colour) {
+    GLenum attachment = GL_COLOR_ATTACHMENT0 + GLenum(draw.size());
+    glNamedFramebufferTexture(id, attachment, tex, 0);
+    draw.push_back(attachment);
+  }
+  glNamedFramebufferDrawBuffers(id, GLsizei(draw.size()), draw.data());
+  if (depth) glNamedFramebufferTexture(id, GL_DEPTH_ATTACHMENT, depth, 0);
+  GLenum status = glCheckNamedFramebufferStatus(id, GL_FRAMEBUFFER);
+  if (status != GL_FRAMEBUFFER_COMPLETE) throw Error("framebuffer incomplete (status " + std::to_string(status) + ")");
+  return fb;
+}
+
+Object make_vertex_array() {
+  GLuint id = 0;
+  glCreateVertexArrays(1, &id);
+  return {id, [](GLuint v) { glDeleteVertexArrays(1, &v); }};
+}
+
+namespace {
+
+std::string_view source(const std::string& name) {
+  for (const auto& [stem, text] : render_shaders_text())
+    if (stem == name) return text;
+  throw Error("no embedded render shader named '" + name + "'");
+}
+
+Object compile(GLenum stage, const std::string& name) {
+  Object shader(glCreateShader(stage), [](GLuint s) { glDeleteShader(s); });
+  // GLSL has no #include: every stage gets the shared declarations after its #version.
+  std::string text = "#version 450 core\n" + std::string(source("render_common.glsl")) + "#line 1\n" +
+                     std::string(source(name));
+  const GLchar* ptr = text.c_str();
+  GLint length = GLint(text.size());
+  glShaderSource(shader, 1, &ptr, &length);
+  glCompileShader(shader);
+  GLint ok = 0;
+  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    char log[4096] = {};
+    glGetShaderInfoLog(shader, sizeof log, nullptr, log);
+    throw Error("render shader " + name + " does not compile: " + log);
+  }
+  return shader;
+}
+
+}  // namespace
+
+Object make_program(const std::string& vertex, const std::string& fragment) {
+  Object vs = compile(GL_VERTEX_SHADER, vertex), fs = compile(GL_FRAGMENT_SHADER, fragment);
+  Object program(glCreateProgram(), [](GLuint p) { glDeleteProgram(p); });
+  glAttachShader(program, vs);
+  glAttachShader(program, fs);
+  glLinkProgram(program);
+  GLint ok = 0;
+  glGetProgramiv(program, GL_LINK_STATUS, &ok);
+  if (!ok) {
+    char log[4096] = {};
+    glGetProgramInfoLog(program, sizeof log, nullptr, log);
+    throw Error("render program " + vertex + " + " + fragment + " does not link: " + log);
+  }
+  return program;
+}
+
+}  // namespace pbflow::gl

@@ -1,0 +1,72 @@
+#include "particle_transfer.hpp"
+
+#include "gpu_solver.hpp"
+#include "vk/buffer.hpp"
+#include "vk/context.hpp"
+
+namespace pbflow::capture {
+
+namespace {
+
+class ReadBack : public ParticleTransfer {
+ public:
+  explicit ReadBack(size_t n) : n_(n), buffer_(gl::make_buffer(GLsizeiptr(frame_bytes(n)))) {}
+  GLuint update(const Solver& solver) override {
+    ParticleFrame f = solver.read_frame();
+    const GLsizeiptr vec4s = GLsizeiptr(n_ * sizeof(glm::vec4));
+    glNamedBufferSubData(buffer_, 0, vec4s, f.x.data());
+    glNamedBufferSubData(buffer_, vec4s, vec4s, f.v.data());
+    glNamedBufferSubData(buffer_, 2 * vec4s, GLsizeiptr(n_ * sizeof(float)), f.rho.data());
+    return buffer_;
+  }
+  const char* name() const override { return "read-back through the host"; }
+
+ private:
+  size_t n_;
+  gl::Object buffer_;
+};
+
+class Shared : public ParticleTransfer {
+ public:
+  // The 64 KiB of slack: llvmpipe (Mesa 22.3) refuses a buffer that fills its imported
+  // memory object exactly (GL_OUT_OF_MEMORY), as it rounds the buffer's size up.
+  Shared(const GpuSolver& solver, const vk::Context& vk)
+      : vk_buffer_(vk, frame_bytes(solver.particle_count()) + 65536, vk::Memory::Shared) {
+    GLuint memory = 0;
+    glCreateMemoryObjectsEXT(1, &memory);
+    memory_ = gl::Object(memory, [](GLuint m) { glDeleteMemoryObjectsEXT(1, &m); });
+    // GL owns the fd from here on.
+    glImportMemoryFdEXT(memory_, vk_buffer_.allocation_bytes(), GL_HANDLE_TYPE_OPAQUE_FD_EXT, vk_buffer_.export_fd());
+    GLuint buffer = 0;
+    glCreateBuffers(1, &buffer);
+    buffer_ = gl::Object(buffer, [](GLuint b) { glDeleteBuffers(1, &b); });
+    glNamedBufferStorageMemEXT(buffer_, GLsizeiptr(frame_bytes(solver.particle_count())), memory_, 0);
+    if (GLenum e = glGetError(); e != GL_NO_ERROR)
+      throw gl::Error("GL could not import the solver's Vulkan memory (GL error " + std::to_string(e) + ")");
+  }
+  GLuint update(const Solver& solver) override {
+    // copy_frame waits for the device, so GL reads a finished frame.
+    static_cast<const GpuSolver&>(solver).copy_frame(vk_buffer_);
+    return buffer_;
+  }
+  const char* name() const override { return "zero-copy (Vulkan memory imported into GL)"; }
+
+ private:
+  vk::Buffer vk_buffer_;
+  gl::Object memory_, buffer_;  // the buffer goes before the memory it lies in
+};
+
+}  // namespace
+
+std::unique_ptr<ParticleTransfer> make_particle_transfer(const Solver& solver, const vk::Context* vk,
+                                                         const gl::Context& gl, bool allow_shared) {
+  auto gpu = dynamic_cast<const GpuSolver*>(&solver);
+  auto uuid = gl.device_uuid();
+  bool shareable = allow_shared && gpu && vk && vk->external_memory_fd() &&
+                   gl.has_extension("GL_EXT_memory_object_fd") && uuid &&
+                   std::equal(uuid->begin(), uuid->end(), vk->device_uuid().begin());
+  if (shareable) return std::make_unique<Shared>(*gpu, *vk);
+  return std::make_unique<ReadBack>(solver.particle_count());
+}
+
+}  // namespace pbflow::capture

@@ -1,0 +1,177 @@
+#include "renderer.hpp"
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+#include <cstring>
+
+#include "gl_context.hpp"
+
+namespace pbflow::capture {
+
+namespace {
+
+constexpr int kPassShaded = 0, kPassDepth = 1, kPassThickness = 2;  // render_common.glsl
+constexpr int kSmoothingRounds = 3;                                    // bilateral x then y, thrice
+
+// The Frame uniform block of render_common.glsl (std140).
+struct FrameUniforms {
+  glm::mat4 view, proj;
+  glm::vec4 light_view, domain_min, domain_max;
+  glm::vec2 viewport;
+  float radius;
+  int32_t count, style, pass;
+  float colour_scale, rho0;
+};
+
+}  // namespace
+
+Style parse_style(const std::string& name) {
+  for (Style s : {Style::Fluid, Style::Particles, Style::Density, Style::Speed})
+    if (name == style_name(s)) return s;
+  throw InputError("--style must be fluid, particles, density or speed, not '" + name + "'");
+}
+
+const char* style_name(Style style) {
+  switch (style) {
+    case Style::Fluid: return "fluid";
+    case Style::Particles: return "particles";
+    case Style::Density: return "density";
+    case Style::Speed: return "speed";
+  }
+  return "?";
+}
+
+Renderer::Renderer(const View& view) : view_(view) {
+  const int w = view.width, h = view.height;
+  vao_ = gl::make_vertex_array();
+  frame_ubo_ = gl::make_buffer(sizeof(FrameUniforms));
+  sphere_ = gl::make_program("sphere.vert", "sphere.frag");
+  box_ = gl::make_program("box.vert", "box.frag");
+  scene_colour_ = gl::make_texture(GL_RGBA8, w, h);
+  scene_depth_ = gl::make_texture(GL_DEPTH_COMPONENT32F, w, h);
+  scene_fb_ = gl::make_framebuffer({scene_colour_}, scene_depth_);
+  if (view.style == Style::Fluid) {
+    smooth_ = gl::make_program("fullscreen.vert", "smooth_depth.frag");
+    fluid_ = gl::make_program("fullscreen.vert", "fluid_shade.frag");
+    for (auto& t : fluid_depth_) t = gl::make_texture(GL_R32F, w, h);
+    fluid_depth_buffer_ = gl::make_texture(GL_DEPTH_COMPONENT32F, w, h);
+    thickness_ = gl::make_texture(GL_R32F, w, h);
+    output_colour_ = gl::make_texture(GL_RGBA8, w, h);
+    depth_fb_ = gl::make_framebuffer({fluid_depth_[0]}, fluid_depth_buffer_);
+    smooth_fb_[0] = gl::make_framebuffer({fluid_depth_[1]}, 0);
+    smooth_fb_[1] = gl::make_framebuffer({fluid_depth_[0]}, 0);
+    thickness_fb_ = gl::make_framebuffer({thickness_}, 0);
+    output_fb_ = gl::make_framebuffer({output_colour_}, 0);
+  }
+}
+
+void Renderer::upload_frame_uniforms(uint32_t count, int pass) {
+  const Camera& c = view_.camera;
+  glm::vec3 eye(c.eye), target(c.target);
+  glm::vec3 lo(view_.domain.min), hi(view_.domain.max);
+  // Near and far planes enclose the domain as seen from the eye.
+  float far = 0;
+  for (int k = 0; k < 8; ++k)
+    far = std::max(far, glm::length(glm::vec3(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z) - eye));
+  far = 1.5f * far + 1.0f;
+  FrameUniforms u{};
+  u.view = glm::lookAt(eye, target, glm::vec3(0, 1, 0));
+  u.proj = glm::perspective(glm::radians(float(c.fov_degrees)), float(view_.width) / float(view_.height),
+                            std::max(far * 1e-4f, 1e-3f), far);
+  u.light_view = glm::vec4(glm::normalize(glm::mat3(u.view) * glm::normalize(glm::vec3(0.3f, 1.0f, 0.5f))), 0.0f);
+  u.domain_min = glm::vec4(lo, 0.0f);
+  u.domain_max = glm::vec4(hi, 0.0f);
+  u.viewport = glm::vec2(view_.width, view_.height);
+  u.radius = float(view_.particle_radius);
+  u.count = int32_t(count);
+  u.style = int32_t(view_.style);
+  u.pass = pass;
+  u.colour_scale = float(view_.style == Style::Density ? kDensityScale : view_.speed_scale);
+  u.rho0 = float(view_.rest_density);
+  glNamedBufferSubData(frame_ubo_, 0, sizeof u, &u);
+  glBindBufferBase(GL_UNIFORM_BUFFER, 0, frame_ubo_);
+}
+
+void Renderer::draw_spheres(uint32_t count, int pass) {
+  if (count == 0) return;
+  upload_frame_uniforms(count, pass);
+  glUseProgram(sphere_);
+  glDrawArrays(GL_TRIANGLES, 0, GLsizei(6 * count));
+}
+
+Image Renderer::render(GLuint buffer, uint32_t count) {
+  const int w = view_.width, h = view_.height;
+  glBindVertexArray(vao_);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buffer);
+  glViewport(0, 0, w, h);
+
+  // The tank: sky, floor and the walls behind the fluid.
+  upload_frame_uniforms(count, kPassShaded);
+  glBindFramebuffer(GL_FRAMEBUFFER, scene_fb_);
+  const float sky[4] = {0.80f, 0.85f, 0.90f, 1.0f}, far_depth = 1.0f;
+  glClearNamedFramebufferfv(scene_fb_, GL_COLOR, 0, sky);
+  glClearNamedFramebufferfv(scene_fb_, GL_DEPTH, 0, &far_depth);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glUseProgram(box_);
+  glDrawArrays(GL_TRIANGLES, 0, 36);
+
+  GLuint result_fb = scene_fb_;
+  if (view_.style == Style::Fluid) {
+    fluid_surface(count);
+    result_fb = output_fb_;
+  } else {
+    draw_spheres(count, kPassShaded);
+  }
+  glDisable(GL_DEPTH_TEST);
+
+  Image image{w, h, std::vector<uint8_t>(size_t(w) * h * 3)};
+  std::vector<uint8_t> rows(image.rgb.size());
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, result_fb);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, w, h, GL_RGB, GL_UNSIGNED_BYTE, rows.data());
+  for (int y = 0; y < h; ++y)  // GL's rows run from the bottom
+    std::memcpy(&image.rgb[size_t(y) * w * 3], &rows[size_t(h - 1 - y) * w * 3], size_t(w) * 3);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  return image;
+}
+
+void Renderer::fluid_surface(uint32_t count) {
+  // 1. Nearest sphere depth per pixel (linear eye depth, 0 where no fluid).
+  const float zero[4] = {0, 0, 0, 0}, far_depth = 1.0f;
+  glClearNamedFramebufferfv(depth_fb_, GL_COLOR, 0, zero);
+  glClearNamedFramebufferfv(depth_fb_, GL_DEPTH, 0, &far_depth);
+  glBindFramebuffer(GL_FRAMEBUFFER, depth_fb_);
+  draw_spheres(count, kPassDepth);
+
+  // 2. Thickness: every sphere's chord, summed.
+  glClearNamedFramebufferfv(thickness_fb_, GL_COLOR, 0, zero);
+  glBindFramebuffer(GL_FRAMEBUFFER, thickness_fb_);
+  glDisable(GL_DEPTH_TEST);
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_ONE, GL_ONE);
+  draw_spheres(count, kPassThickness);
+  glDisable(GL_BLEND);
+
+  // 3. Smoothing, ping-ponging between the two depth textures; ends in fluid_depth_[0].
+  upload_frame_uniforms(count, kPassShaded);
+  glUseProgram(smooth_);
+  for (int round = 0; round < kSmoothingRounds; ++round)
+    for (int axis = 0; axis < 2; ++axis) {
+      glBindFramebuffer(GL_FRAMEBUFFER, smooth_fb_[axis]);
+      glBindTextureUnit(0, fluid_depth_[axis]);
+      glUniform2i(0, axis == 0 ? 1 : 0, axis == 0 ? 0 : 1);
+      glDrawArrays(GL_TRIANGLES, 0, 3);
+    }
+
+  // 4. Shading over the tank.
+  glBindFramebuffer(GL_FRAMEBUFFER, output_fb_);
+  glUseProgram(fluid_);
+  glBindTextureUnit(0, scene_colour_);
+  glBindTextureUnit(1, fluid_depth_[0]);
+  glBindTextureUnit(2, thickness_);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+}
+
+}  // namespace pbflow::capture

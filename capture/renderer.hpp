@@ -1,0 +1,58 @@
+#pragma once
+// Draws particles from a GL buffer in the solver's frame layout (solver.hpp) into an
+// off-screen image: lit spheres (particles, density, speed styles) or a screen-space
+// fluid surface (fluid style), over the domain's floor and walls.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "gl_objects.hpp"
+#include "scene.hpp"
+
+namespace pbflow::capture {
+
+enum class Style { Fluid, Particles, Density, Speed };
+Style parse_style(const std::string& name);  // throws InputError naming the choices
+const char* style_name(Style style);
+
+// Colour scale of the density style: compression c_i from 0 (blue) to this (red).
+constexpr double kDensityScale = 0.03;
+
+struct View {
+  int width = 1280, height = 720;
+  Style style = Style::Fluid;
+  Camera camera;
+  Box domain;
+  double particle_radius = 0.01;  // m
+  double rest_density = 1000;     // kg/m^3, for the density style
+  double speed_scale = 1;         // m/s drawn red in the speed style
+};
+
+// RGB, 8 bits per channel, rows from the top.
+struct Image {
+  int width = 0, height = 0;
+  std::vector<uint8_t> rgb;
+};
+
+class Renderer {
+ public:
+  explicit Renderer(const View& view);  // needs a current gl::Context
+
+  // Draws `count` particles from `buffer` (frame layout); count 0 draws the empty tank.
+  Image render(GLuint buffer, uint32_t count);
+  const View& view() const { return view_; }
+
+ private:
+  void upload_frame_uniforms(uint32_t count, int pass);
+  void draw_spheres(uint32_t count, int pass);
+  void fluid_surface(uint32_t count);
+
+  View view_;
+  gl::Object vao_, frame_ubo_;
+  gl::Object sphere_, box_, smooth_, fluid_;
+  gl::Object scene_colour_, scene_depth_, scene_fb_;
+  gl::Object fluid_depth_[2], fluid_depth_buffer_, thickness_, output_colour_;
+  gl::Object depth_fb_, smooth_fb_[2], thickness_fb_, output_fb_;
+};
+
+}  // namespace pbflow::capture

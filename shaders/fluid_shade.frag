@@ -1,0 +1,49 @@
+// Screen-space fluid: a surface from the smoothed depth, normals from its slopes,
+// Fresnel mix of the sky's reflection and the scene refracted and absorbed through
+// the fluid's thickness, and a specular highlight.
+in vec2 uv;
+layout(location = 0) out vec4 result;
+layout(binding = 0) uniform sampler2D scene_texture;
+layout(binding = 1) uniform sampler2D depth_texture;      // smoothed linear depth, 0 = no fluid
+layout(binding = 2) uniform sampler2D thickness_texture;  // summed chord lengths, m
+
+vec3 view_position(ivec2 p, float d) {
+  vec2 ndc = (vec2(p) + 0.5) / viewport * 2.0 - 1.0;
+  return vec3(ndc.x / proj[0][0], ndc.y / proj[1][1], -1.0) * d;
+}
+
+void main() {
+  ivec2 p = ivec2(gl_FragCoord.xy);
+  vec3 background = texelFetch(scene_texture, p, 0).rgb;
+  float d = texelFetch(depth_texture, p, 0).r;
+  if (d <= 0.0) {
+    result = vec4(background, 1.0);
+    return;
+  }
+  vec3 pos = view_position(p, d);
+  // Slopes from the neighbour on the side with the smaller step, so that edges do not smear.
+  vec3 ddx = vec3(0.0), ddy = vec3(0.0);
+  for (int s = -1; s <= 1; s += 2) {
+    float dx = texelFetch(depth_texture, p + ivec2(s, 0), 0).r;
+    float dy = texelFetch(depth_texture, p + ivec2(0, s), 0).r;
+    vec3 ex = dx > 0.0 ? float(s) * (view_position(p + ivec2(s, 0), dx) - pos) : vec3(0.0);
+    vec3 ey = dy > 0.0 ? float(s) * (view_position(p + ivec2(0, s), dy) - pos) : vec3(0.0);
+    if (ddx == vec3(0.0) || (ex != vec3(0.0) && abs(ex.z) < abs(ddx.z))) ddx = ex;
+    if (ddy == vec3(0.0) || (ey != vec3(0.0) && abs(ey.z) < abs(ddy.z))) ddy = ey;
+  }
+  vec3 n = normalize(cross(ddx, ddy));
+  if (ddx == vec3(0.0) || ddy == vec3(0.0)) n = vec3(0.0, 0.0, 1.0);
+  vec3 eye_dir = normalize(-pos);
+  if (dot(n, eye_dir) < 0.0) n = -n;
+
+  float thickness = texelFetch(thickness_texture, p, 0).r;
+  vec2 offset = n.xy * min(thickness, 0.3) * 0.15;
+  vec3 behind = texture(scene_texture, uv + offset).rgb;
+  // Water absorbs red first: thin sheets are clear, deep water turns blue-green.
+  vec3 absorbed = behind * exp(-thickness * vec3(7.0, 2.5, 1.2)) + vec3(0.02, 0.10, 0.20) * (1.0 - exp(-thickness * 4.0));
+  float fresnel = 0.02 + 0.98 * pow(1.0 - max(dot(n, eye_dir), 0.0), 5.0);
+  vec3 reflected = sky(reflect(-eye_dir, n));
+  vec3 h = normalize(light_view.xyz + eye_dir);
+  float specular = pow(max(dot(n, h), 0.0), 120.0);
+  result = vec4(mix(absorbed, reflected, fresnel) + vec3(0.8 * specular), 1.0);
+}

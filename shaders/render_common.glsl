@@ -1,0 +1,53 @@
+// Shared by the render shaders (prepended after #version by capture/gl_objects.cpp):
+// the per-frame uniforms and the particle buffer in the solver's frame layout
+// (vec4 x[n], vec4 v[n], float rho[n], see solver.hpp).
+
+const int STYLE_FLUID = 0, STYLE_PARTICLES = 1, STYLE_DENSITY = 2, STYLE_SPEED = 3;
+const int PASS_SHADED = 0, PASS_DEPTH = 1, PASS_THICKNESS = 2;
+
+layout(std140, binding = 0) uniform Frame {
+  mat4 view;
+  mat4 proj;
+  vec4 light_view;  // unit vector towards the light, view space
+  vec4 domain_min;  // world space; w unused
+  vec4 domain_max;
+  vec2 viewport;    // pixels
+  float radius;     // particle radius, m
+  int count;        // particles
+  int style;
+  int pass;
+  float colour_scale;  // the value drawn at the top of the colour ramp (density, speed styles)
+  float rho0;
+};
+
+layout(std430, binding = 0) readonly buffer Particles { float particle_data[]; };
+
+vec3 particle_x(int i) { return vec3(particle_data[4 * i], particle_data[4 * i + 1], particle_data[4 * i + 2]); }
+vec3 particle_v(int i) {
+  int o = 4 * (count + i);
+  return vec3(particle_data[o], particle_data[o + 1], particle_data[o + 2]);
+}
+float particle_rho(int i) { return particle_data[8 * count + i]; }
+
+// Sky seen along a view-space direction: light near the horizon, deeper blue above.
+vec3 sky(vec3 dir_view) {
+  vec3 up = normalize(mat3(view) * vec3(0.0, 1.0, 0.0));
+  float h = clamp(dot(dir_view, up), -1.0, 1.0);
+  return mix(vec3(0.80, 0.85, 0.90), vec3(0.35, 0.55, 0.85), clamp(h * 1.5, 0.0, 1.0));
+}
+
+// A ramp from deep blue through cyan, green and yellow to red, t in [0, 1].
+vec3 ramp(float t) {
+  const vec3 stops[5] = vec3[](vec3(0.10, 0.15, 0.60), vec3(0.10, 0.65, 0.85), vec3(0.25, 0.80, 0.30),
+                               vec3(0.95, 0.85, 0.15), vec3(0.85, 0.15, 0.10));
+  float x = clamp(t, 0.0, 1.0) * 4.0;
+  int k = min(int(x), 3);
+  return mix(stops[k], stops[k + 1], x - float(k));
+}
+
+vec3 lit(vec3 base, vec3 n, vec3 p) {
+  float diffuse = max(dot(n, light_view.xyz), 0.0);
+  vec3 h = normalize(light_view.xyz - normalize(p));
+  float specular = pow(max(dot(n, h), 0.0), 48.0);
+  return base * (0.30 + 0.70 * diffuse) + vec3(0.25 * specular);
+}

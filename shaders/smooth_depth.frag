@@ -1,0 +1,33 @@
+// One direction of a separable bilateral filter on linear eye depth: smooths the
+// bumps of the sphere splats into a surface while keeping silhouettes (depth jumps)
+// sharp. 0 marks pixels without fluid.
+in vec2 uv;
+layout(location = 0) out vec4 result;
+layout(binding = 0) uniform sampler2D depth_texture;
+layout(location = 0) uniform ivec2 direction;
+
+void main() {
+  ivec2 p = ivec2(gl_FragCoord.xy);
+  float d0 = texelFetch(depth_texture, p, 0).r;
+  if (d0 <= 0.0) {
+    result = vec4(0.0);
+    return;
+  }
+  // The filter spans about three particle radii on screen, at most 32 pixels.
+  float radius_px = 0.5 * viewport.y * proj[1][1] * radius / d0;
+  int taps = int(clamp(3.0 * radius_px, 1.0, 32.0));
+  float sigma = max(float(taps) / 2.0, 0.5);
+  float depth_sigma = 2.0 * radius;
+  float sum = 0.0, weights = 0.0;
+  ivec2 size = textureSize(depth_texture, 0);
+  for (int k = -taps; k <= taps; ++k) {
+    ivec2 q = clamp(p + k * direction, ivec2(0), size - 1);
+    float d = texelFetch(depth_texture, q, 0).r;
+    if (d <= 0.0) continue;
+    float dd = (d - d0) / depth_sigma;
+    float w = exp(-0.5 * float(k * k) / (sigma * sigma) - 0.5 * dd * dd);
+    sum += w * d;
+    weights += w;
+  }
+  result = vec4(sum / weights, 0.0, 0.0, 1.0);
+}

@@ -1,0 +1,25 @@
+// Ray-sphere intersection per fragment: exact silhouette and depth of each particle.
+// PASS_SHADED: lit colour; PASS_DEPTH: linear eye depth; PASS_THICKNESS: chord length.
+in vec3 corner_view;
+flat in vec3 centre_view;
+flat in float scalar;
+layout(location = 0) out vec4 result;
+
+void main() {
+  vec3 dir = normalize(corner_view);
+  float b = dot(dir, centre_view);
+  float disc = b * b - dot(centre_view, centre_view) + radius * radius;
+  if (disc < 0.0) discard;
+  float s = sqrt(disc);
+  vec3 p = (b - s) * dir;
+  vec4 clip = proj * vec4(p, 1.0);
+  gl_FragDepth = clip.z / clip.w * 0.5 + 0.5;
+  if (pass == PASS_DEPTH) {
+    result = vec4(-p.z, 0.0, 0.0, 1.0);
+  } else if (pass == PASS_THICKNESS) {
+    result = vec4(2.0 * s, 0.0, 0.0, 1.0);
+  } else {
+    vec3 base = style == STYLE_PARTICLES ? vec3(0.20, 0.45, 0.85) : ramp(scalar / colour_scale);
+    result = vec4(lit(base, (p - centre_view) / radius, p), 1.0);
+  }
+}
