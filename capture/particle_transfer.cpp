@@ -6,23 +6,25 @@
 
 namespace pbflow::capture {
 
+void upload_frame(GLuint buffer, const ParticleFrame& f) {
+  const GLsizeiptr n = GLsizeiptr(f.x.size()), vec4s = n * GLsizeiptr(sizeof(glm::vec4));
+  glNamedBufferSubData(buffer, 0, vec4s, f.x.data());
+  glNamedBufferSubData(buffer, vec4s, vec4s, f.v.data());
+  glNamedBufferSubData(buffer, 2 * vec4s, n * GLsizeiptr(sizeof(float)), f.rho.data());
+}
+
 namespace {
 
 class ReadBack : public ParticleTransfer {
  public:
-  explicit ReadBack(size_t n) : n_(n), buffer_(gl::make_buffer(GLsizeiptr(frame_bytes(n)))) {}
+  explicit ReadBack(size_t n) : buffer_(gl::make_buffer(GLsizeiptr(frame_bytes(n)))) {}
   GLuint update(const Solver& solver) override {
-    ParticleFrame f = solver.read_frame();
-    const GLsizeiptr vec4s = GLsizeiptr(n_ * sizeof(glm::vec4));
-    glNamedBufferSubData(buffer_, 0, vec4s, f.x.data());
-    glNamedBufferSubData(buffer_, vec4s, vec4s, f.v.data());
-    glNamedBufferSubData(buffer_, 2 * vec4s, GLsizeiptr(n_ * sizeof(float)), f.rho.data());
+    upload_frame(buffer_, solver.read_frame());
     return buffer_;
   }
   const char* name() const override { return "read-back through the host"; }
 
  private:
-  size_t n_;
   gl::Object buffer_;
 };
 

@@ -23,6 +23,9 @@ class ParticleTransfer {
   virtual const char* name() const = 0;
 };
 
+// Writes a host frame into `buffer` (frame layout, room for f.x.size() particles).
+void upload_frame(GLuint buffer, const ParticleFrame& f);
+
 // Zero-copy when `allow_shared`, the solver runs on `vk` and both drivers can share
 // memory on the same device (matching UUIDs); read-back otherwise.
 std::unique_ptr<ParticleTransfer> make_particle_transfer(const Solver& solver, const vk::Context* vk,

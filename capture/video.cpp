@@ -23,7 +23,10 @@ std::filesystem::path find_ffmpeg() {
 namespace {
 std::string quoted(const std::string& s) {
   std::string out = "'";
-  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  for (char c : s) {
+    if (c == '\'') out.append("'\\''");  // close the quote, an escaped quote, reopen
+    else out.push_back(c);
+  }
   return out + "'";
 }
 }  // namespace
@@ -33,6 +36,7 @@ VideoEncoder::VideoEncoder(const std::filesystem::path& file, int width, int hei
   std::filesystem::path ffmpeg = find_ffmpeg();
   if (ffmpeg.empty()) throw InputError("--video needs ffmpeg, which is not on PATH (apt-get install ffmpeg)");
   if (width % 2 || height % 2) throw InputError("--video needs an even --width and --height (H.264 with 4:2:0)");
+  if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path());
   tmp_ = file;
   tmp_ += ".part" + std::to_string(getpid()) + file.extension().string();
   std::ostringstream cmd;

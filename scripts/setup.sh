@@ -1,15 +1,19 @@
 #!/usr/bin/env bash
 # Installs pbflow's Debian 12 packages (only when one is missing) and builds build/pbflow.
 # Usage: scripts/setup.sh            -> packages + Release build
+#        scripts/setup.sh --test     -> also what only the tests need (ffmpeg, to test --video)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 packages=(
   build-essential cmake pkg-config
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers glslc
-  libglm-dev libegl-dev libepoxy-dev libpng-dev
+  libglm-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libepoxy-dev libpng-dev
   nlohmann-json3-dev libcli11-dev googletest libgtest-dev
 )
+if [[ "${1:-}" == "--test" ]]; then
+  packages+=(ffmpeg)
+fi
 
 missing=()
 for p in "${packages[@]}"; do

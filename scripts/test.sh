@@ -3,5 +3,5 @@
 # `auto` picks (lavapipe where there is no GPU), with the validation layer on.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scripts/setup.sh
+scripts/setup.sh --test
 ctest --test-dir build --output-on-failure -j"$(nproc)"

@@ -1,6 +1,7 @@
 // The command line as scripts use it: stats.csv, exit statuses, GPU and CPU agreeing.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -8,6 +9,9 @@
 #include <string>
 #include <sys/wait.h>
 #include <vector>
+
+#include "png.hpp"
+#include "video.hpp"
 
 namespace {
 
@@ -18,9 +22,10 @@ struct Result {
   std::string output;
 };
 
-Result pbflow(const std::string& args) {
+// Runs the binary with `args`; `env` (e.g. "PATH=/x") is set for it alone.
+Result pbflow(const std::string& args, const std::string& env = "") {
   fs::path log = fs::temp_directory_path() / ("pbflow_cli_" + std::to_string(::getpid()) + ".log");
-  std::string cmd = std::string(PBFLOW_BINARY) + " " + args + " > " + log.string() + " 2>&1";
+  std::string cmd = env + " " + std::string(PBFLOW_BINARY) + " " + args + " > " + log.string() + " 2>&1";
   int raw = std::system(cmd.c_str());
   std::ifstream in(log);
   std::stringstream text;
@@ -98,6 +103,59 @@ TEST(Cli, BadInputExitsWithStatus2AndOneLine) {
     EXPECT_NE(r.output.find(c.expect), std::string::npos) << c.args << ": " << r.output;
     EXPECT_FALSE(fs::exists(dir / "out" / "stats.csv")) << c.args << " wrote output despite bad input";
   }
+}
+
+TEST(Cli, FramesAreCompletePngsOfTheRequestedSize) {
+  fs::path dir = fresh_dir("frames");
+  Result r = pbflow("run dam_break --frames 3 --width 160 --height 96 --style particles --validate --quiet"
+                    " --param particle_spacing=0.04 --out " + dir.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(dir / "frames")) names.push_back(entry.path().filename());
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, (std::vector<std::string>{"frame_00000.png", "frame_00001.png", "frame_00002.png"}));
+  for (const std::string& name : names) {
+    pbflow::capture::Image image = pbflow::capture::read_png(dir / "frames" / name);
+    EXPECT_EQ(image.width, 160) << name;
+    EXPECT_EQ(image.height, 96) << name;
+  }
+}
+
+TEST(Cli, BadRenderOptionsExitWithStatus2AndWriteNothing) {
+  fs::path dir = fresh_dir("bad_render");
+  struct Case {
+    std::string args, env, expect;
+  } cases[] = {
+      {"--style watercolour", "", "--style"},
+      {"--width 4", "", "--width"},
+      {"--video " + (dir / "v.mp4").string(), "PATH=/nonexistent", "ffmpeg"},
+  };
+  for (const Case& c : cases) {
+    Result r = pbflow("run --frames 2 --param particle_spacing=0.04 --out " + (dir / "out").string() + " " + c.args,
+                      c.env);
+    EXPECT_EQ(r.status, 2) << c.args << ": " << r.output;
+    EXPECT_NE(r.output.find(c.expect), std::string::npos) << c.args << ": " << r.output;
+    EXPECT_FALSE(fs::exists(dir / "out")) << c.args << " wrote output despite bad input";
+  }
+}
+
+TEST(Cli, VideoHoldsEveryFrame) {
+  if (pbflow::capture::find_ffmpeg().empty()) GTEST_SKIP() << "ffmpeg is not installed (scripts/setup.sh --test installs it)";
+  fs::path dir = fresh_dir("video");
+  Result r = pbflow("run --frames 5 --width 160 --height 96 --quiet --param particle_spacing=0.04 --out " +
+                    dir.string() + " --video " + (dir / "clip" / "dam.mp4").string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  Result probe = {0, ""};
+  std::string cmd = "ffprobe -v error -count_frames -select_streams v:0 -show_entries stream=width,height,nb_read_frames"
+                    " -of csv=p=0 " + (dir / "clip" / "dam.mp4").string();
+  FILE* pipe = popen(cmd.c_str(), "r");
+  ASSERT_NE(pipe, nullptr);
+  char line[256] = {};
+  if (std::fgets(line, sizeof line, pipe)) probe.output = line;
+  pclose(pipe);
+  EXPECT_EQ(probe.output, "160,96,5\n");
+  for (const auto& entry : fs::directory_iterator(dir / "clip"))
+    EXPECT_EQ(entry.path().filename(), "dam.mp4") << "left behind: " << entry.path();
 }
 
 }  // namespace

@@ -1,0 +1,168 @@
+// The renderer under llvmpipe: spheres land where the camera's projection says, the
+// fluid style smooths, zero-copy and read-back give the same picture, no GL errors.
+#include <gtest/gtest.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <cmath>
+#include <memory>
+
+#include "gl_context.hpp"
+#include "gpu_solver.hpp"
+#include "particle_transfer.hpp"
+#include "renderer.hpp"
+#include "support.hpp"
+
+namespace pbflow {
+namespace {
+
+using capture::Image;
+using capture::Style;
+
+class RenderTest : public test::GpuTest {
+ protected:
+  void SetUp() override {
+    test::GpuTest::SetUp();
+    gl_ = std::make_unique<gl::Context>(gl::Context::Options{true});
+  }
+  void TearDown() override {
+    auto errors = gl_->errors();
+    EXPECT_TRUE(errors.empty()) << "GL: " << errors.front();
+    gl_.reset();
+    test::GpuTest::TearDown();
+  }
+
+  // The camera looks down -z from (0, 0, 3) into a box behind the spheres.
+  static capture::View view(Style style, double radius) {
+    capture::View v;
+    v.width = 320;
+    v.height = 240;
+    v.style = style;
+    v.camera = {glm::dvec3(0, 0, 3), glm::dvec3(0, 0, 0), 45};
+    v.domain = {glm::dvec3(-2, -2, -2), glm::dvec3(2, 2, 2)};
+    v.particle_radius = radius;
+    return v;
+  }
+
+  Image render(const capture::View& v, const std::vector<glm::vec3>& centres) {
+    ParticleFrame f;
+    for (const glm::vec3& c : centres) {
+      f.x.emplace_back(c, 0.0f);
+      f.v.emplace_back(0.0f);
+      f.rho.push_back(1000.0f);
+    }
+    gl::Object buffer = gl::make_buffer(GLsizeiptr(frame_bytes(centres.size())));
+    capture::upload_frame(buffer, f);
+    capture::Renderer renderer(v);
+    return renderer.render(buffer, uint32_t(centres.size()));
+  }
+
+  std::unique_ptr<gl::Context> gl_;
+};
+
+bool same_pixel(const Image& a, const Image& b, int x, int y) {
+  size_t i = (size_t(y) * a.width + x) * 3;
+  return a.rgb[i] == b.rgb[i] && a.rgb[i + 1] == b.rgb[i + 1] && a.rgb[i + 2] == b.rgb[i + 2];
+}
+
+TEST_F(RenderTest, SpheresCoverTheirProjectedDiscsAndNothingElse) {
+  const double r = 0.2;
+  const std::vector<glm::vec3> centres = {{0, 0, 0}, {0.8f, 0.5f, 0}, {-0.7f, -0.4f, 0.5f}};
+  capture::View v = view(Style::Particles, r);
+  Image empty = render(v, {}), spheres = render(v, centres);
+  ASSERT_EQ(spheres.width, 320);
+  ASSERT_EQ(spheres.height, 240);
+
+  // Each sphere's outline: centre projected, radius f r / sqrt(d^2 - r^2) (exact on the
+  // axis; off the axis the outline is an ellipse stretched by under 2 pixels here).
+  glm::dmat4 look = glm::lookAt(v.camera.eye, v.camera.target, glm::dvec3(0, 1, 0));
+  double f = 0.5 * v.height / std::tan(glm::radians(v.camera.fov_degrees) / 2);
+  struct Disc {
+    double x, y, radius;
+  };
+  std::vector<Disc> discs;
+  for (const glm::vec3& c : centres) {
+    glm::dvec3 p = glm::dvec3(look * glm::dvec4(glm::dvec3(c), 1.0));
+    double d = glm::length(p);
+    discs.push_back({0.5 * v.width + f * p.x / -p.z, 0.5 * v.height - f * p.y / -p.z, f * r / std::sqrt(d * d - r * r)});
+  }
+  const double margin = 3;  // pixels either side of an outline that may go either way
+  int inside = 0, inside_changed = 0, outside = 0, outside_changed = 0;
+  for (int y = 0; y < v.height; ++y)
+    for (int x = 0; x < v.width; ++x) {
+      double nearest = 1e9;  // signed distance to the nearest outline, negative inside
+      for (const Disc& c : discs) nearest = std::min(nearest, std::hypot(x + 0.5 - c.x, y + 0.5 - c.y) - c.radius);
+      bool changed = !same_pixel(empty, spheres, x, y);
+      if (nearest < -margin) inside++, inside_changed += changed;
+      if (nearest > margin) outside++, outside_changed += changed;
+    }
+  std::printf("[ render   ] %d pixels inside the discs (%d drawn), %d outside (%d drawn)\n", inside, inside_changed,
+              outside, outside_changed);
+  EXPECT_GT(inside, 2000);
+  EXPECT_EQ(inside_changed, inside) << "pixels inside a projected sphere left as background";
+  EXPECT_EQ(outside_changed, 0) << "pixels outside every projected sphere were drawn";
+}
+
+// A block of fluid 0.4 m wide, 2 cm spacing, seen from 1.2 m.
+std::vector<glm::vec3> fluid_block() {
+  std::vector<glm::vec3> x;
+  for (int i = 0; i < 20; ++i)
+    for (int j = 0; j < 20; ++j)
+      for (int k = 0; k < 20; ++k) x.emplace_back(-0.19f + 0.02f * i, -0.19f + 0.02f * j, -0.19f + 0.02f * k);
+  return x;
+}
+
+TEST_F(RenderTest, FluidStyleIsShadedAndSmootherThanTheParticles) {
+  capture::View v = view(Style::Fluid, 0.01);
+  v.camera = {glm::dvec3(0.3, 0.5, 1.2), glm::dvec3(0, 0, 0), 45};
+  Image empty = render(v, {}), fluid = render(v, fluid_block());
+  v.style = Style::Particles;
+  Image particles = render(v, fluid_block());
+
+  // Over the pixels the fluid covers: it is not blank, not one flat colour, and the
+  // smoothed surface has fewer pixel-to-pixel jumps than the bumpy sphere splats.
+  int covered = 0, differs_from_particles = 0;
+  double sum = 0, sum2 = 0, jumps_fluid = 0, jumps_particles = 0;
+  for (int y = 0; y < v.height; ++y)
+    for (int x = 1; x < v.width; ++x) {
+      if (same_pixel(empty, fluid, x, y) || same_pixel(empty, fluid, x - 1, y)) continue;
+      size_t i = (size_t(y) * v.width + x) * 3;
+      double g = fluid.rgb[i + 1];
+      covered++;
+      sum += g;
+      sum2 += g * g;
+      differs_from_particles += !same_pixel(fluid, particles, x, y);
+      jumps_fluid += std::abs(int(fluid.rgb[i + 1]) - int(fluid.rgb[i - 2]));
+      jumps_particles += std::abs(int(particles.rgb[i + 1]) - int(particles.rgb[i - 2]));
+    }
+  double mean = sum / std::max(covered, 1), stddev = std::sqrt(std::max(sum2 / std::max(covered, 1) - mean * mean, 0.0));
+  std::printf("[ render   ] fluid covers %d pixels, green %.1f +- %.1f, mean step %.2f (particles %.2f)\n", covered,
+              mean, stddev, jumps_fluid / covered, jumps_particles / covered);
+  EXPECT_GT(covered, 5000);
+  EXPECT_GT(stddev, 2.0) << "the fluid is one flat colour";
+  EXPECT_GT(differs_from_particles, covered / 2);
+  EXPECT_LT(jumps_fluid, jumps_particles) << "smoothing did not smooth";
+}
+
+TEST_F(RenderTest, ZeroCopyAndReadBackGiveTheSameImage) {
+  Scene scene = load_scene("dam_break", {"particle_spacing=0.04"});
+  GpuSolver solver(test::gpu(), derive(scene), initial_particles(scene));
+  solver.advance(4);
+  auto shared = capture::make_particle_transfer(solver, &test::gpu(), *gl_, true);
+  auto readback = capture::make_particle_transfer(solver, &test::gpu(), *gl_, false);
+  if (std::string(shared->name()).find("zero-copy") == std::string::npos)
+    GTEST_SKIP() << "this Vulkan/GL pair cannot share memory; read-back only";
+  capture::View v = view(Style::Density, 0.5 * scene.particle_spacing);
+  v.camera = scene.camera;
+  v.domain = scene.domain;
+  capture::Renderer renderer(v);
+  Image a = renderer.render(shared->update(solver), uint32_t(solver.particle_count()));
+  Image b = renderer.render(readback->update(solver), uint32_t(solver.particle_count()));
+  int differing = 0;
+  for (int y = 0; y < v.height; ++y)
+    for (int x = 0; x < v.width; ++x) differing += !same_pixel(a, b, x, y);
+  EXPECT_EQ(differing, 0) << "zero-copy and read-back images differ";
+}
+
+}  // namespace
+}  // namespace pbflow
