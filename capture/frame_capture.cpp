@@ -1,8 +1,8 @@
 #include "frame_capture.hpp"
 
 #include <chrono>
-#include <cstdio>
 
+#include "frame_files.hpp"
 #include "png.hpp"
 
 namespace pbflow::capture {
@@ -12,16 +12,13 @@ FrameCapture::FrameCapture(const CaptureOptions& options, const Solver& solver, 
   transfer_ = make_particle_transfer(solver, vk, gl_, options.allow_shared);
   if (!options.video.empty())
     video_ = std::make_unique<VideoEncoder>(options.video, options.view.width, options.view.height, options.fps);
-  digits_ = std::max(5, int(std::to_string(std::max(options.frame_count - 1, 0)).size()));
   std::filesystem::create_directories(options.frames_dir);
 }
 
 FrameCapture::~FrameCapture() = default;
 
 std::filesystem::path FrameCapture::frame_path(int frame) const {
-  char name[32];
-  std::snprintf(name, sizeof name, "frame_%0*d.png", digits_, frame);
-  return options_.frames_dir / name;
+  return frame_file(options_.frames_dir, frame, options_.frame_count, "png");
 }
 
 void FrameCapture::write(int frame, const Solver& solver) {

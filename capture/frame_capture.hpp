@@ -42,7 +42,6 @@ class FrameCapture {
   Renderer renderer_;
   std::unique_ptr<ParticleTransfer> transfer_;
   std::unique_ptr<VideoEncoder> video_;
-  int digits_ = 5;
   double seconds_ = 0;
 };
 

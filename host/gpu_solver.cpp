@@ -95,7 +95,8 @@ ParticleState GpuSolver::download() const {
 }
 
 ParticleFrame GpuSolver::read_frame() const {
-  return {at(X).download<glm::vec4>(n_), at(V).download<glm::vec4>(n_), rho_.download<float>(n_)};
+  return {at(X).download<glm::vec4>(n_), at(V).download<glm::vec4>(n_), rho_.download<float>(n_),
+          id_[id_current_].download<uint32_t>(n_)};
 }
 
 void GpuSolver::copy_frame(const vk::Buffer& dst) const {

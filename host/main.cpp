@@ -59,6 +59,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   run_cmd->add_option("--video", run.video, "also encode the frames into this .mp4 (needs ffmpeg)");
   run_cmd->add_flag("--readback", run.readback, "read particles back through the host even where zero-copy works");
+  run_cmd->add_option("--export", run.export_format, "particle files per frame: ply | vtk (.vtp)")
+      ->check(CLI::IsMember({"ply", "vtk"}));
   run_cmd->add_flag("--verbose", run.verbose, "say how frames are rendered (EGL platform, GL, particle path)");
 
   CLI::App* scenes_cmd = app.add_subcommand("scenes", "list the built-in scenes");

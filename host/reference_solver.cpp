@@ -204,6 +204,7 @@ ParticleFrame ReferenceSolver::read_frame() const {
     f.x.emplace_back(glm::vec3(state.x[i]), 0.0f);
     f.v.emplace_back(glm::vec3(state.v[i]), 0.0f);
     f.rho.push_back(float(state.rho[i]));
+    f.id.push_back(uint32_t(i));
   }
   return f;
 }

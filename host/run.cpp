@@ -9,6 +9,8 @@
 #include <iostream>
 
 #include "frame_capture.hpp"
+#include "frame_files.hpp"
+#include "particle_export.hpp"
 #include "gpu_solver.hpp"
 #include "reference_solver.hpp"
 #include "scene.hpp"
@@ -87,10 +89,12 @@ int run(const RunOptions& o) {
   std::unique_ptr<vk::Context> ctx;
   std::unique_ptr<Solver> solver = make_solver(o.device, o.validate, d, x0, ctx);
   const std::filesystem::path out(o.out);
+  const capture::ExportFormat export_format = capture::parse_export_format(o.export_format);
   std::unique_ptr<capture::FrameCapture> capture;
   if (o.render) capture = make_capture(o, scene, *solver, ctx.get());
 
   std::filesystem::create_directories(out);
+  if (export_format != capture::ExportFormat::None) std::filesystem::create_directories(out / "particles");
   StatsCsv csv(out / "stats.csv");
   if (!o.quiet) {
     std::cerr << "pbflow: " << scene.name << ", " << x0.size() << " particles, " << method_name(scene.solver.method)
@@ -107,6 +111,10 @@ int run(const RunOptions& o) {
     double t = frame / scene.fps;
     csv.write(frame, t, s);
     if (capture) capture->write(frame, *solver);
+    if (export_format != capture::ExportFormat::None)
+      capture::write_particles(
+          capture::frame_file(out / "particles", frame, scene.frames, capture::export_extension(export_format)),
+          export_format, solver->read_frame());
     sum_mean += s.mean_compression;
     worst = std::max(worst, s.max_compression);
     sum_step_ms += s.step_ms;

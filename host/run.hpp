@@ -30,6 +30,7 @@ struct RunOptions {
   std::string style = "fluid";
   std::string video;      // empty: no video
   bool readback = false;  // force the read-back path even where zero-copy works
+  std::string export_format;  // "", "ply" or "vtk": DIR/particles/frame_NNNNN.{ply,vtp}
 };
 
 // The scene's overrides: --param entries, then the dedicated options (which win).

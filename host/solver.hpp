@@ -20,11 +20,13 @@ struct ParticleState {
 };
 
 // What capture and export read after a frame, in float: positions (xyz, w unused),
-// velocities (xyz, w unused) and densities, in the solver's own particle order.
-// On the GPU the same three arrays lie back to back in one buffer (frame_bytes).
+// velocities (xyz, w unused), densities and particle ids, in the solver's own order
+// (id[k] is the id of entry k). On the GPU x, v and rho lie back to back in one
+// buffer (frame_bytes); ids are read only for export.
 struct ParticleFrame {
   std::vector<glm::vec4> x, v;
   std::vector<float> rho;
+  std::vector<uint32_t> id;
 };
 inline size_t frame_bytes(size_t n) { return n * (2 * sizeof(glm::vec4) + sizeof(float)); }
 

@@ -1,0 +1,21 @@
+#pragma once
+// Particle files per frame, in particle-id order (stable across frames):
+//   ply: binary little-endian PLY, one `vertex` element, float x y z vx vy vz density
+//        (DESIGN.md);
+//   vtk: VTK XML PolyData (.vtp), points plus `velocity` and `density` point data,
+//        raw appended binary; opens in ParaView.
+// Each file is written atomically.
+#include <filesystem>
+#include <string>
+
+#include "solver.hpp"
+
+namespace pbflow::capture {
+
+enum class ExportFormat { None, Ply, Vtk };
+ExportFormat parse_export_format(const std::string& name);  // "", "ply", "vtk"; else InputError
+const char* export_extension(ExportFormat format);          // "ply", "vtp"
+
+void write_particles(const std::filesystem::path& path, ExportFormat format, const ParticleFrame& frame);
+
+}  // namespace pbflow::capture
