@@ -150,7 +150,11 @@ TEST(Export, RunWritesOneFilePerFrameStartingFromTheInitialLattice) {
     Rows ply = read_ply(capture::frame_file(dir / "particles", frame, 3, "ply"));
     Rows vtp = read_vtp(capture::frame_file(dir / "particles", frame, 3, "vtp"));
     ASSERT_EQ(ply.size(), x0.size());
-    EXPECT_EQ(ply, vtp) << "frame " << frame;
+    // Two runs: GPU atomics order sums differently from run to run, so they agree to rounding.
+    ASSERT_EQ(vtp.size(), ply.size());
+    for (size_t i = 0; i < ply.size(); ++i)
+      for (int c = 0; c < 7; ++c)
+        ASSERT_NEAR(ply[i][c], vtp[i][c], 1e-4 * (1 + std::abs(ply[i][c]))) << "frame " << frame << " particle " << i;
     if (frame > 0) continue;
     for (size_t i = 0; i < x0.size(); ++i)
       ASSERT_NEAR(glm::length(glm::dvec3(ply[i][0], ply[i][1], ply[i][2]) - x0[i]), 0.0, 1e-6) << "particle " << i;
