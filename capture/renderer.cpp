@@ -6,16 +6,19 @@
 #include <cstring>
 
 #include "gl_context.hpp"
+#include "particle_transfer.hpp"
 
 namespace pbflow::capture {
 
 namespace {
 
-constexpr int kPassShaded = 0, kPassDepth = 1, kPassThickness = 2;  // render_common.glsl
-constexpr int kSmoothingRounds = 3;                                    // bilateral x then y, thrice
+constexpr int kPassShaded = 0, kPassDepth = 1, kPassThickness = 2, kPassSolid = 3;  // render_common.glsl
+constexpr int kSmoothingRounds = 3;  // bilateral x then y, thrice
+
+}  // namespace
 
 // The Frame uniform block of render_common.glsl (std140).
-struct FrameUniforms {
+struct Renderer::FrameUniforms {
   glm::mat4 view, proj;
   glm::vec4 light_view, domain_min, domain_max;
   glm::vec2 viewport;
@@ -23,8 +26,6 @@ struct FrameUniforms {
   int32_t count, style, pass;
   float colour_scale, rho0;
 };
-
-}  // namespace
 
 Style parse_style(const std::string& name) {
   for (Style s : {Style::Fluid, Style::Particles, Style::Density, Style::Speed})
@@ -55,18 +56,23 @@ Renderer::Renderer(const View& view) : view_(view) {
     smooth_ = gl::make_program("fullscreen.vert", "smooth_depth.frag");
     fluid_ = gl::make_program("fullscreen.vert", "fluid_shade.frag");
     for (auto& t : fluid_depth_) t = gl::make_texture(GL_R32F, w, h);
-    fluid_depth_buffer_ = gl::make_texture(GL_DEPTH_COMPONENT32F, w, h);
     thickness_ = gl::make_texture(GL_R32F, w, h);
     output_colour_ = gl::make_texture(GL_RGBA8, w, h);
-    depth_fb_ = gl::make_framebuffer({fluid_depth_[0]}, fluid_depth_buffer_);
+    // The tank's depth buffer: fluid behind an obstacle stays hidden.
+    depth_fb_ = gl::make_framebuffer({fluid_depth_[0]}, scene_depth_);
     smooth_fb_[0] = gl::make_framebuffer({fluid_depth_[1]}, 0);
     smooth_fb_[1] = gl::make_framebuffer({fluid_depth_[0]}, 0);
     thickness_fb_ = gl::make_framebuffer({thickness_}, 0);
     output_fb_ = gl::make_framebuffer({output_colour_}, 0);
   }
+  for (const Obstacle& o : view.obstacles) {
+    if (o.kind != Obstacle::Kind::Sphere) continue;
+    obstacle_spheres_.push_back(gl::make_buffer(GLsizeiptr(frame_bytes(1))));
+    upload_frame(obstacle_spheres_.back(), {{glm::vec4(glm::vec3(o.centre), 0)}, {glm::vec4(0)}, {0.0f}, {0}});
+  }
 }
 
-void Renderer::upload_frame_uniforms(uint32_t count, int pass) {
+Renderer::FrameUniforms Renderer::uniforms(uint32_t count, int pass) const {
   const Camera& c = view_.camera;
   glm::vec3 eye(c.eye), target(c.target);
   glm::vec3 lo(view_.domain.min), hi(view_.domain.max);
@@ -89,13 +95,17 @@ void Renderer::upload_frame_uniforms(uint32_t count, int pass) {
   u.pass = pass;
   u.colour_scale = float(view_.style == Style::Density ? kDensityScale : view_.speed_scale);
   u.rho0 = float(view_.rest_density);
+  return u;
+}
+
+void Renderer::upload(const FrameUniforms& u) {
   glNamedBufferSubData(frame_ubo_, 0, sizeof u, &u);
   glBindBufferBase(GL_UNIFORM_BUFFER, 0, frame_ubo_);
 }
 
 void Renderer::draw_spheres(uint32_t count, int pass) {
   if (count == 0) return;
-  upload_frame_uniforms(count, pass);
+  upload(uniforms(count, pass));
   glUseProgram(sphere_);
   glDrawArrays(GL_TRIANGLES, 0, GLsizei(6 * count));
 }
@@ -106,16 +116,7 @@ Image Renderer::render(GLuint buffer, uint32_t count) {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buffer);
   glViewport(0, 0, w, h);
 
-  // The tank: sky, floor and the walls behind the fluid.
-  upload_frame_uniforms(count, kPassShaded);
-  glBindFramebuffer(GL_FRAMEBUFFER, scene_fb_);
-  const float sky[4] = {0.80f, 0.85f, 0.90f, 1.0f}, far_depth = 1.0f;
-  glClearNamedFramebufferfv(scene_fb_, GL_COLOR, 0, sky);
-  glClearNamedFramebufferfv(scene_fb_, GL_DEPTH, 0, &far_depth);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
-  glUseProgram(box_);
-  glDrawArrays(GL_TRIANGLES, 0, 36);
+  draw_tank_and_obstacles(buffer, count);
 
   GLuint result_fb = scene_fb_;
   if (view_.style == Style::Fluid) {
@@ -137,11 +138,42 @@ Image Renderer::render(GLuint buffer, uint32_t count) {
   return image;
 }
 
+void Renderer::draw_tank_and_obstacles(GLuint particles, uint32_t count) {
+  // The tank: sky, floor and the walls behind the fluid.
+  glBindFramebuffer(GL_FRAMEBUFFER, scene_fb_);
+  const float sky[4] = {0.80f, 0.85f, 0.90f, 1.0f}, far_depth = 1.0f;
+  glClearNamedFramebufferfv(scene_fb_, GL_COLOR, 0, sky);
+  glClearNamedFramebufferfv(scene_fb_, GL_DEPTH, 0, &far_depth);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glUseProgram(box_);
+  upload(uniforms(count, kPassShaded));
+  glDrawArrays(GL_TRIANGLES, 0, 36);
+
+  size_t sphere = 0;
+  for (const Obstacle& o : view_.obstacles) {
+    FrameUniforms u = uniforms(1, kPassSolid);
+    if (o.kind == Obstacle::Kind::Box) {
+      u.domain_min = glm::vec4(glm::vec3(o.min), 0.0f);
+      u.domain_max = glm::vec4(glm::vec3(o.max), 0.0f);
+      upload(u);
+      glUseProgram(box_);
+      glDrawArrays(GL_TRIANGLES, 0, 36);
+    } else {
+      u.radius = float(o.radius);
+      upload(u);
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, obstacle_spheres_[sphere++]);
+      glUseProgram(sphere_);
+      glDrawArrays(GL_TRIANGLES, 0, 6);
+    }
+  }
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, particles);
+}
+
 void Renderer::fluid_surface(uint32_t count) {
-  // 1. Nearest sphere depth per pixel (linear eye depth, 0 where no fluid).
-  const float zero[4] = {0, 0, 0, 0}, far_depth = 1.0f;
+  // 1. Nearest sphere depth per pixel (linear eye depth, 0 where no fluid), in front of the tank.
+  const float zero[4] = {0, 0, 0, 0};
   glClearNamedFramebufferfv(depth_fb_, GL_COLOR, 0, zero);
-  glClearNamedFramebufferfv(depth_fb_, GL_DEPTH, 0, &far_depth);
   glBindFramebuffer(GL_FRAMEBUFFER, depth_fb_);
   draw_spheres(count, kPassDepth);
 
@@ -155,7 +187,7 @@ void Renderer::fluid_surface(uint32_t count) {
   glDisable(GL_BLEND);
 
   // 3. Smoothing, ping-ponging between the two depth textures; ends in fluid_depth_[0].
-  upload_frame_uniforms(count, kPassShaded);
+  upload(uniforms(count, kPassShaded));
   glUseProgram(smooth_);
   for (int round = 0; round < kSmoothingRounds; ++round)
     for (int axis = 0; axis < 2; ++axis) {

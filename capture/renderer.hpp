@@ -23,6 +23,7 @@ struct View {
   Style style = Style::Fluid;
   Camera camera;
   Box domain;
+  std::vector<Obstacle> obstacles;  // drawn as solids
   double particle_radius = 0.01;  // m
   double rest_density = 1000;     // kg/m^3, for the density style
   double speed_scale = 1;         // m/s drawn red in the speed style
@@ -43,15 +44,19 @@ class Renderer {
   const View& view() const { return view_; }
 
  private:
-  void upload_frame_uniforms(uint32_t count, int pass);
+  struct FrameUniforms;
+  FrameUniforms uniforms(uint32_t count, int pass) const;
+  void upload(const FrameUniforms& u);
   void draw_spheres(uint32_t count, int pass);
+  void draw_tank_and_obstacles(GLuint particles, uint32_t count);
   void fluid_surface(uint32_t count);
 
   View view_;
   gl::Object vao_, frame_ubo_;
   gl::Object sphere_, box_, smooth_, fluid_;
   gl::Object scene_colour_, scene_depth_, scene_fb_;
-  gl::Object fluid_depth_[2], fluid_depth_buffer_, thickness_, output_colour_;
+  gl::Object fluid_depth_[2], thickness_, output_colour_;
+  std::vector<gl::Object> obstacle_spheres_;  // one particle each (frame layout), drawn at its radius
   gl::Object depth_fb_, smooth_fb_[2], thickness_fb_, output_fb_;
 };
 

@@ -27,9 +27,9 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
       correction_pass_(d.solver.method == Method::Ldc),
       density_(ctx, "density", 3, sizeof(SimConstants)),
       correction_(ctx, "correction_force", 4, sizeof(SimConstants)),
-      predict_(ctx, "predict", 3, sizeof(SimConstants)),
+      predict_(ctx, "predict", 4, sizeof(SimConstants)),
       lambda_(ctx, "constraint_lambda", 3, sizeof(SimConstants)),
-      apply_(ctx, "constraint_apply", 4, sizeof(SimConstants)),
+      apply_(ctx, "constraint_apply", 5, sizeof(SimConstants)),
       velocity_(ctx, "velocity_update", 3, sizeof(SimConstants)),
       viscosity_(ctx, "viscosity_vorticity", 5, sizeof(SimConstants)),
       vorticity_(ctx, "vorticity_force", 4, sizeof(SimConstants)),
@@ -40,9 +40,11 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
       lambda_buf_(ctx, n_ * sizeof(float)),
       partials_(ctx, partial_count(n_) * sizeof(glm::vec4)),
       result_(ctx, sizeof(glm::vec4), vk::Memory::Host),
+      obstacles_(ctx, pack_obstacles(d.obstacles).size() * sizeof(glm::vec4)),
       cmd_(ctx),
       timer_(ctx, 2) {
   for (auto& b : vec4_) b = vk::Buffer(ctx, n_ * sizeof(glm::vec4));
+  obstacles_.upload(std::span<const glm::vec4>(pack_obstacles(d.obstacles)));
   for (auto& b : id_) b = vk::Buffer(ctx, n_ * sizeof(uint32_t));
   // Model no more than the scene needs: vorticity storage only when a pass uses it.
   if (viscosity_pass_) omega_ = vk::Buffer(ctx, n_ * sizeof(glm::vec4));
@@ -155,6 +157,7 @@ void GpuSolver::predict() {
   cmd_.bind(0, at(X));
   cmd_.bind(1, at(V));
   cmd_.bind(2, at(XPred));
+  cmd_.bind(3, obstacles_);
   cmd_.dispatch(n_);
 }
 
@@ -173,6 +176,7 @@ void GpuSolver::constraint_apply() {
   cmd_.bind(1, at(XPred));
   cmd_.bind(2, lambda_buf_);
   cmd_.bind(3, at(Spare0));
+  cmd_.bind(4, obstacles_);
   cmd_.dispatch(n_);
   swap_roles(XPred, Spare0);
 }

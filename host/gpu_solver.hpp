@@ -4,6 +4,7 @@
 #include <array>
 
 #include "gpu_grid.hpp"
+#include "obstacles.hpp"
 #include "params.hpp"
 #include "solver.hpp"
 #include "vk/buffer.hpp"
@@ -64,7 +65,7 @@ class GpuSolver : public Solver {
   std::array<int, kSlots> role_{X, V, XPred, Spare0, Spare1};
   std::array<vk::Buffer, 2> id_;
   int id_current_ = 0;
-  vk::Buffer rho_, lambda_buf_, omega_, partials_, result_;
+  vk::Buffer rho_, lambda_buf_, omega_, partials_, result_, obstacles_;
   vk::CommandList cmd_;
   vk::GpuTimer timer_;
 };

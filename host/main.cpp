@@ -25,7 +25,7 @@ int list_devices() {
 }
 
 int list_scenes() {
-  for (const auto& s : pbflow::builtin_scenes()) std::printf("%-14s %s\n", s.name.c_str(), s.description.c_str());
+  for (const auto& s : pbflow::builtin_scenes()) std::printf("%-18s %s\n", s.name.c_str(), s.description.c_str());
   return 0;
 }
 

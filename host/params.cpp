@@ -81,6 +81,7 @@ Derived derive(const Scene& scene) {
   // Particles are spheres of diameter `spacing`: their centres stay half a spacing off the walls.
   d.wall_min = d.domain_min + 0.5 * s;
   d.wall_max = d.domain_max - 0.5 * s;
+  for (const Obstacle& o : scene.obstacles) d.obstacles.push_back(o.grown(0.5 * s));
   glm::dvec3 size = d.domain_max - d.domain_min;
   if (glm::any(glm::lessThan(size, glm::dvec3(s))))
     throw InputError("the domain must be at least one particle_spacing wide on every axis");

@@ -5,6 +5,9 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
+
+#include "obstacles.hpp"
 
 namespace pbflow {
 
@@ -55,6 +58,7 @@ struct Derived {
   // so that k reads as the compression the tensile term is worth at r = dq.
   double scorr_scale;
   SolverParams solver;
+  std::vector<Obstacle> obstacles;  // grown by half a spacing: where particle centres may not be
 
   SimConstants to_gpu(uint32_t count) const;
 };

@@ -86,7 +86,7 @@ void ReferenceSolver::correction() {
 void ReferenceSolver::predict() {
   for (size_t i = 0; i < state.x.size(); ++i) {
     state.v[i] += d_.gravity * d_.dt;
-    state.x_pred[i] = project_to_walls(state.x[i] + state.v[i] * d_.dt);
+    state.x_pred[i] = project_out_of_solids(state.x[i] + state.v[i] * d_.dt);
   }
 }
 
@@ -124,7 +124,7 @@ void ReferenceSolver::constraint_apply() {
     });
     dvec3 wall_grad;  // the walls push with the particle's own lambda
     wall_density(xi, wall_grad);
-    next[i] = project_to_walls(xi + (d_.mass / d_.rho0) * dp + state.lambda[i] * wall_grad / d_.rho0);
+    next[i] = project_out_of_solids(xi + (d_.mass / d_.rho0) * dp + state.lambda[i] * wall_grad / d_.rho0);
   }
   state.x_pred = std::move(next);
 }
@@ -196,6 +196,11 @@ FrameStats ReferenceSolver::measure() {
   }
   s.mean_compression /= double(std::max<size_t>(state.x.size(), 1));
   return s;
+}
+
+glm::dvec3 ReferenceSolver::project_out_of_solids(glm::dvec3 x) const {
+  for (const Obstacle& o : d_.obstacles) x = project_out(o, x, d_.wall_min, d_.wall_max);
+  return glm::clamp(x, d_.wall_min, d_.wall_max);
 }
 
 ParticleFrame ReferenceSolver::read_frame() const {

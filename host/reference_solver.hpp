@@ -46,7 +46,7 @@ class ReferenceSolver : public Solver {
   void for_each_neighbour(const glm::dvec3& xi, F&& visit) const;
   glm::ivec3 cell_of(const glm::dvec3& x) const;
   size_t cell_id(const glm::ivec3& c) const { return (size_t(c.z) * d_.grid.y + c.y) * d_.grid.x + c.x; }
-  glm::dvec3 project_to_walls(const glm::dvec3& x) const { return glm::clamp(x, d_.wall_min, d_.wall_max); }
+  glm::dvec3 project_out_of_solids(glm::dvec3 x) const;  // out of the obstacles, then into the walls
 
   Derived d_;
   std::vector<std::vector<size_t>> cells_;  // particles binned by cell at the last build_grid

@@ -65,6 +65,7 @@ std::unique_ptr<capture::FrameCapture> make_capture(const RunOptions& o, const S
   c.view.style = capture::parse_style(o.style);
   c.view.camera = scene.camera;
   c.view.domain = scene.domain;
+  c.view.obstacles = scene.obstacles;
   c.view.particle_radius = 0.5 * scene.particle_spacing;
   c.view.rest_density = scene.solver.rest_density;
   // Red in the speed style: the speed of a fall through the domain's height.

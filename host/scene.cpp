@@ -1,5 +1,6 @@
 #include "scene.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -17,7 +18,7 @@ using nlohmann::json;
 const json& schema() {
   static const json s = json::parse(R"({
     "description": "", "domain": {"min": 0, "max": 0}, "particle_spacing": 0,
-    "fluid_blocks": [], "gravity": 0, "fps": 0, "frames": 0,
+    "fluid_blocks": [], "fluid_spheres": [], "obstacles": [], "gravity": 0, "fps": 0, "frames": 0,
     "solver": {"method": 0, "iterations": 0, "substeps": 0, "kernel_ratio": 0, "rest_density": 0,
                "relaxation": 0, "scorr_k": 0, "scorr_n": 0, "scorr_dq": 0, "xsph": 0,
                "vorticity": 0, "ldc_k": 0},
@@ -57,6 +58,17 @@ Box box(const json& j, const std::string& path) {
   Box b{vec3(j, "min", path + ".min", {}), vec3(j, "max", path + ".max", {})};
   if (!(b.max.x > b.min.x && b.max.y > b.min.y && b.max.z > b.min.z))
     throw InputError("scene key '" + path + "': max must exceed min on every axis");
+  return b;
+}
+
+Ball ball(const json& j, const std::string& path) {
+  if (!j.is_object()) throw InputError("scene key '" + path + "' must be an object with centre and radius");
+  for (auto it = j.begin(); it != j.end(); ++it)
+    if (it.key() != "centre" && it.key() != "radius")
+      throw InputError("unknown scene key '" + path + "." + it.key() + "'");
+  if (!j.contains("centre") || !j.contains("radius")) throw InputError("scene key '" + path + "' needs centre and radius");
+  Ball b{vec3(j, "centre", path + ".centre", {}), number(j, "radius", 0)};
+  if (!(b.radius > 0)) throw InputError("scene key '" + path + ".radius' must be positive");
   return b;
 }
 
@@ -111,14 +123,47 @@ Scene parse_scene(const std::string& json_text, const std::string& origin, const
   require(j.contains("particle_spacing"), "scene needs a 'particle_spacing'");
   s.particle_spacing = number(j, "particle_spacing", 0);
   require(s.particle_spacing > 0, "particle_spacing must be positive");
-  require(j.contains("fluid_blocks") && j["fluid_blocks"].is_array() && !j["fluid_blocks"].empty(),
-          "scene needs a non-empty array 'fluid_blocks'");
-  for (size_t i = 0; i < j["fluid_blocks"].size(); ++i) {
+  auto inside_domain = [&](glm::dvec3 lo, glm::dvec3 hi) {
+    return glm::all(glm::greaterThanEqual(lo, s.domain.min)) && glm::all(glm::lessThanEqual(hi, s.domain.max));
+  };
+  for (const char* key : {"fluid_blocks", "fluid_spheres", "obstacles"})
+    require(!j.contains(key) || j[key].is_array(), std::string("scene key '") + key + "' must be an array");
+  for (size_t i = 0; i < j.value("fluid_blocks", json::array()).size(); ++i) {
     std::string path = "fluid_blocks[" + std::to_string(i) + "]";
     Box b = box(j["fluid_blocks"][i], path);
-    require(glm::all(glm::greaterThanEqual(b.min, s.domain.min)) && glm::all(glm::lessThanEqual(b.max, s.domain.max)),
-            path + " must lie inside the domain");
+    require(inside_domain(b.min, b.max), path + " must lie inside the domain");
     s.fluid_blocks.push_back(b);
+  }
+  for (size_t i = 0; i < j.value("fluid_spheres", json::array()).size(); ++i) {
+    std::string path = "fluid_spheres[" + std::to_string(i) + "]";
+    Ball b = ball(j["fluid_spheres"][i], path);
+    require(inside_domain(b.centre - b.radius, b.centre + b.radius), path + " must lie inside the domain");
+    s.fluid_spheres.push_back(b);
+  }
+  require(!s.fluid_blocks.empty() || !s.fluid_spheres.empty(),
+          "scene needs fluid: a non-empty 'fluid_blocks' or 'fluid_spheres'");
+  for (size_t i = 0; i < j.value("obstacles", json::array()).size(); ++i) {
+    std::string path = "obstacles[" + std::to_string(i) + "]";
+    const json& o = j["obstacles"][i];
+    require(o.is_object() && o.contains("type") && o["type"].is_string(),
+            path + " needs a \"type\": \"box\" or \"sphere\"");
+    json shape = o;
+    shape.erase("type");
+    Obstacle ob;
+    if (o["type"] == "box") {
+      Box b = box(shape, path);
+      ob.min = b.min, ob.max = b.max;
+    } else if (o["type"] == "sphere") {
+      Ball b = ball(shape, path);
+      ob.kind = Obstacle::Kind::Sphere, ob.centre = b.centre, ob.radius = b.radius;
+    } else {
+      throw InputError(path + ".type must be \"box\" or \"sphere\"");
+    }
+    glm::dvec3 lo = ob.kind == Obstacle::Kind::Box ? ob.min : ob.centre - ob.radius;
+    glm::dvec3 hi = ob.kind == Obstacle::Kind::Box ? ob.max : ob.centre + ob.radius;
+    require(glm::all(glm::lessThan(lo, s.domain.max)) && glm::all(glm::greaterThan(hi, s.domain.min)),
+            path + " lies wholly outside the domain");
+    s.obstacles.push_back(ob);
   }
   s.gravity = vec3(j, "gravity", "gravity", {0, -9.81, 0});
   s.fps = number(j, "fps", 60);
@@ -196,6 +241,14 @@ std::vector<BuiltinScene> builtin_scenes() {
 
 std::vector<glm::dvec3> initial_particles(const Scene& scene) {
   const double s = scene.particle_spacing;
+  std::vector<Obstacle> keep_out;
+  for (const Obstacle& o : scene.obstacles) keep_out.push_back(o.grown(0.5 * s));
+  auto in_box = [](const glm::dvec3& x, const Box& b) {
+    return glm::all(glm::greaterThanEqual(x, b.min)) && glm::all(glm::lessThan(x, b.max));
+  };
+  auto outside_obstacles = [&](const glm::dvec3& x) {
+    return std::none_of(keep_out.begin(), keep_out.end(), [&](const Obstacle& o) { return o.contains(x); });
+  };
   std::vector<glm::dvec3> points;
   for (size_t b = 0; b < scene.fluid_blocks.size(); ++b) {
     const Box& box = scene.fluid_blocks[b];
@@ -205,13 +258,27 @@ std::vector<glm::dvec3> initial_particles(const Scene& scene) {
         for (int i = 0; i < n.x; ++i) {
           glm::dvec3 x = box.min + s * (glm::dvec3(i, j, k) + 0.5);
           bool earlier = false;
-          for (size_t e = 0; e < b && !earlier; ++e)
-            earlier = glm::all(glm::greaterThanEqual(x, scene.fluid_blocks[e].min)) &&
-                      glm::all(glm::lessThan(x, scene.fluid_blocks[e].max));
-          if (!earlier) points.push_back(x);
+          for (size_t e = 0; e < b && !earlier; ++e) earlier = in_box(x, scene.fluid_blocks[e]);
+          if (!earlier && outside_obstacles(x)) points.push_back(x);
         }
   }
-  if (points.empty()) throw InputError("the fluid blocks hold no particle at this particle_spacing");
+  for (size_t b = 0; b < scene.fluid_spheres.size(); ++b) {
+    const Ball& ball = scene.fluid_spheres[b];
+    glm::ivec3 lo = glm::ivec3(glm::floor((ball.centre - ball.radius - scene.domain.min) / s));
+    glm::ivec3 hi = glm::ivec3(glm::ceil((ball.centre + ball.radius - scene.domain.min) / s));
+    for (int k = lo.z; k <= hi.z; ++k)
+      for (int j = lo.y; j <= hi.y; ++j)
+        for (int i = lo.x; i <= hi.x; ++i) {
+          glm::dvec3 x = scene.domain.min + s * (glm::dvec3(i, j, k) + 0.5);
+          if (glm::length(x - ball.centre) >= ball.radius) continue;
+          bool earlier = std::any_of(scene.fluid_blocks.begin(), scene.fluid_blocks.end(),
+                                     [&](const Box& box) { return in_box(x, box); });
+          for (size_t e = 0; e < b && !earlier; ++e)
+            earlier = glm::length(x - scene.fluid_spheres[e].centre) < scene.fluid_spheres[e].radius;
+          if (!earlier && outside_obstacles(x)) points.push_back(x);
+        }
+  }
+  if (points.empty()) throw InputError("the fluid holds no particle at this particle_spacing");
   return points;
 }
 

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "obstacles.hpp"
 #include "params.hpp"
 
 namespace pbflow {
@@ -20,6 +21,11 @@ struct Box {
   glm::dvec3 min, max;
 };
 
+struct Ball {
+  glm::dvec3 centre;
+  double radius;
+};
+
 struct Camera {
   glm::dvec3 eye, target;
   double fov_degrees;
@@ -31,6 +37,8 @@ struct Scene {
   Box domain;
   double particle_spacing;
   std::vector<Box> fluid_blocks;
+  std::vector<Ball> fluid_spheres;
+  std::vector<Obstacle> obstacles;
   glm::dvec3 gravity;
   double fps;
   int frames;
@@ -50,7 +58,9 @@ struct BuiltinScene {
 std::vector<BuiltinScene> builtin_scenes();
 
 // Lattice points of `particle_spacing` filling the fluid blocks (cell centres, so
-// that a block [a, b] holds (b - a)/spacing particles per axis); overlaps counted once.
+// that a block [a, b] holds (b - a)/spacing particles per axis) and the fluid spheres
+// (a lattice from the domain's corner); overlaps counted once; none where an obstacle
+// grown by half a spacing would push it out.
 std::vector<glm::dvec3> initial_particles(const Scene& scene);
 
 }  // namespace pbflow

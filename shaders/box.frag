@@ -1,5 +1,6 @@
 // Floor with a 10 cm checker, light grey walls; walls between the eye and the fluid are
-// left out (their inward normal points away from the eye).
+// left out (their inward normal points away from the eye). Obstacles: their faces
+// towards the eye, in the solid colour.
 flat in vec3 normal_world;
 in vec3 position_world;
 in vec3 position_view;
@@ -8,8 +9,8 @@ layout(location = 0) out vec4 result;
 void main() {
   vec3 eye_world = -transpose(mat3(view)) * view[3].xyz;
   if (dot(normal_world, eye_world - position_world) <= 0.0) discard;
-  vec3 base = vec3(0.86, 0.86, 0.84);
-  if (normal_world.y > 0.5) {
+  vec3 base = pass == PASS_SOLID ? SOLID_COLOUR : vec3(0.86, 0.86, 0.84);
+  if (pass != PASS_SOLID && normal_world.y > 0.5) {
     ivec2 cell = ivec2(floor(position_world.xz / 0.1));
     base = ((cell.x + cell.y) & 1) == 0 ? vec3(0.62, 0.60, 0.56) : vec3(0.80, 0.78, 0.74);
   }

@@ -1,4 +1,5 @@
-// The domain's walls and floor: a box of 36 vertices from gl_VertexID, seen from inside.
+// The domain's walls and floor (seen from inside) or a box obstacle (from outside):
+// 36 vertices from gl_VertexID.
 flat out vec3 normal_world;
 out vec3 position_world;
 out vec3 position_view;
@@ -13,7 +14,8 @@ void main() {
   vec3 t = axis == 0 ? vec3(side, q.x, q.y) : axis == 1 ? vec3(q.y, side, q.x) : vec3(q.x, q.y, side);
   position_world = mix(domain_min.xyz, domain_max.xyz, t);
   vec3 n = vec3(0.0);
-  n[axis] = side > 0.5 ? -1.0 : 1.0;  // inward
+  n[axis] = side > 0.5 ? -1.0 : 1.0;  // inward: the tank is seen from inside
+  if (pass == PASS_SOLID) n = -n;      // an obstacle from outside
   normal_world = n;
   position_view = (view * vec4(position_world, 1.0)).xyz;
   gl_Position = proj * vec4(position_view, 1.0);

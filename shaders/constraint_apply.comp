@@ -1,6 +1,6 @@
 #version 450
 // dp_i = (m/rho0) sum_j (lambda_i + lambda_j + s_corr) grad W_spiky(x*_i - x*_j), with the
-// tensile term s_corr = -k (W(r)/W(dq))^n; x*_i += dp_i, then out of the walls.
+// tensile term s_corr = -k (W(r)/W(dq))^n; x*_i += dp_i, then out of walls and obstacles.
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x_id = 0) in;
 #include "common.glsl"
@@ -9,6 +9,8 @@ layout(std430, binding = 0) readonly buffer CellStart { uint cell_start[]; };
 layout(std430, binding = 1) readonly buffer XPred { vec4 x_pred[]; };
 layout(std430, binding = 2) readonly buffer Lambda { float lambda[]; };
 layout(std430, binding = 3) writeonly buffer XOut { vec4 x_out[]; };
+#define OBSTACLES_BINDING 4
+#include "obstacles.glsl"
 
 void main() {
   uint i = thread_index();
@@ -26,5 +28,5 @@ void main() {
   // The walls push with the particle's own lambda (they have none of their own).
   vec3 wall_grad;
   wall_density(xi, wall_grad);
-  x_out[i] = vec4(project_to_walls(xi + (sim.mass / sim.rho0) * dp + lambda_i * wall_grad / sim.rho0), 0.0);
+  x_out[i] = vec4(project_out_of_solids(xi + (sim.mass / sim.rho0) * dp + lambda_i * wall_grad / sim.rho0), 0.0);
 }

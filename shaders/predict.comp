@@ -1,5 +1,5 @@
 #version 450
-// v_i += g dt; x*_i = x_i + v_i dt, kept inside the walls.
+// v_i += g dt; x*_i = x_i + v_i dt, kept inside the walls and out of the obstacles.
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x_id = 0) in;
 #include "common.glsl"
@@ -7,11 +7,13 @@ layout(local_size_x_id = 0) in;
 layout(std430, binding = 0) readonly buffer X { vec4 x[]; };
 layout(std430, binding = 1) buffer V { vec4 v[]; };
 layout(std430, binding = 2) writeonly buffer XPred { vec4 x_pred[]; };
+#define OBSTACLES_BINDING 3
+#include "obstacles.glsl"
 
 void main() {
   uint i = thread_index();
   if (i >= sim.count) return;
   vec3 vi = v[i].xyz + sim.gravity * sim.dt;
   v[i].xyz = vi;
-  x_pred[i] = vec4(project_to_walls(x[i].xyz + vi * sim.dt), 0.0);
+  x_pred[i] = vec4(project_out_of_solids(x[i].xyz + vi * sim.dt), 0.0);
 }

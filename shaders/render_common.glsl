@@ -4,12 +4,14 @@
 
 const int STYLE_FLUID = 0, STYLE_PARTICLES = 1, STYLE_DENSITY = 2, STYLE_SPEED = 3;
 const int PASS_SHADED = 0, PASS_DEPTH = 1, PASS_THICKNESS = 2;
+const int PASS_SOLID = 3;  // obstacles: boxes seen from outside, spheres in the solid colour
+const vec3 SOLID_COLOUR = vec3(0.62, 0.48, 0.34);
 
 layout(std140, binding = 0) uniform Frame {
   mat4 view;
   mat4 proj;
   vec4 light_view;  // unit vector towards the light, view space
-  vec4 domain_min;  // world space; w unused
+  vec4 domain_min;  // world space; w unused (box.vert: the box drawn, the domain or an obstacle)
   vec4 domain_max;
   vec2 viewport;    // pixels
   float radius;     // particle radius, m

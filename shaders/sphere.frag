@@ -18,8 +18,10 @@ void main() {
     result = vec4(-p.z, 0.0, 0.0, 1.0);
   } else if (pass == PASS_THICKNESS) {
     result = vec4(2.0 * s, 0.0, 0.0, 1.0);
-  } else {
-    vec3 base = style == STYLE_PARTICLES ? vec3(0.20, 0.45, 0.85) : ramp(scalar / colour_scale);
+  } else {  // PASS_SHADED or PASS_SOLID
+    vec3 base = pass == PASS_SOLID         ? SOLID_COLOUR
+                : style == STYLE_PARTICLES ? vec3(0.20, 0.45, 0.85)
+                                           : ramp(scalar / colour_scale);
     result = vec4(lit(base, (p - centre_view) / radius, p), 1.0);
   }
 }

@@ -1,0 +1,32 @@
+#pragma once
+// Static obstacles: axis-aligned boxes and spheres that particles are projected out of,
+// like the walls. The solver keeps particle centres half a spacing away from an
+// obstacle's surface, so it works with each shape grown by that margin (keep_out).
+// shaders/obstacles.glsl mirrors project_out().
+#include <glm/glm.hpp>
+
+#include <vector>
+
+namespace pbflow {
+
+struct Obstacle {
+  enum class Kind { Box, Sphere } kind = Kind::Box;
+  glm::dvec3 min{0.0}, max{0.0};  // box
+  glm::dvec3 centre{0.0};         // sphere
+  double radius = 0;
+
+  bool contains(const glm::dvec3& x) const;   // strictly inside
+  Obstacle grown(double margin) const;        // every surface moved out by margin
+};
+
+// x moved onto the nearest surface of `o` if it is inside. For a box, only faces
+// between the walls are candidates, so that the walls' clamp cannot push the particle
+// back in (a box standing on the floor pushes up or sideways, never down).
+glm::dvec3 project_out(const Obstacle& o, const glm::dvec3& x, const glm::dvec3& wall_min,
+                       const glm::dvec3& wall_max);
+
+// The GPU layout: vec4 0 holds the count in x; then two vec4 per obstacle:
+// box (min, 0) (max, 0); sphere (centre, 1) (radius, 0, 0, 0).
+std::vector<glm::vec4> pack_obstacles(const std::vector<Obstacle>& obstacles);
+
+}  // namespace pbflow
