@@ -138,11 +138,19 @@ TEST_F(PassTest, Measures) {
 
 // Whole steps of both methods from the lattice: positions drift apart only by float
 // rounding, a few micrometres over 4 steps (spacing 40 mm).
-class StepTest : public test::GpuTest, public ::testing::WithParamInterface<const char*> {};
+struct StepCase {
+  const char* name;
+  const char* method;
+  const char* obstacles;  // JSON for the scene's obstacles
+};
+
+class StepTest : public test::GpuTest, public ::testing::WithParamInterface<StepCase> {};
 
 TEST_P(StepTest, SeveralStepsAgree) {
-  Scene scene = load_scene("dam_break", {"particle_spacing=0.04", std::string("solver.method=\"") + GetParam() + "\"",
-                                               "solver.iterations=2", "solver.vorticity=0.1"});
+  const StepCase& c = GetParam();
+  Scene scene = load_scene("dam_break", {"particle_spacing=0.04", std::string("solver.method=\"") + c.method + "\"",
+                                         "solver.iterations=2", "solver.vorticity=0.1",
+                                         std::string("obstacles=") + c.obstacles});
   Derived d = derive(scene);
   auto x0 = initial_particles(scene);
   GpuSolver gpu(test::gpu(), d, x0);
@@ -153,13 +161,21 @@ TEST_P(StepTest, SeveralStepsAgree) {
     EXPECT_NEAR(g.kinetic_energy, r.kinetic_energy, 1e-3 * r.kinetic_energy);
   }
   ParticleState g = gpu.download();
-  test::ErrorReport e = test::compare(g.x, ref.state.x, std::string(GetParam()) + " positions after 4 steps");
-  test::ErrorReport ev = test::compare(g.v, ref.state.v, std::string(GetParam()) + " velocities after 4 steps");
+  test::ErrorReport e = test::compare(g.x, ref.state.x, std::string(c.name) + " positions after 4 steps");
+  test::ErrorReport ev = test::compare(g.v, ref.state.v, std::string(c.name) + " velocities after 4 steps");
   EXPECT_LT(e.max_abs, 1e-5);                 // metres
   EXPECT_LT(ev.max_abs, 1e-3 * ev.scale);
 }
 
-INSTANTIATE_TEST_SUITE_P(Methods, StepTest, ::testing::Values("pbf", "ldc"));
+// The obstacles stand inside the column, so that particles meet them from the first step.
+constexpr const char* kObstaclesInTheColumn =
+    R"([{"type": "box", "min": [0.25, 0, 0.1], "max": [0.45, 0.2, 0.3]},
+        {"type": "sphere", "centre": [0.2, 0.5, 0.2], "radius": 0.1}])";
+
+INSTANTIATE_TEST_SUITE_P(Methods, StepTest,
+                         ::testing::Values(StepCase{"pbf", "pbf", "[]"}, StepCase{"ldc", "ldc", "[]"},
+                                           StepCase{"ldc_obstacles", "ldc", kObstaclesInTheColumn}),
+                         [](const auto& info) { return std::string(info.param.name); });
 
 }  // namespace
 }  // namespace pbflow
