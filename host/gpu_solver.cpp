@@ -3,6 +3,7 @@
 #include <chrono>
 #include <numeric>
 
+#include "scene.hpp"
 #include "vk/check.hpp"
 #include "vk/context.hpp"
 
@@ -17,11 +18,25 @@ struct ReduceFinalPush {
 uint32_t partial_count(uint32_t n) { return (n + kReduceThreads - 1) / kReduceThreads; }
 }  // namespace
 
+namespace {
+// Bad input rather than a Vulkan failure: the scene asks for more than this device holds.
+uint32_t checked_count(const vk::Context& ctx, size_t n) {
+  const uint64_t per_array = uint64_t(n) * sizeof(glm::vec4), limit = ctx.limits().maxStorageBufferRange;
+  // Five vec4 arrays, two id arrays, rho, lambda, vorticity and the grid: under 128 bytes a particle.
+  const uint64_t total = uint64_t(n) * 128, memory = ctx.info().device_local_bytes;
+  if (per_array > limit || (memory && total > memory))
+    throw InputError(std::to_string(n) + " particles are more than " + ctx.info().name + " holds (" +
+                     std::to_string(per_array) + "-byte arrays, limit " + std::to_string(limit) + "; about " +
+                     std::to_string(total >> 20) + " MiB in all): raise particle_spacing");
+  return uint32_t(n);
+}
+}  // namespace
+
 GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector<glm::dvec3>& x0)
     : ctx_(ctx),
       d_(d),
-      sim_(d.to_gpu(uint32_t(x0.size()))),
-      n_(uint32_t(x0.size())),
+      sim_(d.to_gpu(checked_count(ctx, x0.size()))),
+      n_(sim_.count),
       viscosity_pass_(d.solver.xsph > 0 || d.solver.vorticity > 0),
       vorticity_pass_(d.solver.vorticity > 0),
       correction_pass_(d.solver.method == Method::Ldc),

@@ -112,6 +112,7 @@ Scene parse_scene(const std::string& json_text, const std::string& origin, const
   } catch (const json::parse_error& e) {
     throw InputError(origin + ": JSON syntax error: " + e.what());
   }
+  if (!j.is_object()) throw InputError(origin + ": a scene must be a JSON object ({...})");
   for (const std::string& o : overrides) apply_override(j, o);
   reject_unknown(j, schema(), "");
 
@@ -142,6 +143,14 @@ Scene parse_scene(const std::string& json_text, const std::string& origin, const
   }
   require(!s.fluid_blocks.empty() || !s.fluid_spheres.empty(),
           "scene needs fluid: a non-empty 'fluid_blocks' or 'fluid_spheres'");
+  // Checked before any particle is made, so that a tiny spacing fails here, not in an allocation.
+  double volume = 0;
+  for (const Box& b : s.fluid_blocks) volume += (b.max.x - b.min.x) * (b.max.y - b.min.y) * (b.max.z - b.min.z);
+  for (const Ball& b : s.fluid_spheres) volume += 4.0 / 3.0 * M_PI * b.radius * b.radius * b.radius;
+  double estimate = volume / std::pow(s.particle_spacing, 3);
+  require(estimate <= kMaxParticles, "the fluid would hold about " + std::to_string(std::llround(estimate)) +
+                                         " particles, more than pbflow's limit of " + std::to_string(kMaxParticles) +
+                                         " (raise particle_spacing)");
   for (size_t i = 0; i < j.value("obstacles", json::array()).size(); ++i) {
     std::string path = "obstacles[" + std::to_string(i) + "]";
     const json& o = j["obstacles"][i];

@@ -17,6 +17,9 @@ struct InputError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The most particles a scene may hold (positions alone are 2 GiB on the GPU).
+constexpr long long kMaxParticles = 1LL << 27;
+
 struct Box {
   glm::dvec3 min, max;
 };

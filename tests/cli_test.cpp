@@ -158,4 +158,37 @@ TEST(Cli, VideoHoldsEveryFrame) {
     EXPECT_EQ(entry.path().filename(), "dam.mp4") << "left behind: " << entry.path();
 }
 
+// tests/broken_scenes/: every file exits 2 with one line naming its problem, and
+// writes nothing. MESSAGES pairs each file with a piece of the message it must give.
+TEST(Cli, EveryBrokenSceneOfTheCorpusIsRefusedByName) {
+  const fs::path corpus = fs::path(PBFLOW_TEST_DATA) / "broken_scenes";
+  std::ifstream manifest(corpus / "MESSAGES");
+  ASSERT_TRUE(manifest) << "no MESSAGES in " << corpus;
+  size_t checked = 0;
+  for (std::string line; std::getline(manifest, line);) {
+    if (line.empty() || line[0] == '#') continue;
+    size_t tab = line.find('\t');
+    ASSERT_NE(tab, std::string::npos) << line;
+    std::string file = line.substr(0, tab), expect = line.substr(tab + 1);
+    fs::path out = fresh_dir("broken_" + file);  // no --frames: it would mend fractional_frames.json
+    Result r = pbflow("run " + (corpus / file).string() + " --no-render --out " + out.string());
+    EXPECT_EQ(r.status, 2) << file << ": " << r.output;
+    EXPECT_NE(r.output.find(expect), std::string::npos) << file << " should say '" << expect << "': " << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << file << ": not one line: " << r.output;
+    EXPECT_FALSE(fs::exists(out)) << file << " wrote output despite bad input";
+    ++checked;
+  }
+  size_t files = 0;
+  for (const auto& entry : fs::directory_iterator(corpus)) files += entry.path().extension() == ".json";
+  EXPECT_EQ(checked, files) << "every broken scene needs a line in MESSAGES";
+}
+
+TEST(Cli, ParamOverridesReachTheSolver) {
+  fs::path dir = fresh_dir("param");
+  Result r = pbflow("run dam_break --no-render --frames 2 --param particle_spacing=0.04 "
+                    "--param solver.iterations=3 --param solver.method=pbf --out " + dir.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("2000 particles, pbf with 3 iteration(s)"), std::string::npos) << r.output;
+}
+
 }  // namespace
