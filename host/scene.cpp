@@ -109,7 +109,7 @@ Scene parse_scene(const std::string& json_text, const std::string& origin, const
   json j;
   try {
     j = json::parse(json_text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse_error, and out_of_range for numbers past double's range
     throw InputError(origin + ": JSON syntax error: " + e.what());
   }
   if (!j.is_object()) throw InputError(origin + ": a scene must be a JSON object ({...})");
