@@ -12,6 +12,7 @@
 #include "frame_files.hpp"
 #include "particle_export.hpp"
 #include "gpu_solver.hpp"
+#include "output_dir.hpp"
 #include "reference_solver.hpp"
 #include "scene.hpp"
 #include "stats_csv.hpp"
@@ -90,6 +91,7 @@ int run(const RunOptions& o) {
   std::unique_ptr<vk::Context> ctx;
   std::unique_ptr<Solver> solver = make_solver(o.device, o.validate, d, x0, ctx);
   const std::filesystem::path out(o.out);
+  check_output_dir(out);
   const capture::ExportFormat export_format = capture::parse_export_format(o.export_format);
   std::unique_ptr<capture::FrameCapture> capture;
   if (o.render) capture = make_capture(o, scene, *solver, ctx.get());
@@ -122,6 +124,7 @@ int run(const RunOptions& o) {
     progress.update(frame, t, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   }
   if (capture) capture->finish();
+  remove_stale_frames(out, scene.frames);
   progress.done();
   double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   long steps = long(scene.frames - 1) * scene.solver.substeps;

@@ -191,4 +191,20 @@ TEST(Cli, ParamOverridesReachTheSolver) {
   EXPECT_NE(r.output.find("2000 particles, pbf with 3 iteration(s)"), std::string::npos) << r.output;
 }
 
+TEST(Cli, OutputDirectoryIsReusedOnlyForPbflowsOwnFiles) {
+  fs::path dir = fresh_dir("reuse");
+  const std::string run = "run --style particles --width 64 --height 32 --quiet --param particle_spacing=0.04 --out " +
+                          dir.string() + " --frames ";
+  ASSERT_EQ(pbflow(run + "4").status, 0);
+  ASSERT_EQ(pbflow(run + "2").status, 0);  // a shorter run into the same directory
+  EXPECT_TRUE(fs::exists(dir / "frames" / "frame_00001.png"));
+  EXPECT_FALSE(fs::exists(dir / "frames" / "frame_00002.png")) << "a stale frame of the longer run survived";
+
+  std::ofstream(dir / "frames" / "holiday.jpg") << "not ours";
+  Result r = pbflow(run + "2");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("holiday.jpg"), std::string::npos) << r.output;
+  EXPECT_TRUE(fs::exists(dir / "frames" / "holiday.jpg"));
+}
+
 }  // namespace
