@@ -17,7 +17,7 @@ const char* kSubdirs[] = {"frames", "particles"};
 // (frame_NNNNN.png.tmpPID): past every frame, so that it counts as stale. -1 for
 // anything else.
 long frame_number(const fs::path& file) {
-  static const std::regex name(R"(frame_(\d{5,})\.(png|ply|vtp)(\.tmp\d+)?)");
+  static const std::regex name(R"(frame_(\d{5,12})\.(png|ply|vtp)(\.tmp\d+)?)");
   std::smatch m;
   std::string s = file.filename().string();
   if (!std::regex_match(s, m, name)) return -1;
