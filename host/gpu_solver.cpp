@@ -57,7 +57,7 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
       result_(ctx, sizeof(glm::vec4), vk::Memory::Host),
       obstacles_(ctx, pack_obstacles(d.obstacles).size() * sizeof(glm::vec4)),
       cmd_(ctx),
-      timer_(ctx, 2) {
+      timer_(std::make_unique<vk::GpuTimer>(ctx, 2)) {
   for (auto& b : vec4_) b = vk::Buffer(ctx, n_ * sizeof(glm::vec4));
   obstacles_.upload(std::span<const glm::vec4>(pack_obstacles(d.obstacles)));
   for (auto& b : id_) b = vk::Buffer(ctx, n_ * sizeof(uint32_t));
@@ -225,23 +225,37 @@ void GpuSolver::vorticity_force() {
   cmd_.dispatch(n_);
 }
 
+void GpuSolver::end_of(PassGroup group) {
+  if (!profiling_) return;
+  timer_->mark(cmd_);
+  segments_.push_back(group);
+}
+
 void GpuSolver::record_step() {
   if (correction_pass_) {
     if (!density_current_) {
       grid_at_positions();
+      end_of(PassGroup::Grid);
       density();
+      end_of(PassGroup::Density);
     }
     correction();
+    end_of(PassGroup::Correction);
   }
   predict();
+  end_of(PassGroup::Predict);
   grid_at_predictions();
+  end_of(PassGroup::Grid);
   for (int k = 0; k < d_.solver.iterations; ++k) {
     constraint_lambda();
     constraint_apply();
   }
+  end_of(PassGroup::Constraints);
   velocity_update();
+  end_of(PassGroup::Velocity);
   if (viscosity_pass_) viscosity_vorticity();
   if (vorticity_pass_) vorticity_force();
+  if (viscosity_pass_ || vorticity_pass_) end_of(PassGroup::Viscosity);
   density_current_ = false;
 }
 
@@ -274,19 +288,25 @@ FrameStats GpuSolver::read_measures() const {
 
 FrameStats GpuSolver::advance(int steps) {
   auto start = std::chrono::steady_clock::now();
+  const uint32_t marks = 2 + (profiling_ ? uint32_t(steps) * kPassGroups : 0);
+  if (timer_->capacity() < marks) timer_ = std::make_unique<vk::GpuTimer>(ctx_, marks);
+  segments_.clear();
   begin();
-  timer_.reset(cmd_);
-  timer_.mark(cmd_);
+  timer_->reset(cmd_);
+  timer_->mark(cmd_);
   for (int k = 0; k < steps; ++k) record_step();
-  timer_.mark(cmd_);
+  const uint32_t end = timer_->mark(cmd_);
   record_measures();
   finish();
   FrameStats s = read_measures();
   if (steps > 0) {
-    double ms = timer_.available()
-                    ? timer_.read_ms()[1]
+    std::vector<double> t = timer_->read_ms();
+    double ms = timer_->available()
+                    ? t[end]
                     : std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     s.step_ms = ms / steps;
+    if (timer_->available())
+      for (size_t k = 0; k < segments_.size(); ++k) s.pass_ms[size_t(segments_[k])] += (t[k + 1] - t[k]) / steps;
   }
   return s;
 }

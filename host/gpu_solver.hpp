@@ -2,6 +2,7 @@
 // The solver on Vulkan compute: every pass of DESIGN.md's step is one shader, and a
 // whole frame (all its steps and the measures) is one command buffer.
 #include <array>
+#include <memory>
 
 #include "gpu_grid.hpp"
 #include "obstacles.hpp"
@@ -41,6 +42,9 @@ class GpuSolver : public Solver {
   void record_step();
   void record_measures();  // grid and density at x, then the reductions
 
+  // Timestamps after every pass group, reported in FrameStats::pass_ms (benchmarks).
+  void set_profiling(bool on) { profiling_ = on; }
+
   void upload(const ParticleState& s);  // x, v, x_pred, in id order
   ParticleState download() const;       // everything, in id order
 
@@ -50,6 +54,7 @@ class GpuSolver : public Solver {
   void swap_roles(Slot a, Slot b) { std::swap(role_[a], role_[b]); }
   void bind_particle_pass(const vk::Program& p);
   FrameStats read_measures() const;
+  void end_of(PassGroup group);  // closes a timed segment while profiling
 
   const vk::Context& ctx_;
   Derived d_;
@@ -67,7 +72,9 @@ class GpuSolver : public Solver {
   int id_current_ = 0;
   vk::Buffer rho_, lambda_buf_, omega_, partials_, result_, obstacles_;
   vk::CommandList cmd_;
-  vk::GpuTimer timer_;
+  std::unique_ptr<vk::GpuTimer> timer_;
+  bool profiling_ = false;
+  std::vector<PassGroup> segments_;  // while profiling: the group timed between marks k and k+1
 };
 
 }  // namespace pbflow

@@ -1,4 +1,4 @@
-// pbflow command line: run, scenes, devices.
+// pbflow command line: run, bench, scenes, devices.
 #include <CLI/CLI.hpp>
 #include <csignal>
 #include <cstdio>
@@ -6,6 +6,7 @@
 
 #include "gl_context.hpp"
 #include "run.hpp"
+#include "study.hpp"
 #include "scene.hpp"
 #include "vk/check.hpp"
 #include "vk/context.hpp"
@@ -63,6 +64,17 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"ply", "vtk"}));
   run_cmd->add_flag("--verbose", run.verbose, "say how frames are rendered (EGL platform, GL, particle path)");
 
+  pbflow::bench::StudyOptions bench;
+  CLI::App* bench_cmd = app.add_subcommand("bench", "the speed-accuracy study: CSV and charts (bench/study.hpp)");
+  bench_cmd->add_flag("--quick", bench.quick, "a small subset: 4000 particles, 1 to 3 iterations, 1 s");
+  bench_cmd->add_option("--out", bench.out, "output directory")->capture_default_str();
+  bench_cmd->add_option("--device", bench.device, "auto | cpu | INDEX")->capture_default_str();
+  bench_cmd->add_option("--counts", bench.counts, "particle counts, e.g. 10000,40000")->delimiter(',');
+  bench_cmd->add_option("--iterations", bench.iterations, "iteration counts, e.g. 1,2,3")->delimiter(',');
+  bench_cmd->add_option("--seconds", bench.seconds, "simulated seconds per run");
+  bool no_charts = false;
+  bench_cmd->add_flag("--no-charts", no_charts, "CSV only");
+
   CLI::App* scenes_cmd = app.add_subcommand("scenes", "list the built-in scenes");
   CLI::App* devices_cmd = app.add_subcommand("devices", "list the Vulkan devices and their limits");
 
@@ -75,10 +87,12 @@ int main(int argc, char** argv) {
     return 2;
   }
   run.render = !no_render;
+  bench.charts = !no_charts;
 
   try {
     if (*scenes_cmd) return list_scenes();
     if (*devices_cmd) return list_devices();
+    if (*bench_cmd) return pbflow::bench::run_study(bench);
     return pbflow::run(run);  // `pbflow` alone runs the default scene
   } catch (const pbflow::InputError& e) {
     std::cerr << "pbflow: " << e.what() << "\n";

@@ -2,15 +2,24 @@
 // What the run loop, the tests and the benchmarks see of a solver, GPU or reference.
 #include <glm/glm.hpp>
 
+#include <array>
 #include <string>
 #include <vector>
 
 namespace pbflow {
 
+// The passes of a step, grouped as the benchmarks report them (DESIGN.md's list).
+enum class PassGroup { Grid, Density, Correction, Predict, Constraints, Velocity, Viscosity, Count };
+constexpr size_t kPassGroups = size_t(PassGroup::Count);
+constexpr const char* kPassGroupNames[kPassGroups] = {"grid",        "density",  "correction", "predict",
+                                                      "constraints", "velocity", "viscosity"};
+
 // DESIGN.md's measures, taken at the end of the last step from a fresh density pass.
 struct FrameStats {
   double mean_compression = 0, max_compression = 0, kinetic_energy = 0, max_speed = 0;
   double step_ms = 0;  // mean time of one step (GPU timestamps, else wall time); 0 when no step ran
+  // Mean GPU time per step of each pass group; filled only while profiling (GpuSolver).
+  std::array<double, kPassGroups> pass_ms{};
 };
 
 // Host copy of the per-particle state, indexed by particle id (the order of initial_particles).

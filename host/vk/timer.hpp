@@ -17,6 +17,7 @@ class GpuTimer {
   GpuTimer& operator=(const GpuTimer&) = delete;
 
   bool available() const { return pool_ != VK_NULL_HANDLE; }  // false: the device has no timestamps
+  uint32_t capacity() const { return capacity_; }
   void reset(CommandList& cmd);                                 // before the first mark of a submission
   uint32_t mark(CommandList& cmd);                              // returns the mark's index
   // Milliseconds between marks a and b of the last submission (after it completed).

@@ -1,0 +1,118 @@
+#!/usr/bin/env python3
+"""Charts of pbflow's speed-accuracy study from DIR/runs.csv and DIR/series.csv.
+
+Usage: charts.py DIR   (writes DIR/*.png; `pbflow bench` runs it and leaves a copy in DIR)
+
+  accuracy_vs_cost.png   ms per step vs time-averaged mean compression, one line per
+                         method through its iteration counts (the Pareto front)
+  time_per_step.png      ms per step vs iterations, per method (seed paper, Figure 7)
+  compression_over_time.png, kinetic_energy.png
+                         pbf@1,2,3 and ldc@1 on dam_break (seed paper, Figures 1/4 and 6)
+Each chart uses the largest particle count of the study, one device only.
+"""
+import csv
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+STYLE = {"pbf": dict(color="tab:blue", marker="o"), "ldc": dict(color="tab:red", marker="s")}
+
+
+def read(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def largest(runs, scene):
+    rows = [r for r in runs if r["scene"] == scene]
+    n = max(int(r["particles"]) for r in rows)
+    return [r for r in rows if int(r["particles"]) == n], n
+
+
+def by_method(rows):
+    out = {}
+    for r in sorted(rows, key=lambda r: int(r["iterations"])):
+        out.setdefault(r["method"], []).append(r)
+    return out
+
+
+def accuracy_vs_cost(runs, out_dir, device):
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
+    for ax, scene in zip(axes, ("dam_break", "hydrostatic")):
+        rows, n = largest(runs, scene)
+        for method, rs in by_method(rows).items():
+            x = [float(r["step_ms_mean"]) for r in rs]
+            y = [100 * float(r["mean_compression_avg"]) for r in rs]
+            ax.plot(x, y, label=method, **STYLE.get(method, {}))
+            for r, xi, yi in zip(rs, x, y):
+                ax.annotate(r["iterations"], (xi, yi), textcoords="offset points", xytext=(4, 4), fontsize=8)
+        ax.set_xlabel("ms per step")
+        ax.set_ylabel("mean compression, time average (%)")
+        ax.set_yscale("log")
+        ax.set_title(f"{scene}, {n} particles")
+        ax.legend(title="method (labels: iterations)")
+    fig.suptitle(f"Accuracy against cost on {device}")
+    fig.tight_layout()
+    fig.savefig(os.path.join(out_dir, "accuracy_vs_cost.png"), dpi=110)
+    plt.close(fig)
+
+
+def time_per_step(runs, out_dir, device):
+    rows, n = largest(runs, "dam_break")
+    fig, ax = plt.subplots(figsize=(6, 4.2))
+    for method, rs in by_method(rows).items():
+        ax.plot([int(r["iterations"]) for r in rs], [float(r["step_ms_mean"]) for r in rs], label=method,
+                **STYLE.get(method, {}))
+    ax.set_xlabel("constraint iterations")
+    ax.set_ylabel("ms per step")
+    ax.set_ylim(bottom=0)
+    ax.set_title(f"Time per step, dam_break, {n} particles, {device}")
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(os.path.join(out_dir, "time_per_step.png"), dpi=110)
+    plt.close(fig)
+
+
+def over_time(runs, series, out_dir, device, column, file, ylabel, scale):
+    rows, n = largest(runs, "dam_break")
+    wanted = [("pbf", 1), ("pbf", 2), ("pbf", 3), ("ldc", 1)]
+    fig, ax = plt.subplots(figsize=(6.5, 4.2))
+    for method, k in wanted:
+        run = next((r for r in rows if r["method"] == method and int(r["iterations"]) == k), None)
+        if run is None:
+            continue
+        points = [s for s in series if s["run"] == run["run"]]
+        ax.plot([float(s["time"]) for s in points], [scale * float(s[column]) for s in points],
+                label=f"{method}@{k}", color=STYLE[method]["color"], alpha=1.0 if method == "ldc" else 0.35 + 0.2 * k)
+    ax.set_xlabel("simulated time (s)")
+    ax.set_ylabel(ylabel)
+    ax.set_title(f"dam_break, {n} particles, {device}")
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(os.path.join(out_dir, file), dpi=110)
+    plt.close(fig)
+
+
+def main():
+    if len(sys.argv) != 2:
+        sys.exit(__doc__)
+    out_dir = sys.argv[1]
+    runs = read(os.path.join(out_dir, "runs.csv"))
+    series = read(os.path.join(out_dir, "series.csv"))
+    devices = sorted({r["device"] for r in runs})
+    if len(devices) != 1:
+        sys.exit(f"runs.csv mixes devices {devices}: one chart, one device")
+    device = devices[0]
+    accuracy_vs_cost(runs, out_dir, device)
+    time_per_step(runs, out_dir, device)
+    over_time(runs, series, out_dir, device, "mean_compression", "compression_over_time.png",
+              "mean compression (%)", 100)
+    over_time(runs, series, out_dir, device, "kinetic_energy", "kinetic_energy.png", "kinetic energy (J)", 1)
+
+
+if __name__ == "__main__":
+    main()

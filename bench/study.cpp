@@ -1,0 +1,209 @@
+#include "study.hpp"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include "gpu_solver.hpp"
+#include "run.hpp"
+#include "scene.hpp"
+#include "vk/context.hpp"
+
+namespace pbflow {
+const std::vector<std::pair<std::string_view, std::string_view>>& bench_scripts_text();  // generated
+}
+
+namespace pbflow::bench {
+
+namespace fs = std::filesystem;
+
+const std::vector<std::string>& run_columns() {
+  static const std::vector<std::string> columns = [] {
+    std::vector<std::string> c = {"run", "device", "scene", "particles", "method", "iterations", "ldc_k", "substeps",
+                                  "simulated_s", "step_ms_mean", "step_ms_max"};
+    for (const char* pass : kPassGroupNames) c.push_back(std::string(pass) + "_ms");
+    for (const char* k : {"particle_steps_per_s", "mean_compression_avg", "max_compression_avg",
+                          "max_compression_peak", "final_mean_compression", "settle_mm", "kinetic_energy_final",
+                          "diverged"})
+      c.push_back(k);
+    return c;
+  }();
+  return columns;
+}
+
+namespace {
+
+struct Run {
+  std::string scene, method;
+  int particles_wanted, iterations;
+};
+
+struct Outcome {
+  std::vector<std::string> cells;  // runs.csv row
+  std::string series;              // series.csv rows
+};
+
+double fluid_volume(const Scene& s) {
+  double v = 0;
+  for (const Box& b : s.fluid_blocks) v += (b.max.x - b.min.x) * (b.max.y - b.min.y) * (b.max.z - b.min.z);
+  for (const Ball& b : s.fluid_spheres) v += 4.0 / 3.0 * M_PI * std::pow(b.radius, 3);
+  return v;
+}
+
+double mean_height(const ParticleFrame& f) {
+  double sum = 0;
+  for (const glm::vec4& x : f.x) sum += x.y;
+  return f.x.empty() ? 0 : sum / double(f.x.size());
+}
+
+std::string number(double v) {
+  std::ostringstream s;
+  s.precision(6);
+  s << v;
+  return s.str();
+}
+
+Outcome simulate(const Run& r, int index, double seconds, const std::string& device) {
+  Scene base = load_scene(r.scene);
+  const double spacing = std::cbrt(fluid_volume(base) / r.particles_wanted);
+  const int frames = int(std::lround(seconds * base.fps)) + 1;
+  Scene scene = load_scene(r.scene, {"particle_spacing=" + number(spacing), "solver.method=\"" + r.method + "\"",
+                                     "solver.iterations=" + std::to_string(r.iterations),
+                                     "frames=" + std::to_string(frames)});
+  Derived d = derive(scene);
+  auto x0 = initial_particles(scene);
+  std::unique_ptr<vk::Context> ctx;
+  std::unique_ptr<Solver> solver = make_solver(device, false, d, x0, ctx);
+  if (auto* gpu = dynamic_cast<GpuSolver*>(solver.get())) gpu->set_profiling(true);
+
+  const double height0 = mean_height(solver->read_frame());
+  std::ostringstream series;
+  double sum_mean = 0, sum_max = 0, peak = 0, step_sum = 0, step_max = 0;
+  std::array<double, kPassGroups> pass_sum{};
+  FrameStats s;
+  bool diverged = false;
+  for (int frame = 0; frame < frames; ++frame) {
+    s = solver->advance(frame == 0 ? 0 : scene.solver.substeps);
+    series << index << "," << frame << "," << number(frame / scene.fps) << "," << number(s.mean_compression) << ","
+           << number(s.max_compression) << "," << number(s.kinetic_energy) << "\n";
+    diverged = diverged || !std::isfinite(s.kinetic_energy) || !std::isfinite(s.mean_compression);
+    if (frame == 0) continue;
+    sum_mean += s.mean_compression;
+    sum_max += s.max_compression;
+    peak = std::max(peak, s.max_compression);
+    step_sum += s.step_ms;
+    step_max = std::max(step_max, s.step_ms);
+    for (size_t p = 0; p < kPassGroups; ++p) pass_sum[p] += s.pass_ms[p];
+  }
+  const int measured = frames - 1;
+  const double step_mean = step_sum / measured;
+  std::vector<std::string> row = {std::to_string(index),
+                                  solver->device_name(),
+                                  r.scene,
+                                  std::to_string(x0.size()),
+                                  r.method,
+                                  std::to_string(r.iterations),
+                                  number(r.method == "ldc" ? scene.solver.ldc_k : 0.0),
+                                  std::to_string(scene.solver.substeps),
+                                  number(measured / scene.fps),
+                                  number(step_mean),
+                                  number(step_max)};
+  for (double p : pass_sum) row.push_back(number(p / measured));
+  row.push_back(number(double(x0.size()) / (step_mean * 1e-3)));
+  row.push_back(number(sum_mean / measured));
+  row.push_back(number(sum_max / measured));
+  row.push_back(number(peak));
+  row.push_back(number(s.mean_compression));
+  row.push_back(number(1000.0 * (height0 - mean_height(solver->read_frame()))));
+  row.push_back(number(s.kinetic_energy));
+  row.push_back(diverged ? "1" : "0");
+  return {row, series.str()};
+}
+
+// RFC 4180: a cell with a comma or a quote is quoted (device names have commas).
+std::string csv_cell(const std::string& cell) {
+  if (cell.find_first_of(",\"\n") == std::string::npos) return cell;
+  std::string quoted = "\"";
+  for (char c : cell) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return quoted + "\"";
+}
+
+std::string join(const std::vector<std::string>& cells) {
+  std::string line;
+  for (size_t i = 0; i < cells.size(); ++i) line += (i ? "," : "") + csv_cell(cells[i]);
+  return line;
+}
+
+// Debian's python3 with matplotlib (pyenv or venv interpreters on PATH may lack it).
+std::string python_with_matplotlib() {
+  for (const char* py : {"/usr/bin/python3", "python3"})
+    if (std::system((std::string(py) + " -c 'import matplotlib' > /dev/null 2>&1").c_str()) == 0) return py;
+  return "";
+}
+
+}  // namespace
+
+int run_study(const StudyOptions& o) {
+  std::vector<int> counts = o.counts, iterations = o.iterations;
+  if (counts.empty()) counts = o.quick ? std::vector<int>{4000} : std::vector<int>{10000, 40000, 160000};
+  if (iterations.empty()) iterations = o.quick ? std::vector<int>{1, 2, 3} : std::vector<int>{1, 2, 3, 4, 6, 8};
+  const double seconds = o.seconds > 0 ? o.seconds : o.quick ? 1.0 : 2.0;
+  for (int c : counts)
+    if (c < 100 || c > 100000000) throw InputError("--counts: particle counts must be from 100 to 100000000");
+  for (int k : iterations)
+    if (k < 1 || k > 1000) throw InputError("--iterations: from 1 to 1000");
+  if (!(seconds > 0 && seconds <= 3600)) throw InputError("--seconds must be in (0, 3600]");
+
+  std::vector<Run> runs;
+  for (const char* scene : {"dam_break", "hydrostatic"})
+    for (int count : counts)
+      for (const char* method : {"pbf", "ldc"})
+        for (int k : iterations) runs.push_back({scene, method, count, k});
+
+  fs::create_directories(o.out);
+  std::ofstream runs_csv(fs::path(o.out) / "runs.csv"), series_csv(fs::path(o.out) / "series.csv");
+  runs_csv << join(run_columns()) << "\n";
+  series_csv << "run,frame,time,mean_compression,max_compression,kinetic_energy\n";
+  const bool tty = isatty(STDERR_FILENO);
+  auto start = std::chrono::steady_clock::now();
+  for (size_t i = 0; i < runs.size(); ++i) {
+    const Run& r = runs[i];
+    Outcome out = simulate(r, int(i), seconds, o.device);
+    runs_csv << join(out.cells) << std::endl;
+    series_csv << out.series << std::flush;
+    double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    double left = elapsed / double(i + 1) * double(runs.size() - i - 1);
+    std::fprintf(stderr, "%s[%zu/%zu] %s %s particles %s@%d  %.0f s, about %.0f s left%s", tty ? "\r" : "", i + 1,
+                 runs.size(), r.scene.c_str(), out.cells[3].c_str(), r.method.c_str(), r.iterations, elapsed, left,
+                 tty ? "   " : "\n");
+  }
+  if (tty) std::fprintf(stderr, "\n");
+  std::cout << "runs: " << (fs::path(o.out) / "runs.csv").string()
+            << "\nseries: " << (fs::path(o.out) / "series.csv").string() << "\n";
+  if (!o.charts) return 0;
+
+  std::string python = python_with_matplotlib();
+  if (python.empty()) {
+    std::cerr << "pbflow: no charts: python3 with matplotlib is missing (apt-get install python3-matplotlib)\n";
+    return 1;
+  }
+  // The embedded script goes beside its charts, so that they can be remade from the CSVs.
+  fs::path script = fs::path(o.out) / "charts.py";
+  for (const auto& [name, text] : bench_scripts_text())
+    if (name == "charts") std::ofstream(script) << text;
+  std::string cmd = python + " '" + script.string() + "' '" + o.out + "'";
+  if (std::system(cmd.c_str()) != 0) {
+    std::cerr << "pbflow: the chart script failed: " << cmd << "\n";
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace pbflow::bench

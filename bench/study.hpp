@@ -1,0 +1,30 @@
+#pragma once
+// `pbflow bench`: the speed-accuracy study. Runs methods x iterations x particle counts
+// on dam_break and hydrostatic for a fixed simulated time and writes, under --out,
+//   runs.csv    one row per run: cost (mean/max step, per pass group, throughput) and
+//               accuracy (time-averaged compression, the tank's settling, energy);
+//   series.csv  one row per run and frame: compression and kinetic energy over time;
+//   charts      accuracy vs cost, time per step vs iterations, compression and kinetic
+//               energy over time (bench/charts.py, run with Debian's matplotlib).
+#include <string>
+#include <vector>
+
+namespace pbflow::bench {
+
+struct StudyOptions {
+  bool quick = false;             // a small subset, minutes on lavapipe
+  std::string out = "bench_out";
+  std::string device = "auto";
+  std::vector<int> counts;        // particles per scene; empty: by --quick
+  std::vector<int> iterations;    // empty: by --quick
+  double seconds = 0;             // simulated per run; 0: by --quick
+  bool charts = true;
+};
+
+// Returns the exit status; throws InputError for bad options.
+int run_study(const StudyOptions& options);
+
+// The columns of runs.csv, in order (tests check them).
+const std::vector<std::string>& run_columns();
+
+}  // namespace pbflow::bench
