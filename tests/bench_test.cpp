@@ -1,0 +1,95 @@
+// `pbflow bench`: the quick study finishes every run with the promised columns and
+// charts; the chart script draws its PNGs from a small CSV fixture. No timing asserted.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "png.hpp"
+#include "study.hpp"
+
+namespace pbflow {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Splits one CSV line, honouring quoted cells.
+std::vector<std::string> cells(const std::string& line) {
+  std::vector<std::string> out(1);
+  bool quoted = false;
+  for (size_t i = 0; i < line.size(); ++i) {
+    char c = line[i];
+    if (c == '"' && quoted && i + 1 < line.size() && line[i + 1] == '"') out.back() += c, ++i;
+    else if (c == '"') quoted = !quoted;
+    else if (c == ',' && !quoted) out.emplace_back();
+    else out.back() += c;
+  }
+  return out;
+}
+
+std::vector<std::vector<std::string>> read_csv(const fs::path& path) {
+  std::ifstream in(path);
+  std::vector<std::vector<std::string>> rows;
+  for (std::string line; std::getline(in, line);) rows.push_back(cells(line));
+  return rows;
+}
+
+const char* kCharts[] = {"accuracy_vs_cost.png", "time_per_step.png", "compression_over_time.png",
+                         "kinetic_energy.png"};
+
+void expect_charts(const fs::path& dir) {
+  for (const char* chart : kCharts) {
+    capture::Image image = capture::read_png(dir / chart);  // throws unless a complete PNG
+    EXPECT_GT(image.width, 300) << chart;
+    EXPECT_GT(image.height, 200) << chart;
+  }
+}
+
+TEST(Bench, QuickStudyFinishesEveryRunWithItsColumnsAndCharts) {
+  fs::path dir = fs::temp_directory_path() / "pbflow_test_bench";
+  fs::remove_all(dir);
+  std::string cmd = std::string(PBFLOW_BINARY) + " bench --quick --out " + dir.string() + " > /dev/null 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+
+  auto runs = read_csv(dir / "runs.csv");
+  ASSERT_FALSE(runs.empty());
+  EXPECT_EQ(runs[0], bench::run_columns());
+  EXPECT_EQ(runs.size(), 1u + 2 * 2 * 3) << "2 scenes x 2 methods x 3 iteration counts";
+  auto column = [&](const std::string& name) {
+    return size_t(std::find(runs[0].begin(), runs[0].end(), name) - runs[0].begin());
+  };
+  for (size_t r = 1; r < runs.size(); ++r) {
+    ASSERT_EQ(runs[r].size(), runs[0].size()) << "row " << r;
+    for (size_t c = 3; c < runs[r].size(); ++c) {
+      if (c == column("method")) continue;
+      EXPECT_TRUE(std::isfinite(std::stod(runs[r][c]))) << runs[0][c] << ", row " << r;
+    }
+    EXPECT_GT(std::stod(runs[r][column("step_ms_mean")]), 0.0);
+    EXPECT_GT(std::stod(runs[r][column("constraints_ms")]), 0.0) << "per-pass timestamps missing";
+    EXPECT_EQ(std::stod(runs[r][column("correction_ms")]) > 0, runs[r][column("method")] == "ldc")
+        << "only ldc runs the correction pass";
+  }
+  auto series = read_csv(dir / "series.csv");
+  EXPECT_EQ(series[0], (std::vector<std::string>{"run", "frame", "time", "mean_compression", "max_compression",
+                                                 "kinetic_energy"}));
+  EXPECT_EQ(series.size(), 1u + 12 * 61) << "61 frames (1 s at 60 fps, frame 0 included) per run";
+  expect_charts(dir);
+}
+
+TEST(Bench, ChartScriptDrawsFromAFixture) {
+  fs::path dir = fs::temp_directory_path() / "pbflow_test_charts";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  for (const char* f : {"runs.csv", "series.csv"})
+    fs::copy_file(fs::path(PBFLOW_TEST_DATA) / "fixtures" / "bench" / f, dir / f);
+  const fs::path script = fs::path(PBFLOW_TEST_DATA).parent_path() / "bench" / "charts.py";
+  std::string cmd = "/usr/bin/python3 " + script.string() + " " + dir.string();
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  expect_charts(dir);
+}
+
+}  // namespace
+}  // namespace pbflow
