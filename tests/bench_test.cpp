@@ -63,9 +63,11 @@ TEST(Bench, QuickStudyFinishesEveryRunWithItsColumnsAndCharts) {
   };
   for (size_t r = 1; r < runs.size(); ++r) {
     ASSERT_EQ(runs[r].size(), runs[0].size()) << "row " << r;
+    // Cost columns are finite numbers; accuracy columns are numbers (pbf@1 may blow up: that is data).
     for (size_t c = 3; c < runs[r].size(); ++c) {
       if (c == column("method")) continue;
-      EXPECT_TRUE(std::isfinite(std::stod(runs[r][c]))) << runs[0][c] << ", row " << r;
+      double v = std::stod(runs[r][c]);
+      if (c <= column("particle_steps_per_s")) EXPECT_TRUE(std::isfinite(v)) << runs[0][c] << ", row " << r;
     }
     EXPECT_GT(std::stod(runs[r][column("step_ms_mean")]), 0.0);
     EXPECT_GT(std::stod(runs[r][column("constraints_ms")]), 0.0) << "per-pass timestamps missing";
