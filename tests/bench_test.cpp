@@ -67,7 +67,9 @@ TEST(Bench, QuickStudyFinishesEveryRunWithItsColumnsAndCharts) {
     for (size_t c = 3; c < runs[r].size(); ++c) {
       if (c == column("method")) continue;
       double v = std::stod(runs[r][c]);
-      if (c <= column("particle_steps_per_s")) EXPECT_TRUE(std::isfinite(v)) << runs[0][c] << ", row " << r;
+      if (c <= column("particle_steps_per_s")) {
+        EXPECT_TRUE(std::isfinite(v)) << runs[0][c] << ", row " << r;
+      }
     }
     EXPECT_GT(std::stod(runs[r][column("step_ms_mean")]), 0.0);
     EXPECT_GT(std::stod(runs[r][column("constraints_ms")]), 0.0) << "per-pass timestamps missing";
