@@ -34,6 +34,11 @@ SolverParams SolverParams::defaults() {
   // 1000 leaves 2.6 % mean compression in the dam break, 3000 brings it to 0.7 %, 10000
   // to 0.08 % but flings free-surface particles (end speeds 7-9 m/s in a tank at rest).
   p.ldc_k = 3000.0;
+  // The seed's force reads a free-surface particle's missing neighbours as low density and
+  // pushes the fluid towards the surface: a tank at rest rises by 15 % of its depth and boils
+  // (bench/results/). Reading densities below rho0 as rho0 keeps what LDC is for (moving
+  // particles out of compressed regions) without that; false gives the seed's force.
+  p.ldc_clamp = true;
   return p;
 }
 

@@ -28,6 +28,7 @@ struct SolverParams {
   double xsph;             // XSPH viscosity c (fraction of the neighbour-averaged relative velocity)
   double vorticity;        // vorticity confinement epsilon, m/s (0: off)
   double ldc_k;            // LDC strength K, 1/s^2
+  bool ldc_clamp;          // LDC reads densities below rho0 as rho0 (only compression pushes)
 
   static SolverParams defaults();
 };

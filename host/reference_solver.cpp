@@ -67,11 +67,12 @@ void ReferenceSolver::density() {
 }
 
 dvec3 ReferenceSolver::correction_force(size_t i) const {
+  auto rho = [&](size_t k) { return d_.solver.ldc_clamp ? std::max(state.rho[k], d_.rho0) : state.rho[k]; };
   dvec3 f(0.0);
   for_each_neighbour(state.x[i], [&](size_t j) {
     dvec3 d = state.x[j] - state.x[i];
     double r = glm::length(d);
-    if (r > 0 && r < d_.h) f += ((state.rho[j] - state.rho[i]) / d_.rho0) * d_.h * (1 - r / d_.h) * (d / r);
+    if (r > 0 && r < d_.h) f += ((rho(j) - rho(i)) / d_.rho0) * d_.h * (1 - r / d_.h) * (d / r);
   });
   double k = d_.solver.method == Method::Ldc ? d_.solver.ldc_k : 0.0;
   return -k * f;

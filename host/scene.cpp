@@ -21,7 +21,7 @@ const json& schema() {
     "fluid_blocks": [], "fluid_spheres": [], "obstacles": [], "gravity": 0, "fps": 0, "frames": 0,
     "solver": {"method": 0, "iterations": 0, "substeps": 0, "kernel_ratio": 0, "rest_density": 0,
                "relaxation": 0, "scorr_k": 0, "scorr_n": 0, "scorr_dq": 0, "xsph": 0,
-               "vorticity": 0, "ldc_k": 0},
+               "vorticity": 0, "ldc_k": 0, "ldc_clamp": 0},
     "camera": {"eye": 0, "target": 0, "fov": 0}
   })");
   return s;
@@ -219,6 +219,10 @@ Scene parse_scene(const std::string& json_text, const std::string& origin, const
   require(p.vorticity >= 0, "solver.vorticity must not be negative");
   p.ldc_k = number(solver, "ldc_k", p.ldc_k);
   require(p.ldc_k >= 0, "solver.ldc_k must not be negative");
+  if (solver.contains("ldc_clamp")) {
+    require(solver["ldc_clamp"].is_boolean(), "solver.ldc_clamp must be true or false");
+    p.ldc_clamp = solver["ldc_clamp"].get<bool>();
+  }
 
   glm::dvec3 centre = 0.5 * (s.domain.min + s.domain.max), size = s.domain.max - s.domain.min;
   const json camera = j.value("camera", json::object());

@@ -1,6 +1,8 @@
 #version 450
 // Local density correction (LDC): f_i = -K sum_j ((rho_j - rho_i)/rho0) h (1 - r/h) (x_j - x_i)/r,
 // pushing each particle away from denser neighbours; applied at once as v_i += f_i dt.
+// With CLAMP_DENSITY (solver.ldc_clamp) densities below rho0 count as rho0, so that a
+// free surface (neighbours missing, density low) does not draw the fluid towards it.
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x_id = 0) in;
 #include "common.glsl"
@@ -9,19 +11,22 @@ layout(std430, binding = 0) readonly buffer CellStart { uint cell_start[]; };
 layout(std430, binding = 1) readonly buffer X { vec4 x[]; };
 layout(std430, binding = 2) readonly buffer Rho { float rho[]; };
 layout(std430, binding = 3) buffer V { vec4 v[]; };
+layout(constant_id = 1) const bool CLAMP_DENSITY = true;
+
+float ldc_density(uint k) { return CLAMP_DENSITY ? max(rho[k], sim.rho0) : rho[k]; }
 
 void main() {
   uint i = thread_index();
   if (i >= sim.count) return;
   vec3 xi = x[i].xyz;
-  float rho_i = rho[i];
+  float rho_i = ldc_density(i);
   vec3 f = vec3(0.0);
   FOR_EACH_NEIGHBOUR(xi, j) {
     vec3 d = x[j].xyz - xi;
     float r2 = dot(d, d);
     if (r2 >= sim.h * sim.h || r2 == 0.0) continue;
     float r = sqrt(r2);
-    f += ((rho[j] - rho_i) * (sim.h - r) / r) * d;  // h(1 - r/h) = h - r
+    f += ((ldc_density(j) - rho_i) * (sim.h - r) / r) * d;  // h(1 - r/h) = h - r
   }
   v[i].xyz += (-sim.ldc_k / sim.rho0 * sim.dt) * f;
 }

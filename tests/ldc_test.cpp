@@ -26,8 +26,9 @@ ParticleState two_density_slab(const Scene& scene) {
   return st;
 }
 
-Scene slab_scene(const std::string& method, double k) {
-  return load_scene("hydrostatic", {"solver.method=\"" + method + "\"", "solver.ldc_k=" + std::to_string(k)});
+Scene slab_scene(const std::string& method, double k, bool clamp = true) {
+  return load_scene("hydrostatic", {"solver.method=\"" + method + "\"", "solver.ldc_k=" + std::to_string(k),
+                                    std::string("solver.ldc_clamp=") + (clamp ? "true" : "false")});
 }
 
 std::vector<glm::dvec3> reference_forces(const Scene& scene, const ParticleState& st) {
@@ -40,20 +41,35 @@ std::vector<glm::dvec3> reference_forces(const Scene& scene, const ParticleState
   return f;
 }
 
-TEST(LdcForce, ZeroForUniformDensity) {
-  // Interior lattice particles all have rho0: no density difference, no force.
-  Scene scene = slab_scene("ldc", 2000);
+// A 10^3 lattice block floating in the middle of the hydrostatic tank, away from the walls.
+ParticleState floating_block() {
   ParticleState st;
   for (int i = 0; i < 10; ++i)
     for (int j = 0; j < 10; ++j)
-      for (int k = 0; k < 10; ++k) st.x.push_back(0.02 * glm::dvec3(i + 0.5, j + 0.5, k + 0.5));
+      for (int k = 0; k < 10; ++k) st.x.push_back(glm::dvec3(0.2, 0.1, 0.2) + 0.02 * glm::dvec3(i + 0.5, j + 0.5, k + 0.5));
   st.v.assign(st.x.size(), glm::dvec3(0.0));
-  auto f = reference_forces(scene, st);
+  return st;
+}
+
+double largest(const std::vector<glm::dvec3>& f) {
+  double m = 0;
+  for (const auto& fi : f) m = std::max(m, glm::length(fi));
+  return m;
+}
+
+TEST(LdcForce, ZeroForUniformDensity) {
+  // Interior lattice particles all have rho0: no density difference, no force.
+  auto f = reference_forces(slab_scene("ldc", 2000, false), floating_block());
   size_t centre = (5 * 10 + 5) * 10 + 5;  // more than h from every face of the block
   EXPECT_LT(glm::length(f[centre]), 1e-9);
-  double largest = 0;
-  for (auto& fi : f) largest = std::max(largest, glm::length(fi));
-  EXPECT_GT(largest, 1.0);  // the block's surface, with its density deficit, does feel a force
+  EXPECT_GT(largest(f), 1.0);  // the seed's force: the surface's density deficit pulls
+}
+
+TEST(LdcForce, ClampedForceIgnoresTheFreeSurface) {
+  // Clamped (the default), a density deficit is no signal: the free block feels nothing.
+  double raw = largest(reference_forces(slab_scene("ldc", 2000, false), floating_block()));
+  double clamped = largest(reference_forces(slab_scene("ldc", 2000, true), floating_block()));
+  EXPECT_LT(clamped, 1e-6 * raw) << "raw " << raw << ", clamped " << clamped;
 }
 
 TEST(LdcForce, PointsFromDenserToLessDense) {
@@ -83,10 +99,10 @@ TEST(LdcForce, ZeroForPbf) {
   for (auto& fi : reference_forces(slab_scene("pbf", 2000), st)) EXPECT_EQ(glm::length(fi), 0.0);
 }
 
-class LdcGpuTest : public test::GpuTest {};
+class LdcGpuTest : public test::GpuTest, public ::testing::WithParamInterface<bool> {};
 
-TEST_F(LdcGpuTest, GpuForceMatchesReferenceAndDirection) {
-  Scene scene = slab_scene("ldc", 2000);
+TEST_P(LdcGpuTest, GpuForceMatchesReference) {
+  Scene scene = slab_scene("ldc", 2000, GetParam());
   ParticleState st = two_density_slab(scene);
   Derived d = derive(scene);
   GpuSolver gpu(test::gpu(), d, st.x);
@@ -98,10 +114,14 @@ TEST_F(LdcGpuTest, GpuForceMatchesReferenceAndDirection) {
   ParticleState g = gpu.download();
   std::vector<glm::dvec3> dv_ref;
   for (const auto& f : reference_forces(scene, st)) dv_ref.push_back(f * d.dt);
-  test::ErrorReport e = test::compare(g.v, dv_ref, "LDC dv on a two-density slab");
+  test::ErrorReport e = test::compare(g.v, dv_ref, std::string("LDC dv on a two-density slab, ") +
+                                                      (GetParam() ? "clamped" : "seed's force"));
   EXPECT_LE(e.max_abs, 1e-3 * e.scale);
   EXPECT_GT(e.scale, 0.0);
 }
+
+INSTANTIATE_TEST_SUITE_P(Clamp, LdcGpuTest, ::testing::Bool(),
+                         [](const auto& info) { return std::string(info.param ? "clamped" : "seed"); });
 
 }  // namespace
 }  // namespace pbflow

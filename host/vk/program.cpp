@@ -10,7 +10,7 @@
 namespace pbflow::vk {
 
 Program::Program(const Context& ctx, std::string_view shader, uint32_t bindings, uint32_t push_bytes,
-                 uint32_t workgroup_size)
+                 uint32_t workgroup_size, std::span<const uint32_t> constants)
     : ctx_(&ctx),
       name_(shader),
       bindings_(bindings),
@@ -41,8 +41,12 @@ Program::Program(const Context& ctx, std::string_view shader, uint32_t bindings,
     code.pCode = words.data();
     VK_CHECK(vkCreateShaderModule(ctx.device(), &code, nullptr, &module));
 
-    VkSpecializationMapEntry entry{0, 0, sizeof(uint32_t)};
-    VkSpecializationInfo spec{1, &entry, sizeof(uint32_t), &workgroup_size_};
+    // Constant 0 is local_size_x; the shader's own constants follow as 1, 2, ...
+    std::vector<uint32_t> values{workgroup_size_};
+    values.insert(values.end(), constants.begin(), constants.end());
+    std::vector<VkSpecializationMapEntry> entries;
+    for (uint32_t k = 0; k < values.size(); ++k) entries.push_back({k, k * uint32_t(sizeof(uint32_t)), sizeof(uint32_t)});
+    VkSpecializationInfo spec{uint32_t(entries.size()), entries.data(), values.size() * sizeof(uint32_t), values.data()};
     VkComputePipelineCreateInfo pipe{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
     pipe.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
     pipe.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;

@@ -3,6 +3,7 @@
 // dispatch with VK_KHR_push_descriptor) and a push-constant block. Move-only.
 #include <vulkan/vulkan.h>
 
+#include <span>
 #include <string>
 #include <string_view>
 
@@ -15,9 +16,10 @@ class Program {
   Program() = default;
   // shader: name of shaders/<shader>.comp; bindings: storage buffers 0..bindings-1;
   // push_bytes: size of the push-constant block; workgroup_size: local_size_x
-  // (specialisation constant 0), 0 for the device's choice.
+  // (specialisation constant 0), 0 for the device's choice; constants: the shader's
+  // own specialisation constants 1, 2, ... (32-bit each).
   Program(const Context& ctx, std::string_view shader, uint32_t bindings, uint32_t push_bytes,
-          uint32_t workgroup_size = 0);
+          uint32_t workgroup_size = 0, std::span<const uint32_t> constants = {});
   ~Program() { release(); }
   Program(Program&& o) noexcept { *this = std::move(o); }
   Program& operator=(Program&& o) noexcept;
