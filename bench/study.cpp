@@ -43,6 +43,7 @@ namespace {
 struct Run {
   std::string scene, method;
   int particles_wanted, iterations;
+  double ldc_k;  // 0: the scene's
 };
 
 struct Outcome {
@@ -74,9 +75,11 @@ Outcome simulate(const Run& r, int index, double seconds, const std::string& dev
   Scene base = load_scene(r.scene);
   const double spacing = std::cbrt(fluid_volume(base) / r.particles_wanted);
   const int frames = int(std::lround(seconds * base.fps)) + 1;
-  Scene scene = load_scene(r.scene, {"particle_spacing=" + number(spacing), "solver.method=\"" + r.method + "\"",
-                                     "solver.iterations=" + std::to_string(r.iterations),
-                                     "frames=" + std::to_string(frames)});
+  std::vector<std::string> overrides = {"particle_spacing=" + number(spacing), "solver.method=\"" + r.method + "\"",
+                                        "solver.iterations=" + std::to_string(r.iterations),
+                                        "frames=" + std::to_string(frames)};
+  if (r.ldc_k > 0) overrides.push_back("solver.ldc_k=" + number(r.ldc_k));
+  Scene scene = load_scene(r.scene, overrides);
   Derived d = derive(scene);
   auto x0 = initial_particles(scene);
   std::unique_ptr<vk::Context> ctx;
@@ -161,11 +164,18 @@ int run_study(const StudyOptions& o) {
     if (k < 1 || k > 1000) throw InputError("--iterations: from 1 to 1000");
   if (!(seconds > 0 && seconds <= 3600)) throw InputError("--seconds must be in (0, 3600]");
 
+  std::vector<std::string> scenes = o.scenes.empty() ? std::vector<std::string>{"dam_break", "hydrostatic"} : o.scenes;
+  for (const std::string& s : scenes) load_scene(s);  // a wrong name fails before any run
+  for (double k : o.ldc_k)
+    if (!(k > 0)) throw InputError("--ldc-k values must be positive");
+  std::vector<double> ks = o.ldc_k.empty() ? std::vector<double>{0.0} : o.ldc_k;
   std::vector<Run> runs;
-  for (const char* scene : {"dam_break", "hydrostatic"})
+  for (const std::string& scene : scenes)
     for (int count : counts)
-      for (const char* method : {"pbf", "ldc"})
-        for (int k : iterations) runs.push_back({scene, method, count, k});
+      for (int k : iterations) {
+        runs.push_back({scene, "pbf", count, k, 0.0});
+        for (double K : ks) runs.push_back({scene, "ldc", count, k, K});
+      }
 
   fs::create_directories(o.out);
   std::ofstream runs_csv(fs::path(o.out) / "runs.csv"), series_csv(fs::path(o.out) / "series.csv");

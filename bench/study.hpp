@@ -18,6 +18,8 @@ struct StudyOptions {
   std::vector<int> counts;        // particles per scene; empty: by --quick
   std::vector<int> iterations;    // empty: by --quick
   double seconds = 0;             // simulated per run; 0: by --quick
+  std::vector<double> ldc_k;      // K values for the ldc runs (a sweep); empty: the scene's
+  std::vector<std::string> scenes;  // empty: dam_break and hydrostatic
   bool charts = true;
 };
 
