@@ -8,6 +8,8 @@ Usage: charts.py DIR   (writes DIR/*.png; `pbflow bench` runs it and leaves a co
   time_per_step.png      ms per step vs iterations, per method (seed paper, Figure 7)
   compression_over_time.png, kinetic_energy.png
                          pbf@1,2,3 and ldc@1 on dam_break (seed paper, Figures 1/4 and 6)
+  adaptive.png           with --targets: iterations and ms per step each method needs to
+                         reach each target mean compression
 Each chart uses the largest particle count of the study, one device only.
 """
 import csv
@@ -25,6 +27,11 @@ STYLE = {"pbf": dict(color="tab:blue", marker="o"), "ldc": dict(color="tab:red",
 def read(path):
     with open(path, newline="") as f:
         return list(csv.DictReader(f))
+
+
+def fixed(runs):
+    """Runs with a fixed iteration count (adaptive runs have a target)."""
+    return [r for r in runs if float(r.get("target_compression") or 0) == 0]
 
 
 def largest(runs, scene):
@@ -97,6 +104,35 @@ def over_time(runs, series, out_dir, device, column, file, ylabel, scale):
     plt.close(fig)
 
 
+def adaptive(runs, out_dir, device):
+    rows = [r for r in runs if float(r.get("target_compression") or 0) > 0]
+    if not rows:
+        return
+    scenes = sorted({r["scene"] for r in rows})
+    fig, axes = plt.subplots(1, len(scenes), figsize=(5.5 * len(scenes), 4.2), squeeze=False)
+    for ax, scene in zip(axes[0], scenes):
+        picked, n = largest(rows, scene)
+        for method in ("pbf", "ldc"):
+            rs = sorted((r for r in picked if r["method"] == method), key=lambda r: -float(r["target_compression"]))
+            if not rs:
+                continue
+            x = [100 * float(r["target_compression"]) for r in rs]
+            ax.plot(x, [float(r["step_ms_mean"]) for r in rs], label=f"{method}: ms per step", **STYLE[method])
+            for r, xi in zip(rs, x):
+                ax.annotate(f'{float(r["iterations_used"]):.1f} it', (xi, float(r["step_ms_mean"])),
+                            textcoords="offset points", xytext=(4, 4), fontsize=8)
+        ax.set_xscale("log")
+        ax.invert_xaxis()
+        ax.set_xlabel("target mean compression (%)")
+        ax.set_ylabel("ms per step (labels: iterations per step)")
+        ax.set_title(f"{scene}, {n} particles")
+        ax.legend()
+    fig.suptitle(f"Adaptive iterations on {device}")
+    fig.tight_layout()
+    fig.savefig(os.path.join(out_dir, "adaptive.png"), dpi=110)
+    plt.close(fig)
+
+
 def main():
     if len(sys.argv) != 2:
         sys.exit(__doc__)
@@ -107,6 +143,10 @@ def main():
     if len(devices) != 1:
         sys.exit(f"runs.csv mixes devices {devices}: one chart, one device")
     device = devices[0]
+    adaptive(runs, out_dir, device)
+    runs = fixed(runs)
+    if not runs:
+        return
     accuracy_vs_cost(runs, out_dir, device)
     time_per_step(runs, out_dir, device)
     over_time(runs, series, out_dir, device, "mean_compression", "compression_over_time.png",

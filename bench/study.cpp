@@ -26,8 +26,9 @@ namespace fs = std::filesystem;
 
 const std::vector<std::string>& run_columns() {
   static const std::vector<std::string> columns = [] {
-    std::vector<std::string> c = {"run", "device", "scene", "particles", "method", "iterations", "ldc_k", "substeps",
-                                  "simulated_s", "step_ms_mean", "step_ms_max"};
+    std::vector<std::string> c = {"run",        "device",      "scene",        "particles",    "method",
+                                  "iterations", "target_compression", "ldc_k", "substeps", "simulated_s",
+                                  "step_ms_mean", "step_ms_max",  "iterations_used"};
     for (const char* pass : kPassGroupNames) c.push_back(std::string(pass) + "_ms");
     for (const char* k : {"particle_steps_per_s", "mean_compression_avg", "max_compression_avg",
                           "max_compression_peak", "final_mean_compression", "settle_mm", "kinetic_energy_final",
@@ -43,8 +44,12 @@ namespace {
 struct Run {
   std::string scene, method;
   int particles_wanted, iterations;
-  double ldc_k;  // 0: the scene's
+  double ldc_k;   // 0: the scene's
+  double target;  // adaptive when > 0: iterations from `iterations` up to kMaxAdaptive
 };
+
+constexpr int kMaxAdaptive = 41;   // 1 + 20 pairs
+constexpr double kBlownUp = 9.0;   // max compression (rho = 10 rho0) at which a run counts as diverged
 
 struct Outcome {
   std::vector<std::string> cells;  // runs.csv row
@@ -74,11 +79,15 @@ std::string number(double v) {
 Outcome simulate(const Run& r, int index, double seconds, const std::string& device) {
   Scene base = load_scene(r.scene);
   const double spacing = std::cbrt(fluid_volume(base) / r.particles_wanted);
-  const int frames = int(std::lround(seconds * base.fps)) + 1;
+  const int frames = std::max(2, int(std::lround(seconds * base.fps)) + 1);
   std::vector<std::string> overrides = {"particle_spacing=" + number(spacing), "solver.method=\"" + r.method + "\"",
                                         "solver.iterations=" + std::to_string(r.iterations),
                                         "frames=" + std::to_string(frames)};
   if (r.ldc_k > 0) overrides.push_back("solver.ldc_k=" + number(r.ldc_k));
+  if (r.target > 0) {
+    overrides.push_back("solver.target_compression=" + number(r.target));
+    overrides.push_back("solver.max_iterations=" + std::to_string(kMaxAdaptive));
+  }
   Scene scene = load_scene(r.scene, overrides);
   Derived d = derive(scene);
   auto x0 = initial_particles(scene);
@@ -88,24 +97,29 @@ Outcome simulate(const Run& r, int index, double seconds, const std::string& dev
 
   const double height0 = mean_height(solver->read_frame());
   std::ostringstream series;
-  double sum_mean = 0, sum_max = 0, peak = 0, step_sum = 0, step_max = 0;
+  double sum_mean = 0, sum_max = 0, peak = 0, step_sum = 0, step_max = 0, iteration_sum = 0;
   std::array<double, kPassGroups> pass_sum{};
   FrameStats s;
   bool diverged = false;
+  int measured = 0;  // frames after frame 0
   for (int frame = 0; frame < frames; ++frame) {
     s = solver->advance(frame == 0 ? 0 : scene.solver.substeps);
     series << index << "," << frame << "," << number(frame / scene.fps) << "," << number(s.mean_compression) << ","
            << number(s.max_compression) << "," << number(s.kinetic_energy) << "\n";
-    diverged = diverged || !std::isfinite(s.kinetic_energy) || !std::isfinite(s.mean_compression);
+    // A blown-up run (particles piled at 10x rest density, or NaN) only gets slower as
+    // its neighbour lists grow: it is recorded as diverged and stopped.
+    diverged = diverged || !std::isfinite(s.kinetic_energy) || !(s.max_compression < kBlownUp);
     if (frame == 0) continue;
     sum_mean += s.mean_compression;
     sum_max += s.max_compression;
     peak = std::max(peak, s.max_compression);
     step_sum += s.step_ms;
     step_max = std::max(step_max, s.step_ms);
+    iteration_sum += s.iterations;
     for (size_t p = 0; p < kPassGroups; ++p) pass_sum[p] += s.pass_ms[p];
+    measured = frame;
+    if (diverged) break;
   }
-  const int measured = frames - 1;
   const double step_mean = step_sum / measured;
   std::vector<std::string> row = {std::to_string(index),
                                   solver->device_name(),
@@ -113,11 +127,13 @@ Outcome simulate(const Run& r, int index, double seconds, const std::string& dev
                                   std::to_string(x0.size()),
                                   r.method,
                                   std::to_string(r.iterations),
+                                  number(r.target),
                                   number(r.method == "ldc" ? scene.solver.ldc_k : 0.0),
                                   std::to_string(scene.solver.substeps),
                                   number(measured / scene.fps),
                                   number(step_mean),
-                                  number(step_max)};
+                                  number(step_max),
+                                  number(iteration_sum / measured)};
   for (double p : pass_sum) row.push_back(number(p / measured));
   row.push_back(number(double(x0.size()) / (step_mean * 1e-3)));
   row.push_back(number(sum_mean / measured));
@@ -157,6 +173,7 @@ int run_study(const StudyOptions& o) {
   std::vector<int> counts = o.counts, iterations = o.iterations;
   if (counts.empty()) counts = o.quick ? std::vector<int>{4000} : std::vector<int>{10000, 40000, 160000};
   if (iterations.empty()) iterations = o.quick ? std::vector<int>{1, 2, 3} : std::vector<int>{1, 2, 3, 4, 6, 8};
+  if (!o.targets.empty() && o.iterations.empty()) iterations.clear();  // --targets alone: adaptive runs only
   const double seconds = o.seconds > 0 ? o.seconds : o.quick ? 1.0 : 2.0;
   for (int c : counts)
     if (c < 100 || c > 100000000) throw InputError("--counts: particle counts must be from 100 to 100000000");
@@ -170,12 +187,19 @@ int run_study(const StudyOptions& o) {
     if (!(k > 0)) throw InputError("--ldc-k values must be positive");
   std::vector<double> ks = o.ldc_k.empty() ? std::vector<double>{0.0} : o.ldc_k;
   std::vector<Run> runs;
+  for (double t : o.targets)
+    if (!(t > 0 && t < 1)) throw InputError("--targets: mean compressions in (0, 1), e.g. 0.01,0.001");
   for (const std::string& scene : scenes)
-    for (int count : counts)
+    for (int count : counts) {
       for (int k : iterations) {
-        runs.push_back({scene, "pbf", count, k, 0.0});
-        for (double K : ks) runs.push_back({scene, "ldc", count, k, K});
+        runs.push_back({scene, "pbf", count, k, 0.0, 0.0});
+        for (double K : ks) runs.push_back({scene, "ldc", count, k, K, 0.0});
       }
+      for (double t : o.targets) {  // adaptive: from one iteration until the target
+        runs.push_back({scene, "pbf", count, 1, 0.0, t});
+        for (double K : ks) runs.push_back({scene, "ldc", count, 1, K, t});
+      }
+    }
 
   fs::create_directories(o.out);
   std::ofstream runs_csv(fs::path(o.out) / "runs.csv"), series_csv(fs::path(o.out) / "series.csv");

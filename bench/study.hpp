@@ -20,6 +20,7 @@ struct StudyOptions {
   double seconds = 0;             // simulated per run; 0: by --quick
   std::vector<double> ldc_k;      // K values for the ldc runs (a sweep); empty: the scene's
   std::vector<std::string> scenes;  // empty: dam_break and hydrostatic
+  std::vector<double> targets;      // adaptive runs to these mean compressions instead of fixed iterations
   bool charts = true;
 };
 

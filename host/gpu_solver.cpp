@@ -15,6 +15,11 @@ struct ReduceFinalPush {
   uint32_t partial_count, particle_count;
   float mass;
 };
+
+struct CheckPush {  // check_converged.comp
+  float target;
+  uint32_t full_x, full_y, per_check;
+};
 uint32_t partial_count(uint32_t n) { return (n + kReduceThreads - 1) / kReduceThreads; }
 }  // namespace
 
@@ -44,23 +49,28 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
       correction_(ctx, "correction_force", 4, sizeof(SimConstants), 0,
                   std::array<uint32_t, 1>{d.solver.ldc_clamp ? 1u : 0u}),
       predict_(ctx, "predict", 4, sizeof(SimConstants)),
-      lambda_(ctx, "constraint_lambda", 3, sizeof(SimConstants)),
+      lambda_(ctx, "constraint_lambda", 4, sizeof(SimConstants)),
       apply_(ctx, "constraint_apply", 5, sizeof(SimConstants)),
       velocity_(ctx, "velocity_update", 3, sizeof(SimConstants)),
       viscosity_(ctx, "viscosity_vorticity", 5, sizeof(SimConstants)),
       vorticity_(ctx, "vorticity_force", 4, sizeof(SimConstants)),
       reduce_(ctx, "reduce_stats", 3, sizeof(SimConstants), kReduceThreads),
       reduce_final_(ctx, "reduce_final", 2, sizeof(ReduceFinalPush), kReduceThreads),
+      check_converged_(ctx, "check_converged", 2, sizeof(CheckPush), 1),
       grid_(ctx, sim_),
       rho_(ctx, n_ * sizeof(float)),
       lambda_buf_(ctx, n_ * sizeof(float)),
       partials_(ctx, partial_count(n_) * sizeof(glm::vec4)),
-      result_(ctx, sizeof(glm::vec4), vk::Memory::Host),
+      result_(ctx, 2 * sizeof(glm::vec4), vk::Memory::Host),
       obstacles_(ctx, pack_obstacles(d.obstacles).size() * sizeof(glm::vec4)),
       cmd_(ctx),
       timer_(std::make_unique<vk::GpuTimer>(ctx, 2)) {
   for (auto& b : vec4_) b = vk::Buffer(ctx, n_ * sizeof(glm::vec4));
   obstacles_.upload(std::span<const glm::vec4>(pack_obstacles(d.obstacles)));
+  if (d.solver.target_compression > 0) {
+    check_ = vk::Buffer(ctx, sizeof(glm::vec4));
+    indirect_ = vk::Buffer(ctx, 4 * sizeof(uint32_t));
+  }
   for (auto& b : id_) b = vk::Buffer(ctx, n_ * sizeof(uint32_t));
   // Model no more than the scene needs: vorticity storage only when a pass uses it.
   if (viscosity_pass_) omega_ = vk::Buffer(ctx, n_ * sizeof(glm::vec4));
@@ -177,15 +187,23 @@ void GpuSolver::predict() {
   cmd_.dispatch(n_);
 }
 
-void GpuSolver::constraint_lambda() {
+void GpuSolver::run_particle_pass(const vk::Buffer* indirect) {
+  if (indirect)
+    cmd_.dispatch_indirect(*indirect);
+  else
+    cmd_.dispatch(n_);
+}
+
+void GpuSolver::constraint_lambda(const vk::Buffer* indirect) {
   bind_particle_pass(lambda_);
   cmd_.bind(0, grid_.cell_start());
   cmd_.bind(1, at(XPred));
   cmd_.bind(2, lambda_buf_);
-  cmd_.dispatch(n_);
+  cmd_.bind(3, rho_);
+  run_particle_pass(indirect);
 }
 
-void GpuSolver::constraint_apply() {
+void GpuSolver::constraint_apply(const vk::Buffer* indirect) {
   // Jacobi: every particle reads the same x_pred, so the result goes to a spare array.
   bind_particle_pass(apply_);
   cmd_.bind(0, grid_.cell_start());
@@ -193,8 +211,45 @@ void GpuSolver::constraint_apply() {
   cmd_.bind(2, lambda_buf_);
   cmd_.bind(3, at(Spare0));
   cmd_.bind(4, obstacles_);
-  cmd_.dispatch(n_);
+  run_particle_pass(indirect);
   swap_roles(XPred, Spare0);
+}
+
+void GpuSolver::reduce_measures(const vk::Buffer& into) {
+  cmd_.set_program(reduce_);
+  cmd_.push(sim_);
+  cmd_.bind(0, rho_);
+  cmd_.bind(1, at(V));
+  cmd_.bind(2, partials_);
+  cmd_.dispatch(n_);
+  cmd_.set_program(reduce_final_);
+  cmd_.push(ReduceFinalPush{partial_count(n_), n_, sim_.mass});
+  cmd_.bind(0, partials_);
+  cmd_.bind(1, into);
+  cmd_.dispatch(1);
+}
+
+void GpuSolver::adaptive_iterations() {
+  // Extra iterations come in pairs: constraint_apply swaps two arrays' roles on the host
+  // whether or not the GPU runs it, so only an even number keeps x_pred where the host
+  // expects it. Each pair runs if check_converged, from the last lambda pass's densities,
+  // finds the mean compression above the target.
+  const SolverParams& p = d_.solver;
+  const auto full = cmd_.groups(n_, lambda_.workgroup_size());
+  const uint32_t args[3] = {full[0], full[1], 1};
+  cmd_.update(indirect_, args, sizeof args);
+  for (int run = p.iterations; run + kAdaptiveStride <= p.max_iterations; run += kAdaptiveStride) {
+    reduce_measures(check_);
+    cmd_.set_program(check_converged_);
+    cmd_.push(CheckPush{float(p.target_compression), full[0], full[1], kAdaptiveStride});
+    cmd_.bind(0, check_);
+    cmd_.bind(1, indirect_);
+    cmd_.dispatch(1);
+    for (int k = 0; k < kAdaptiveStride; ++k) {
+      constraint_lambda(&indirect_);
+      constraint_apply(&indirect_);
+    }
+  }
 }
 
 void GpuSolver::velocity_update() {
@@ -251,6 +306,7 @@ void GpuSolver::record_step() {
     constraint_lambda();
     constraint_apply();
   }
+  if (d_.solver.target_compression > 0) adaptive_iterations();
   end_of(PassGroup::Constraints);
   velocity_update();
   end_of(PassGroup::Velocity);
@@ -263,17 +319,12 @@ void GpuSolver::record_step() {
 void GpuSolver::record_measures() {
   grid_at_positions();
   density();
-  cmd_.set_program(reduce_);
-  cmd_.push(sim_);
-  cmd_.bind(0, rho_);
-  cmd_.bind(1, at(V));
-  cmd_.bind(2, partials_);
-  cmd_.dispatch(n_);
-  cmd_.set_program(reduce_final_);
-  cmd_.push(ReduceFinalPush{partial_count(n_), n_, sim_.mass});
-  cmd_.bind(0, partials_);
-  cmd_.bind(1, result_);
-  cmd_.dispatch(1);
+  reduce_measures(result_);
+  if (d_.solver.target_compression > 0) {  // the frame's adaptive iteration count, beside the measures
+    VkBufferCopy count{3 * sizeof(uint32_t), sizeof(glm::vec4), sizeof(uint32_t)};
+    vkCmdCopyBuffer(cmd_.handle(), indirect_.handle(), result_.handle(), 1, &count);
+    vk::memory_barrier(cmd_.handle());
+  }
   density_current_ = true;
 }
 
@@ -284,6 +335,7 @@ FrameStats GpuSolver::read_measures() const {
   s.max_compression = r[1];
   s.kinetic_energy = r[2];
   s.max_speed = r[3];
+  s.iterations = d_.solver.iterations;
   return s;
 }
 
@@ -293,6 +345,10 @@ FrameStats GpuSolver::advance(int steps) {
   if (timer_->capacity() < marks) timer_ = std::make_unique<vk::GpuTimer>(ctx_, marks);
   segments_.clear();
   begin();
+  if (d_.solver.target_compression > 0) {
+    const uint32_t zero[4] = {0, 0, 0, 0};  // the frame's count of adaptive iterations
+    cmd_.update(indirect_, zero, sizeof zero);
+  }
   timer_->reset(cmd_);
   timer_->mark(cmd_);
   for (int k = 0; k < steps; ++k) record_step();
@@ -306,6 +362,8 @@ FrameStats GpuSolver::advance(int steps) {
                     ? t[end]
                     : std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     s.step_ms = ms / steps;
+    if (d_.solver.target_compression > 0)
+      s.iterations += double(static_cast<const uint32_t*>(result_.mapped())[4]) / steps;
     if (timer_->available())
       for (size_t k = 0; k < segments_.size(); ++k) s.pass_ms[size_t(segments_[k])] += (t[k + 1] - t[k]) / steps;
   }

@@ -34,8 +34,9 @@ class GpuSolver : public Solver {
   void density();
   void correction();
   void predict();
-  void constraint_lambda();
-  void constraint_apply();
+  // With `indirect`, group counts come from that buffer (adaptive iterations).
+  void constraint_lambda(const vk::Buffer* indirect = nullptr);
+  void constraint_apply(const vk::Buffer* indirect = nullptr);
   void velocity_update();
   void viscosity_vorticity();
   void vorticity_force();
@@ -55,6 +56,10 @@ class GpuSolver : public Solver {
   void bind_particle_pass(const vk::Program& p);
   FrameStats read_measures() const;
   void end_of(PassGroup group);  // closes a timed segment while profiling
+  void run_particle_pass(const vk::Buffer* indirect);
+  void reduce_measures(const vk::Buffer& into);  // (mean c, max c, kinetic energy, max speed) of rho_, v
+  void adaptive_iterations();                    // iteration pairs until the target (check_converged)
+  static constexpr int kAdaptiveStride = 2;
 
   const vk::Context& ctx_;
   Derived d_;
@@ -64,13 +69,14 @@ class GpuSolver : public Solver {
   bool density_current_ = false;  // rho and the grid already match x (measures were just taken)
 
   vk::Program density_, correction_, predict_, lambda_, apply_, velocity_, viscosity_, vorticity_;
-  vk::Program reduce_, reduce_final_;
+  vk::Program reduce_, reduce_final_, check_converged_;
   GpuGrid grid_;
   std::array<vk::Buffer, kSlots> vec4_;
   std::array<int, kSlots> role_{X, V, XPred, Spare0, Spare1};
   std::array<vk::Buffer, 2> id_;
   int id_current_ = 0;
   vk::Buffer rho_, lambda_buf_, omega_, partials_, result_, obstacles_;
+  vk::Buffer check_, indirect_;  // adaptive iterations: the last check's measures, dispatch arguments + count
   vk::CommandList cmd_;
   std::unique_ptr<vk::GpuTimer> timer_;
   bool profiling_ = false;

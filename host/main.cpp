@@ -73,6 +73,8 @@ int main(int argc, char** argv) {
   bench_cmd->add_option("--iterations", bench.iterations, "iteration counts, e.g. 1,2,3")->delimiter(',');
   bench_cmd->add_option("--seconds", bench.seconds, "simulated seconds per run");
   bench_cmd->add_option("--ldc-k", bench.ldc_k, "sweep the LDC strength K, e.g. 1000,3000,10000")->delimiter(',');
+  bench_cmd->add_option("--targets", bench.targets, "adaptive runs to these mean compressions, e.g. 0.01,0.001")
+      ->delimiter(',');
   bench_cmd->add_option("--scenes", bench.scenes, "scenes, e.g. dam_break,drop (default dam_break,hydrostatic)")
       ->delimiter(',');
   bool no_charts = false;

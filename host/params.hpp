@@ -17,7 +17,9 @@ const char* method_name(Method m);
 
 struct SolverParams {
   Method method;
-  int iterations;          // constraint iterations per step
+  int iterations;          // constraint iterations per step (the minimum when adaptive)
+  int max_iterations;      // adaptive: at most this many per step
+  double target_compression;  // adaptive when > 0: iterate until the mean compression is at most this
   int substeps;            // steps per frame: dt = 1 / (fps * substeps)
   double kernel_ratio;     // h / particle spacing
   double rest_density;     // rho0, kg/m^3

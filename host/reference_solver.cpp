@@ -109,6 +109,7 @@ void ReferenceSolver::constraint_lambda() {
     dvec3 own = grad_i + wall_grad / d_.rho0;  // grad_i C_i, the walls included
     double c = std::max(rho / d_.rho0 - 1.0, 0.0);
     state.lambda[i] = -c / (grad_sq + glm::dot(own, own) + d_.epsilon);
+    state.rho[i] = rho;  // kept for the adaptive iterations' check
   }
 }
 
@@ -174,13 +175,30 @@ void ReferenceSolver::step() {
   }
   predict();
   build_grid(state.x_pred);
-  for (int k = 0; k < p.iterations; ++k) {
+  int run = 0;
+  for (; run < p.iterations; ++run) {
     constraint_lambda();
     constraint_apply();
   }
+  // Adaptive: as the GPU's check (check_converged.comp), from the last lambda pass's
+  // densities, a pair of iterations at a time (GpuSolver::adaptive_iterations says why).
+  while (p.target_compression > 0 && run + 2 <= p.max_iterations && mean_compression() > p.target_compression) {
+    for (int k = 0; k < 2; ++k) {
+      constraint_lambda();
+      constraint_apply();
+    }
+    run += 2;
+  }
+  iterations_run_ += run;
   velocity_update();
   if (p.xsph > 0 || p.vorticity > 0) viscosity_vorticity();
   if (p.vorticity > 0) vorticity_force();
+}
+
+double ReferenceSolver::mean_compression() const {
+  double sum = 0;
+  for (double rho : state.rho) sum += std::max(rho / d_.rho0 - 1.0, 0.0);
+  return sum / double(std::max<size_t>(state.rho.size(), 1));
 }
 
 FrameStats ReferenceSolver::measure() {
@@ -217,10 +235,12 @@ ParticleFrame ReferenceSolver::read_frame() const {
 
 FrameStats ReferenceSolver::advance(int steps) {
   auto start = std::chrono::steady_clock::now();
+  iterations_run_ = 0;
   for (int k = 0; k < steps; ++k) step();
   double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   FrameStats s = measure();
   s.step_ms = steps > 0 ? ms / steps : 0.0;
+  s.iterations = steps > 0 ? double(iterations_run_) / steps : 0.0;
   return s;
 }
 

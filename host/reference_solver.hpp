@@ -48,7 +48,10 @@ class ReferenceSolver : public Solver {
   size_t cell_id(const glm::ivec3& c) const { return (size_t(c.z) * d_.grid.y + c.y) * d_.grid.x + c.x; }
   glm::dvec3 project_out_of_solids(glm::dvec3 x) const;  // out of the obstacles, then into the walls
 
+  double mean_compression() const;  // of state.rho
+
   Derived d_;
+  long iterations_run_ = 0;  // constraint iterations in the current advance()
   std::vector<std::vector<size_t>> cells_;  // particles binned by cell at the last build_grid
 };
 

@@ -19,7 +19,7 @@ const json& schema() {
   static const json s = json::parse(R"({
     "description": "", "domain": {"min": 0, "max": 0}, "particle_spacing": 0,
     "fluid_blocks": [], "fluid_spheres": [], "obstacles": [], "gravity": 0, "fps": 0, "frames": 0,
-    "solver": {"method": 0, "iterations": 0, "substeps": 0, "kernel_ratio": 0, "rest_density": 0,
+    "solver": {"method": 0, "iterations": 0, "max_iterations": 0, "target_compression": 0, "substeps": 0, "kernel_ratio": 0, "rest_density": 0,
                "relaxation": 0, "scorr_k": 0, "scorr_n": 0, "scorr_dq": 0, "xsph": 0,
                "vorticity": 0, "ldc_k": 0, "ldc_clamp": 0},
     "camera": {"eye": 0, "target": 0, "fov": 0}
@@ -200,6 +200,11 @@ Scene parse_scene(const std::string& json_text, const std::string& origin, const
     return int(v);
   };
   p.iterations = whole("iterations", p.iterations, 1, 1000);
+  p.max_iterations = whole("max_iterations", std::max(p.max_iterations, p.iterations), 1, 1000);
+  require(p.max_iterations >= p.iterations, "solver.max_iterations must be at least solver.iterations");
+  p.target_compression = number(solver, "target_compression", p.target_compression);
+  require(p.target_compression >= 0 && p.target_compression < 1,
+          "solver.target_compression must be in [0, 1) (0: a fixed number of iterations)");
   p.substeps = whole("substeps", p.substeps, 1, 1000);
   p.kernel_ratio = number(solver, "kernel_ratio", p.kernel_ratio);
   require(p.kernel_ratio > 1 && p.kernel_ratio <= 4, "solver.kernel_ratio (h / spacing) must be in (1, 4]");

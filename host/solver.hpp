@@ -18,6 +18,7 @@ constexpr const char* kPassGroupNames[kPassGroups] = {"grid",        "density", 
 struct FrameStats {
   double mean_compression = 0, max_compression = 0, kinetic_energy = 0, max_speed = 0;
   double step_ms = 0;  // mean time of one step (GPU timestamps, else wall time); 0 when no step ran
+  double iterations = 0;  // constraint iterations per step, on average (adaptive runs vary)
   // Mean GPU time per step of each pass group; filled only while profiling (GpuSolver).
   std::array<double, kPassGroups> pass_ms{};
 };

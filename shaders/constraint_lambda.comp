@@ -1,5 +1,6 @@
 #version 450
 // lambda_i = -C_i / (sum_k |grad_k C_i|^2 + eps), C_i = max(rho_i/rho0 - 1, 0) at the predicted positions.
+// rho_i is kept too: adaptive iterations measure the compression from it (check_converged).
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x_id = 0) in;
 #include "common.glsl"
@@ -7,6 +8,7 @@ layout(local_size_x_id = 0) in;
 layout(std430, binding = 0) readonly buffer CellStart { uint cell_start[]; };
 layout(std430, binding = 1) readonly buffer XPred { vec4 x_pred[]; };
 layout(std430, binding = 2) writeonly buffer Lambda { float lambda[]; };
+layout(std430, binding = 3) writeonly buffer Rho { float rho_out[]; };
 
 void main() {
   uint i = thread_index();
@@ -29,5 +31,6 @@ void main() {
   float s = sim.mass / sim.rho0;
   vec3 own = s * grad_i + wall_grad / sim.rho0;  // grad_i C_i, the walls included
   float c = max(rho / sim.rho0 - 1.0, 0.0);
+  rho_out[i] = rho;
   lambda[i] = -c / (s * s * grad_sq + dot(own, own) + sim.epsilon);
 }

@@ -14,10 +14,11 @@ void memory_barrier(VkCommandBuffer cb) {
   VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
   barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_HOST_WRITE_BIT;
   barrier.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT |
-                          VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_HOST_READ_BIT;
-  constexpr VkPipelineStageFlags stages =
+                          VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_HOST_READ_BIT | VK_ACCESS_INDIRECT_COMMAND_READ_BIT;
+  constexpr VkPipelineStageFlags src =
       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_HOST_BIT;
-  vkCmdPipelineBarrier(cb, stages, stages, 0, 1, &barrier, 0, nullptr, 0, nullptr);
+  constexpr VkPipelineStageFlags dst = src | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT;  // indirect dispatch arguments
+  vkCmdPipelineBarrier(cb, src, dst, 0, 1, &barrier, 0, nullptr, 0, nullptr);
 }
 
 CommandList::CommandList(const Context& ctx) : ctx_(&ctx) {
@@ -81,9 +82,7 @@ void CommandList::push_bytes(const void* data, uint32_t bytes) {
   vkCmdPushConstants(cb_, program_->layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, bytes, data);
 }
 
-void CommandList::dispatch(uint32_t invocations) {
-  if (!program_) throw Error("dispatch without a program");
-  if (invocations == 0) return;
+void CommandList::push_descriptors() {
   std::array<VkWriteDescriptorSet, kMaxBindings> writes{};
   for (uint32_t i = 0; i < program_->bindings(); ++i) {
     if (!bound_[i].buffer)
@@ -96,11 +95,33 @@ void CommandList::dispatch(uint32_t invocations) {
   }
   ctx_->push_descriptor_set(cb_, VK_PIPELINE_BIND_POINT_COMPUTE, program_->layout(), 0, program_->bindings(),
                             writes.data());
+}
+
+std::array<uint32_t, 2> CommandList::groups(uint32_t invocations, uint32_t workgroup_size) const {
   // Large particle counts can exceed the group-count limit in x: fold the rest into y.
-  uint32_t groups = (invocations + program_->workgroup_size() - 1) / program_->workgroup_size();
+  uint32_t groups = (invocations + workgroup_size - 1) / workgroup_size;
   uint32_t gx = std::min(groups, ctx_->limits().maxComputeWorkGroupCount[0]);
-  uint32_t gy = (groups + gx - 1) / gx;
+  return {gx, gx ? (groups + gx - 1) / gx : 0};
+}
+
+void CommandList::dispatch(uint32_t invocations) {
+  if (!program_) throw Error("dispatch without a program");
+  if (invocations == 0) return;
+  push_descriptors();
+  auto [gx, gy] = groups(invocations, program_->workgroup_size());
   vkCmdDispatch(cb_, gx, gy, 1);
+  memory_barrier(cb_);
+}
+
+void CommandList::dispatch_indirect(const Buffer& args) {
+  if (!program_) throw Error("dispatch_indirect without a program");
+  push_descriptors();
+  vkCmdDispatchIndirect(cb_, args.handle(), 0);
+  memory_barrier(cb_);
+}
+
+void CommandList::update(const Buffer& buffer, const void* data, uint32_t bytes) {
+  vkCmdUpdateBuffer(cb_, buffer.handle(), 0, bytes, data);
   memory_barrier(cb_);
 }
 

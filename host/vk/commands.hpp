@@ -32,6 +32,12 @@ class CommandList {
   // Runs the program over `invocations` threads (gl_GlobalInvocationID folded to 1D by
   // shaders/common.glsl's thread_index()), then a barrier.
   void dispatch(uint32_t invocations);
+  // Group counts from `args` (a VkDispatchIndirectCommand at offset 0, written on the GPU).
+  void dispatch_indirect(const Buffer& args);
+  // The (x, y) group counts dispatch() uses for `invocations` threads.
+  std::array<uint32_t, 2> groups(uint32_t invocations, uint32_t workgroup_size) const;
+  // Writes `bytes` (a multiple of 4, at most 65536) at the start of `buffer`, then a barrier.
+  void update(const Buffer& buffer, const void* data, uint32_t bytes);
 
   void fill(const Buffer& buffer, uint32_t value);
   void timestamp(VkQueryPool pool, uint32_t query);
@@ -40,6 +46,7 @@ class CommandList {
  private:
   static constexpr uint32_t kMaxBindings = 12;
   void push_bytes(const void* data, uint32_t bytes);
+  void push_descriptors();
   void release() noexcept;
 
   const Context* ctx_;

@@ -1,0 +1,21 @@
+#version 450
+// Adaptive iterations: after the reduction of the last lambda pass's densities, decides
+// whether the next constraint iteration runs. It writes that iteration's group counts
+// (zero once the mean compression is at or below the target; it then stays zero for the
+// rest of the step) and counts the iterations run, so the host never waits mid-step.
+layout(local_size_x = 1) in;
+
+layout(std430, binding = 0) readonly buffer Measure { vec4 measure; };  // x: mean compression (reduce_final)
+layout(std430, binding = 1) buffer Indirect {
+  uint groups_x, groups_y, groups_z;  // VkDispatchIndirectCommand of the next iteration
+  uint iterations;                    // run so far this frame
+};
+layout(push_constant) uniform Push { float target; uint full_x; uint full_y; uint per_check; } push;
+
+void main() {
+  bool more = groups_x != 0u && measure.x > push.target;
+  groups_x = more ? push.full_x : 0u;
+  groups_y = more ? push.full_y : 0u;
+  groups_z = more ? 1u : 0u;
+  if (more) iterations += push.per_check;
+}
