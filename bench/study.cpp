@@ -108,7 +108,7 @@ Outcome simulate(const Run& r, int index, double seconds, const std::string& dev
            << number(s.max_compression) << "," << number(s.kinetic_energy) << "\n";
     // A blown-up run (particles piled at 10x rest density, or NaN) only gets slower as
     // its neighbour lists grow: it is recorded as diverged and stopped.
-    diverged = diverged || !std::isfinite(s.kinetic_energy) || !(s.max_compression < kBlownUp);
+    diverged = diverged || s.divergence.any() || !std::isfinite(s.kinetic_energy) || !(s.max_compression < kBlownUp);
     if (frame == 0) continue;
     sum_mean += s.mean_compression;
     sum_max += s.max_compression;

@@ -1,5 +1,6 @@
 #include "gpu_solver.hpp"
 
+#include <bit>
 #include <chrono>
 #include <numeric>
 
@@ -57,12 +58,15 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
       reduce_(ctx, "reduce_stats", 3, sizeof(SimConstants), kReduceThreads),
       reduce_final_(ctx, "reduce_final", 2, sizeof(ReduceFinalPush), kReduceThreads),
       check_converged_(ctx, "check_converged", 2, sizeof(CheckPush), 1),
+      watch_(ctx, "watch", 3, sizeof(SimConstants), 0,
+             std::array<uint32_t, 1>{std::bit_cast<uint32_t>(float(d.speed_limit))}),
       grid_(ctx, sim_),
       rho_(ctx, n_ * sizeof(float)),
       lambda_buf_(ctx, n_ * sizeof(float)),
       partials_(ctx, partial_count(n_) * sizeof(glm::vec4)),
-      result_(ctx, 2 * sizeof(glm::vec4), vk::Memory::Host),
+      result_(ctx, 4 * sizeof(glm::vec4), vk::Memory::Host),  // measures, adaptive count, watch (2 vec4)
       obstacles_(ctx, pack_obstacles(d.obstacles).size() * sizeof(glm::vec4)),
+      watch_buf_(ctx, 6 * sizeof(uint32_t)),
       cmd_(ctx),
       timer_(std::make_unique<vk::GpuTimer>(ctx, 2)) {
   for (auto& b : vec4_) b = vk::Buffer(ctx, n_ * sizeof(glm::vec4));
@@ -314,6 +318,14 @@ void GpuSolver::record_step() {
   if (vorticity_pass_) vorticity_force();
   if (viscosity_pass_ || vorticity_pass_) end_of(PassGroup::Viscosity);
   density_current_ = false;
+
+  cmd_.update(watch_buf_, &step_in_frame_, sizeof step_in_frame_, 5 * sizeof(uint32_t));
+  bind_particle_pass(watch_);
+  cmd_.bind(0, at(X));
+  cmd_.bind(1, at(V));
+  cmd_.bind(2, watch_buf_);
+  cmd_.dispatch(n_);
+  ++step_in_frame_;
 }
 
 void GpuSolver::record_measures() {
@@ -323,8 +335,10 @@ void GpuSolver::record_measures() {
   if (d_.solver.target_compression > 0) {  // the frame's adaptive iteration count, beside the measures
     VkBufferCopy count{3 * sizeof(uint32_t), sizeof(glm::vec4), sizeof(uint32_t)};
     vkCmdCopyBuffer(cmd_.handle(), indirect_.handle(), result_.handle(), 1, &count);
-    vk::memory_barrier(cmd_.handle());
   }
+  VkBufferCopy watch{0, 2 * sizeof(glm::vec4), 5 * sizeof(uint32_t)};  // and what the watch saw
+  vkCmdCopyBuffer(cmd_.handle(), watch_buf_.handle(), result_.handle(), 1, &watch);
+  vk::memory_barrier(cmd_.handle());
   density_current_ = true;
 }
 
@@ -336,6 +350,8 @@ FrameStats GpuSolver::read_measures() const {
   s.kinetic_energy = r[2];
   s.max_speed = r[3];
   s.iterations = d_.solver.iterations;
+  const auto* w = static_cast<const uint32_t*>(result_.mapped()) + 8;  // watch.comp's flags, first step, counts
+  if (w[0]) s.divergence = {int(w[1]), w[2], w[3], w[4]};
   return s;
 }
 
@@ -345,6 +361,9 @@ FrameStats GpuSolver::advance(int steps) {
   if (timer_->capacity() < marks) timer_ = std::make_unique<vk::GpuTimer>(ctx_, marks);
   segments_.clear();
   begin();
+  const uint32_t watch_reset[6] = {0, ~0u, 0, 0, 0, 0};
+  cmd_.update(watch_buf_, watch_reset, sizeof watch_reset);
+  step_in_frame_ = 0;
   if (d_.solver.target_compression > 0) {
     const uint32_t zero[4] = {0, 0, 0, 0};  // the frame's count of adaptive iterations
     cmd_.update(indirect_, zero, sizeof zero);

@@ -40,7 +40,7 @@ class GpuSolver : public Solver {
   void velocity_update();
   void viscosity_vorticity();
   void vorticity_force();
-  void record_step();
+  void record_step();  // one step, then the divergence watch
   void record_measures();  // grid and density at x, then the reductions
 
   // Timestamps after every pass group, reported in FrameStats::pass_ms (benchmarks).
@@ -69,14 +69,16 @@ class GpuSolver : public Solver {
   bool density_current_ = false;  // rho and the grid already match x (measures were just taken)
 
   vk::Program density_, correction_, predict_, lambda_, apply_, velocity_, viscosity_, vorticity_;
-  vk::Program reduce_, reduce_final_, check_converged_;
+  vk::Program reduce_, reduce_final_, check_converged_, watch_;
   GpuGrid grid_;
   std::array<vk::Buffer, kSlots> vec4_;
   std::array<int, kSlots> role_{X, V, XPred, Spare0, Spare1};
   std::array<vk::Buffer, 2> id_;
   int id_current_ = 0;
   vk::Buffer rho_, lambda_buf_, omega_, partials_, result_, obstacles_;
-  vk::Buffer check_, indirect_;  // adaptive iterations: the last check's measures, dispatch arguments + count
+  vk::Buffer check_, indirect_;
+  vk::Buffer watch_buf_;  // watch.comp: flags, first step, counts, the step being watched
+  uint32_t step_in_frame_ = 0;  // adaptive iterations: the last check's measures, dispatch arguments + count
   vk::CommandList cmd_;
   std::unique_ptr<vk::GpuTimer> timer_;
   bool profiling_ = false;

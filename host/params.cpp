@@ -80,6 +80,10 @@ Derived derive(const Scene& scene) {
   const double s = scene.particle_spacing;
   d.h = scene.solver.kernel_ratio * s;
   d.dt = 1.0 / (scene.fps * scene.solver.substeps);
+  // Ten times the speed of a fall through the whole domain (at least 1 m/s): no flow of the
+  // scene reaches it, a blow-up passes it within a few steps.
+  const double height = scene.domain.max.y - scene.domain.min.y;
+  d.speed_limit = 10.0 * std::max(std::sqrt(2.0 * glm::length(scene.gravity) * height), 1.0);
   d.rho0 = scene.solver.rest_density;
   d.mass = lattice_mass(s, d.h, d.rho0);
   const double gradient_sq = lattice_gradient_sq(s, d.h, d.mass, d.rho0);

@@ -62,6 +62,7 @@ struct Derived {
   double scorr_scale;
   SolverParams solver;
   std::vector<Obstacle> obstacles;  // grown by half a spacing: where particle centres may not be
+  double speed_limit;  // m/s: the divergence watch stops a run with a particle faster than this
 
   SimConstants to_gpu(uint32_t count) const;
 };

@@ -22,8 +22,11 @@ ReferenceSolver::ReferenceSolver(const Derived& d, const std::vector<dvec3>& x0)
 }
 
 glm::ivec3 ReferenceSolver::cell_of(const dvec3& x) const {
-  dvec3 c = glm::clamp(glm::floor((x - d_.domain_min) / d_.h), dvec3(0.0), dvec3(d_.grid - 1));
-  return glm::ivec3(c);
+  dvec3 c = glm::floor((x - d_.domain_min) / d_.h);
+  glm::ivec3 cell(0);  // a NaN coordinate (a diverged particle) goes to cell 0; the watch reports it
+  for (int k = 0; k < 3; ++k)
+    if (c[k] == c[k]) cell[k] = int(std::clamp(c[k], 0.0, double(d_.grid[k] - 1)));
+  return cell;
 }
 
 // Visits j for every particle binned in the 27 cells around xi (distance not tested).
@@ -195,6 +198,25 @@ void ReferenceSolver::step() {
   if (p.vorticity > 0) vorticity_force();
 }
 
+void ReferenceSolver::watch_step(int step, Divergence& watch) const {
+  // As shaders/watch.comp: the first failing test per particle counts, at the first failing step.
+  if (watch.first_step >= 0 && watch.first_step < step) return;
+  for (size_t i = 0; i < state.x.size(); ++i) {
+    const dvec3 &x = state.x[i], &v = state.v[i];
+    bool finite = !glm::any(glm::isnan(x)) && !glm::any(glm::isinf(x)) && !glm::any(glm::isnan(v)) &&
+                  !glm::any(glm::isinf(v));
+    uint32_t* count = !finite                                ? &watch.not_finite
+                      : glm::length(v) > d_.speed_limit      ? &watch.too_fast
+                      : glm::any(glm::lessThan(x, d_.domain_min)) ||
+                              glm::any(glm::greaterThan(x, d_.domain_max))
+                          ? &watch.outside
+                          : nullptr;
+    if (!count) continue;
+    ++*count;
+    if (watch.first_step < 0) watch.first_step = step;
+  }
+}
+
 double ReferenceSolver::mean_compression() const {
   double sum = 0;
   for (double rho : state.rho) sum += std::max(rho / d_.rho0 - 1.0, 0.0);
@@ -236,11 +258,16 @@ ParticleFrame ReferenceSolver::read_frame() const {
 FrameStats ReferenceSolver::advance(int steps) {
   auto start = std::chrono::steady_clock::now();
   iterations_run_ = 0;
-  for (int k = 0; k < steps; ++k) step();
+  Divergence watch;
+  for (int k = 0; k < steps; ++k) {
+    step();
+    watch_step(k, watch);
+  }
   double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   FrameStats s = measure();
   s.step_ms = steps > 0 ? ms / steps : 0.0;
   s.iterations = steps > 0 ? double(iterations_run_) / steps : 0.0;
+  s.divergence = watch;
   return s;
 }
 

@@ -49,6 +49,7 @@ class ReferenceSolver : public Solver {
   glm::dvec3 project_out_of_solids(glm::dvec3 x) const;  // out of the obstacles, then into the walls
 
   double mean_compression() const;  // of state.rho
+  void watch_step(int step, Divergence& watch) const;  // the divergence watch (shaders/watch.comp)
 
   Derived d_;
   long iterations_run_ = 0;  // constraint iterations in the current advance()

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 
 #include "frame_capture.hpp"
 #include "frame_files.hpp"
@@ -109,9 +110,19 @@ int run(const RunOptions& o) {
   Progress progress(scene.frames, !o.quiet);
   auto start = std::chrono::steady_clock::now();
   double sum_mean = 0, worst = 0, sum_step_ms = 0;
+  std::string diverged;  // the message, when the watch stopped the run
   for (int frame = 0; frame < scene.frames; ++frame) {
     FrameStats s = solver->advance(frame == 0 ? 0 : scene.solver.substeps);
     double t = frame / scene.fps;
+    if (s.divergence.any()) {  // nothing of this frame is written: no NaN image, no garbage row
+      long step = long(frame - 1) * scene.solver.substeps + s.divergence.first_step + 1;
+      std::ostringstream m;
+      m << "the simulation diverged at step " << step << " (t = " << step * d.dt << " s, frame " << frame
+        << "): " << s.divergence.describe(d.speed_limit) << ". Frames 0-" << frame - 1
+        << " are complete; try more substeps, more iterations or a smaller solver.ldc_k";
+      diverged = m.str();
+      break;
+    }
     csv.write(frame, t, s);
     if (capture) capture->write(frame, *solver);
     if (export_format != capture::ExportFormat::None)
@@ -124,8 +135,12 @@ int run(const RunOptions& o) {
     progress.update(frame, t, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   }
   if (capture) capture->finish();
-  remove_stale_frames(out, scene.frames);
   progress.done();
+  if (!diverged.empty()) {
+    std::cerr << "pbflow: " << diverged << "\n";
+    return 3;
+  }
+  remove_stale_frames(out, scene.frames);
   double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   long steps = long(scene.frames - 1) * scene.solver.substeps;
   if (!o.quiet) {

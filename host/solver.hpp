@@ -3,6 +3,7 @@
 #include <glm/glm.hpp>
 
 #include <array>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,16 @@ constexpr size_t kPassGroups = size_t(PassGroup::Count);
 constexpr const char* kPassGroupNames[kPassGroups] = {"grid",        "density",  "correction", "predict",
                                                       "constraints", "velocity", "viscosity"};
 
+// What the divergence watch saw in a frame's steps: particles whose position or velocity
+// is not finite, faster than the scene's bound (Derived::speed_limit), or outside the
+// domain. Counts are those of the first failing step.
+struct Divergence {
+  int first_step = -1;  // step within the frame of the first failure; -1: none
+  uint32_t not_finite = 0, too_fast = 0, outside = 0;
+  bool any() const { return first_step >= 0; }
+  std::string describe(double speed_limit) const;  // "3 particles with ... ; 12 faster than ..."
+};
+
 // DESIGN.md's measures, taken at the end of the last step from a fresh density pass.
 struct FrameStats {
   double mean_compression = 0, max_compression = 0, kinetic_energy = 0, max_speed = 0;
@@ -21,6 +32,7 @@ struct FrameStats {
   double iterations = 0;  // constraint iterations per step, on average (adaptive runs vary)
   // Mean GPU time per step of each pass group; filled only while profiling (GpuSolver).
   std::array<double, kPassGroups> pass_ms{};
+  Divergence divergence;
 };
 
 // Host copy of the per-particle state, indexed by particle id (the order of initial_particles).

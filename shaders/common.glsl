@@ -60,9 +60,11 @@ float wall_density(vec3 x, out vec3 grad) {
 }
 
 ivec3 cell_of(vec3 x) {
-  // Clamp in float first: a NaN or far-away position still maps to a valid cell.
+  // Clamp in float first (a far-away position must not overflow the int), then in int:
+  // a NaN converts to an undefined int, and the int clamp keeps even that inside the
+  // grid, so a diverged particle never indexes out of bounds (the watch reports it).
   vec3 c = clamp(floor((x - sim.domain_min) / sim.h), vec3(0.0), vec3(sim.grid - 1));
-  return ivec3(c);
+  return clamp(ivec3(c), ivec3(0), sim.grid - 1);
 }
 
 uint cell_id(ivec3 c) { return uint((c.z * sim.grid.y + c.y) * sim.grid.x + c.x); }

@@ -120,8 +120,8 @@ void CommandList::dispatch_indirect(const Buffer& args) {
   memory_barrier(cb_);
 }
 
-void CommandList::update(const Buffer& buffer, const void* data, uint32_t bytes) {
-  vkCmdUpdateBuffer(cb_, buffer.handle(), 0, bytes, data);
+void CommandList::update(const Buffer& buffer, const void* data, uint32_t bytes, uint32_t offset) {
+  vkCmdUpdateBuffer(cb_, buffer.handle(), offset, bytes, data);
   memory_barrier(cb_);
 }
 

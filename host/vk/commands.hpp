@@ -36,8 +36,8 @@ class CommandList {
   void dispatch_indirect(const Buffer& args);
   // The (x, y) group counts dispatch() uses for `invocations` threads.
   std::array<uint32_t, 2> groups(uint32_t invocations, uint32_t workgroup_size) const;
-  // Writes `bytes` (a multiple of 4, at most 65536) at the start of `buffer`, then a barrier.
-  void update(const Buffer& buffer, const void* data, uint32_t bytes);
+  // Writes `bytes` (a multiple of 4, at most 65536) at `offset` into `buffer`, then a barrier.
+  void update(const Buffer& buffer, const void* data, uint32_t bytes, uint32_t offset = 0);
 
   void fill(const Buffer& buffer, uint32_t value);
   void timestamp(VkQueryPool pool, uint32_t query);

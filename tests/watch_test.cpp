@@ -1,0 +1,98 @@
+// The divergence watch: NaN and runaway particles are caught on the GPU in the step they
+// appear (as in the reference), and a run that blows up stops with exit status 3, a
+// message naming the step, and complete outputs up to the frame before.
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+
+#include "gpu_solver.hpp"
+#include "png.hpp"
+#include "reference_solver.hpp"
+#include "support.hpp"
+
+namespace pbflow {
+namespace {
+
+namespace fs = std::filesystem;
+
+class WatchTest : public test::GpuTest {};
+
+TEST_F(WatchTest, NanAndRunawayParticlesAreCaughtInTheirStep) {
+  Scene scene = load_scene("hydrostatic", {"particle_spacing=0.05", "solver.method=\"pbf\""});
+  Derived d = derive(scene);
+  auto x0 = initial_particles(scene);
+  ParticleState st;
+  st.x = st.x_pred = x0;
+  st.v.assign(x0.size(), glm::dvec3(0.0));
+  st.v[0] = glm::dvec3(0, 0, 1000.0);  // far above the limit; the walls stop it after the step
+  GpuSolver gpu(test::gpu(), d, x0);
+  gpu.upload(st);
+  FrameStats healthy_first = gpu.advance(0);
+  EXPECT_FALSE(healthy_first.divergence.any());
+  FrameStats fast = gpu.advance(1);
+  ASSERT_TRUE(fast.divergence.any());
+  EXPECT_EQ(fast.divergence.first_step, 0);
+  EXPECT_GE(fast.divergence.too_fast, 1u);
+  EXPECT_EQ(fast.divergence.not_finite, 0u);
+  std::printf("[ watch    ] %s\n", fast.divergence.describe(d.speed_limit).c_str());
+
+  st.x[5].y = std::numeric_limits<double>::quiet_NaN();
+  st.v[0] = glm::dvec3(0.0);
+  gpu.upload(st);
+  FrameStats nan = gpu.advance(2);
+  ASSERT_TRUE(nan.divergence.any());
+  EXPECT_EQ(nan.divergence.first_step, 0);
+  EXPECT_GE(nan.divergence.not_finite, 1u);
+
+  ReferenceSolver ref(d, x0);
+  ref.state = st;
+  FrameStats r = ref.advance(2);
+  ASSERT_TRUE(r.divergence.any()) << "the reference watches too";
+  EXPECT_EQ(r.divergence.first_step, 0);
+  EXPECT_GE(r.divergence.not_finite, 1u);
+}
+
+TEST_F(WatchTest, HealthyRunsRaiseNothing) {
+  for (const BuiltinScene& b : builtin_scenes()) {
+    Scene scene = load_scene(b.name, {"particle_spacing=" + std::to_string(2 * load_scene(b.name).particle_spacing)});
+    GpuSolver gpu(test::gpu(), derive(scene), initial_particles(scene));
+    for (int frame = 0; frame < 20; ++frame)
+      ASSERT_FALSE(gpu.advance(scene.solver.substeps).divergence.any()) << b.name << ", frame " << frame;
+  }
+}
+
+TEST(WatchCli, ABlownUpRunExitsWith3AndKeepsCompleteFrames) {
+  fs::path dir = fs::temp_directory_path() / "pbflow_test_diverge";
+  fs::remove_all(dir);
+  fs::path log = dir.string() + ".log";
+  // K five times its stable limit at this spacing: fine for two frames, then runaway speeds.
+  std::string cmd = std::string(PBFLOW_BINARY) +
+                    " run --param solver.ldc_k=5e4 --param particle_spacing=0.04 --frames 60 --style particles"
+                    " --width 64 --height 32 --export ply --out " + dir.string() + " > " + log.string() + " 2>&1";
+  int raw = std::system(cmd.c_str());
+  std::ifstream in(log);
+  std::string output((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_TRUE(WIFEXITED(raw));
+  EXPECT_EQ(WEXITSTATUS(raw), 3) << output;
+  EXPECT_NE(output.find("diverged at step"), std::string::npos) << output;
+  EXPECT_NE(output.find("faster than"), std::string::npos) << output;
+
+  int frames = 0;
+  for (const auto& entry : fs::directory_iterator(dir / "frames")) {
+    capture::Image image = capture::read_png(entry.path());  // complete, or this throws
+    EXPECT_EQ(image.width, 64);
+    ++frames;
+  }
+  EXPECT_GE(frames, 1);
+  EXPECT_LT(frames, 60);
+  std::ifstream stats(dir / "stats.csv");
+  int rows = -1;  // the header
+  for (std::string line; std::getline(stats, line);) ++rows;
+  EXPECT_EQ(rows, frames) << "stats.csv holds the frames written, no more";
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir / "particles"), fs::directory_iterator()), frames);
+}
+
+}  // namespace
+}  // namespace pbflow
