@@ -10,7 +10,8 @@ Usage: charts.py DIR   (writes DIR/*.png; `pbflow bench` runs it and leaves a co
                          pbf@1,2,3 and ldc@1 on dam_break (seed paper, Figures 1/4 and 6)
   adaptive.png           with --targets: iterations and ms per step each method needs to
                          reach each target mean compression
-Each chart uses the largest particle count of the study, one device only.
+Accuracy and time charts use the study's largest particle count, the over-time charts
+its smallest (where plain PBF at few iterations still survives); one device only.
 """
 import csv
 import os
@@ -34,9 +35,9 @@ def fixed(runs):
     return [r for r in runs if float(r.get("target_compression") or 0) == 0]
 
 
-def largest(runs, scene):
+def largest(runs, scene, pick=max):
     rows = [r for r in runs if r["scene"] == scene]
-    n = max(int(r["particles"]) for r in rows)
+    n = pick(int(r["particles"]) for r in rows)
     return [r for r in rows if int(r["particles"]) == n], n
 
 
@@ -85,7 +86,7 @@ def time_per_step(runs, out_dir, device):
 
 
 def over_time(runs, series, out_dir, device, column, file, ylabel, scale):
-    rows, n = largest(runs, "dam_break")
+    rows, n = largest(runs, "dam_break", min)
     wanted = [("pbf", 1), ("pbf", 2), ("pbf", 3), ("ldc", 1)]
     fig, ax = plt.subplots(figsize=(6.5, 4.2))
     for method, k in wanted:
