@@ -1,6 +1,7 @@
 #include "params.hpp"
 
 #include <cmath>
+#include <sstream>
 
 #include "kernels.hpp"
 #include "scene.hpp"
@@ -46,6 +47,20 @@ SolverParams SolverParams::defaults() {
   // particles out of compressed regions) without that; false gives the seed's force.
   p.ldc_clamp = true;
   return p;
+}
+
+std::string time_step_warning(const Scene& scene, const Derived& d) {
+  const double height = scene.domain.max.y - scene.domain.min.y;
+  const double speed = std::sqrt(2.0 * glm::length(scene.gravity) * height);
+  const double travel = speed * d.dt / d.h;  // kernel radii per step
+  if (travel <= 1.0) return "";
+  const int substeps = int(std::ceil(scene.solver.substeps * travel));
+  std::ostringstream m;
+  m.precision(3);
+  m << "warning: dt = " << d.dt << " s lets a particle falling through the domain (" << speed << " m/s) move "
+    << travel << " kernel radii per step, past its neighbours; solver.substeps=" << substeps
+    << " keeps it within one (tunnelling and blow-ups are likely otherwise)";
+  return m.str();
 }
 
 double lattice_mass(double spacing, double h, double rho0) {

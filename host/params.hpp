@@ -68,6 +68,11 @@ struct Derived {
 };
 Derived derive(const Scene& scene);
 
+// A CFL-style check: empty when a particle at the fall speed over the domain's height
+// moves at most one kernel radius h per step (beyond that it passes neighbours it never
+// saw); else a warning naming the substeps that would keep it within h.
+std::string time_step_warning(const Scene& scene, const Derived& d);
+
 // Particle mass that gives an interior particle of a cubic lattice of `spacing` exactly rho0.
 double lattice_mass(double spacing, double h, double rho0);
 // sum_k |grad_k C_i|^2 for that particle: the scale of the constraint's denominator.

@@ -100,6 +100,7 @@ int run(const RunOptions& o) {
   std::filesystem::create_directories(out);
   if (export_format != capture::ExportFormat::None) std::filesystem::create_directories(out / "particles");
   StatsCsv csv(out / "stats.csv");
+  if (std::string w = time_step_warning(scene, d); !w.empty()) std::cerr << "pbflow: " << w << "\n";
   if (!o.quiet) {
     std::cerr << "pbflow: " << scene.name << ", " << x0.size() << " particles, " << method_name(scene.solver.method)
               << " with " << scene.solver.iterations << " iteration(s), " << scene.solver.substeps

@@ -207,4 +207,14 @@ TEST(Cli, OutputDirectoryIsReusedOnlyForPbflowsOwnFiles) {
   EXPECT_TRUE(fs::exists(dir / "frames" / "holiday.jpg"));
 }
 
+TEST(Cli, ATimeStepTooLargeForTheSpacingIsWarnedAbout) {
+  fs::path dir = fresh_dir("cfl");
+  Result coarse = pbflow("run --no-render --frames 2 --quiet --param solver.substeps=1 --out " + dir.string());
+  EXPECT_EQ(coarse.status, 0) << coarse.output;
+  EXPECT_NE(coarse.output.find("warning: dt"), std::string::npos) << coarse.output;
+  EXPECT_NE(coarse.output.find("solver.substeps=2"), std::string::npos) << coarse.output;
+  Result fine = pbflow("run --no-render --frames 2 --quiet --out " + dir.string());
+  EXPECT_EQ(fine.output.find("warning"), std::string::npos) << "the default scene is within the limit: " << fine.output;
+}
+
 }  // namespace
