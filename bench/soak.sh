@@ -3,6 +3,7 @@
 # saw no NaN, runaway or escaped particle) with the same memory as a run a tenth as long
 # (no growth on the host or, under lavapipe, the device, whose memory is host memory).
 #   bench/soak.sh [DEVICE]     -> prints max resident memory of both runs and their verdict
+# Needs /usr/bin/time (Debian package time).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 device="${1:-auto}"
