@@ -1,5 +1,7 @@
 #include "obstacles.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace pbflow {
@@ -40,6 +42,32 @@ glm::dvec3 project_out(const Obstacle& o, const glm::dvec3& x, const glm::dvec3&
     }
   }
   return best;
+}
+
+glm::dvec3 stop_at(const Obstacle& o, const glm::dvec3& from, const glm::dvec3& to, double contact) {
+  if (o.grown(contact).contains(from)) return to;  // touching or inside: project_out handles it
+  const glm::dvec3 d = to - from;
+  double t_enter = 0, t_exit = 1;
+  if (o.kind == Obstacle::Kind::Sphere) {
+    // |from + t d - c|^2 = r^2, the smaller root
+    glm::dvec3 f = from - o.centre;
+    double a = glm::dot(d, d), b = glm::dot(f, d), c = glm::dot(f, f) - o.radius * o.radius;
+    double disc = b * b - a * c;
+    if (a == 0 || disc < 0) return to;
+    t_enter = (-b - std::sqrt(disc)) / a;
+    if (t_enter < 0 || t_enter > 1) return to;
+    return from + t_enter * d;
+  }
+  for (int k = 0; k < 3; ++k) {  // slabs
+    if (d[k] == 0) {
+      if (from[k] <= o.min[k] || from[k] >= o.max[k]) return to;
+      continue;
+    }
+    double t0 = (o.min[k] - from[k]) / d[k], t1 = (o.max[k] - from[k]) / d[k];
+    t_enter = std::max(t_enter, std::min(t0, t1));
+    t_exit = std::min(t_exit, std::max(t0, t1));
+  }
+  return t_enter < t_exit ? from + t_enter * d : to;
 }
 
 std::vector<glm::vec4> pack_obstacles(const std::vector<Obstacle>& obstacles) {

@@ -25,6 +25,13 @@ struct Obstacle {
 glm::dvec3 project_out(const Obstacle& o, const glm::dvec3& x, const glm::dvec3& wall_min,
                        const glm::dvec3& wall_max);
 
+// Where the move from -> to first enters `o`: the entry point, or `to` when the segment
+// misses it. Keeps a fast particle from tunnelling through a thin obstacle within one
+// step; project_out then settles it on the surface. A start within `contact` of the
+// obstacle counts as touching it and is left to project_out, so that rounding (float on
+// the GPU, double here) cannot decide between the two.
+glm::dvec3 stop_at(const Obstacle& o, const glm::dvec3& from, const glm::dvec3& to, double contact);
+
 // The GPU layout: vec4 0 holds the count in x; then two vec4 per obstacle:
 // box (min, 0) (max, 0); sphere (centre, 1) (radius, 0, 0, 0).
 std::vector<glm::vec4> pack_obstacles(const std::vector<Obstacle>& obstacles);

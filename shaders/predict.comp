@@ -15,5 +15,5 @@ void main() {
   if (i >= sim.count) return;
   vec3 vi = v[i].xyz + sim.gravity * sim.dt;
   v[i].xyz = vi;
-  x_pred[i] = vec4(project_out_of_solids(x[i].xyz + vi * sim.dt), 0.0);
+  x_pred[i] = vec4(project_out_of_solids(stop_at_solids(x[i].xyz, x[i].xyz + vi * sim.dt)), 0.0);
 }

@@ -4,6 +4,7 @@
 
 #include "gpu_solver.hpp"
 #include "obstacles.hpp"
+#include "reference_solver.hpp"
 #include "support.hpp"
 
 namespace pbflow {
@@ -91,6 +92,33 @@ TEST_F(SceneTest, ThrownFluidStaysOutOfObstacles) {
   }
   EXPECT_EQ(inside, 0u) << "particles inside an obstacle";
   EXPECT_EQ(outside_domain, 0u) << "particles outside the domain";
+}
+
+// A particle shot at 30 m/s (25 cm per step) at a plate 1 cm thick: it must stop on the
+// near side, on the GPU as in the reference, instead of tunnelling through.
+TEST_F(SceneTest, FastParticlesDoNotTunnelThroughAThinPlate) {
+  Scene scene = load_scene("hydrostatic", {"particle_spacing=0.05", "gravity=[0, 0, 0]", "solver.method=\"pbf\"",
+                                           R"(obstacles=[{"type": "box", "min": [0.45, 0, 0], "max": [0.46, 0.6, 0.6]},
+                                                         {"type": "sphere", "centre": [0.3, 0.5, 0.45], "radius": 0.03}])"});
+  Derived d = derive(scene);
+  std::vector<glm::dvec3> x0 = {{0.3, 0.3, 0.3}, {0.3, 0.5, 0.2}};
+  ParticleState st;
+  st.x = st.x_pred = x0;
+  st.v = {{30, 0, 0}, {0, 0, 30}};  // one towards the plate, one towards the ball
+  GpuSolver gpu(test::gpu(), d, x0);
+  gpu.upload(st);
+  ReferenceSolver ref(d, x0);
+  ref.state = st;
+  gpu.advance(1);
+  ref.advance(1);
+  ParticleState g = gpu.download();
+  for (const auto* x : {&g.x, &ref.state.x}) {
+    EXPECT_LT((*x)[0].x, 0.45) << "tunnelled through the plate: x = " << (*x)[0].x;
+    EXPECT_LT((*x)[1].z, 0.42) << "tunnelled through the ball: z = " << (*x)[1].z;
+  }
+  test::compare(g.x, ref.state.x, "positions after a step into obstacles");
+  EXPECT_NEAR(g.x[0].x, ref.state.x[0].x, 1e-5);
+  EXPECT_NEAR(g.x[1].z, ref.state.x[1].z, 1e-5);
 }
 
 }  // namespace
