@@ -60,6 +60,18 @@ std::string_view source(const std::string& name) {
   throw Error("no embedded render shader named '" + name + "'");
 }
 
+// Throws `failure` with the driver's log when `status` (compile or link) is false; one
+// check for shaders and programs, given their two query functions.
+void require_status(GLuint object, GLenum status, PFNGLGETSHADERIVPROC get_iv, PFNGLGETSHADERINFOLOGPROC get_log,
+                    const std::string& failure) {
+  GLint ok = 0;
+  get_iv(object, status, &ok);
+  if (ok) return;
+  char log[4096] = {};
+  get_log(object, sizeof log, nullptr, log);
+  throw Error(failure + ": " + log);
+}
+
 Object compile(GLenum stage, const std::string& name) {
   Object shader(glCreateShader(stage), [](GLuint s) { glDeleteShader(s); });
   // GLSL has no #include: every stage gets the shared declarations after its #version.
@@ -69,13 +81,8 @@ Object compile(GLenum stage, const std::string& name) {
   GLint length = GLint(text.size());
   glShaderSource(shader, 1, &ptr, &length);
   glCompileShader(shader);
-  GLint ok = 0;
-  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    char log[4096] = {};
-    glGetShaderInfoLog(shader, sizeof log, nullptr, log);
-    throw Error("render shader " + name + " does not compile: " + log);
-  }
+  require_status(shader, GL_COMPILE_STATUS, glGetShaderiv, glGetShaderInfoLog,
+                 "render shader " + name + " does not compile");
   return shader;
 }
 
@@ -87,13 +94,8 @@ Object make_program(const std::string& vertex, const std::string& fragment) {
   glAttachShader(program, vs);
   glAttachShader(program, fs);
   glLinkProgram(program);
-  GLint ok = 0;
-  glGetProgramiv(program, GL_LINK_STATUS, &ok);
-  if (!ok) {
-    char log[4096] = {};
-    glGetProgramInfoLog(program, sizeof log, nullptr, log);
-    throw Error("render program " + vertex + " + " + fragment + " does not link: " + log);
-  }
+  require_status(program, GL_LINK_STATUS, glGetProgramiv, glGetProgramInfoLog,
+                 "render program " + vertex + " + " + fragment + " does not link");
   return program;
 }
 
