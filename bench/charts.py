@@ -8,6 +8,10 @@ Usage: charts.py DIR   (writes DIR/*.png; `pbflow bench` runs it and leaves a co
   time_per_step.png      ms per step vs iterations, per method (seed paper, Figure 7)
   compression_over_time.png, kinetic_energy.png
                          pbf@1,2,3 and ldc@1 on dam_break (seed paper, Figures 1/4 and 6)
+  stability_pbf.png, stability_ldc.png
+                         with --stability (several substeps): each run's class
+                         (stable / compressed / diverged) over substeps x iterations,
+                         a panel per scene (and per K for ldc); then only these
   adaptive.png           with --targets: iterations and ms per step each method needs to
                          reach each target mean compression
 Accuracy and time charts use the study's largest particle count, the over-time charts
@@ -134,6 +138,42 @@ def adaptive(runs, out_dir, device):
     plt.close(fig)
 
 
+CLASS_COLOUR = {"stable": "#4caf50", "compressed": "#ffb300", "diverged": "#d32f2f"}
+
+
+def stability_maps(runs, out_dir, device):
+    scenes = sorted({r["scene"] for r in runs})
+    for method in ("pbf", "ldc"):
+        rows = [r for r in runs if r["method"] == method]
+        if not rows:
+            continue
+        ks = sorted({float(r["ldc_k"]) for r in rows})
+        panels = [(scene, k) for scene in scenes for k in ks]
+        fig, axes = plt.subplots(1, len(panels), figsize=(3.4 * len(panels), 3.4), squeeze=False)
+        for ax, (scene, k) in zip(axes[0], panels):
+            cells = [r for r in rows if r["scene"] == scene and float(r["ldc_k"]) == k]
+            its = sorted({int(r["iterations"]) for r in cells})
+            subs = sorted({int(r["substeps"]) for r in cells})
+            for r in cells:
+                x, y = its.index(int(r["iterations"])), subs.index(int(r["substeps"]))
+                ax.add_patch(plt.Rectangle((x - 0.45, y - 0.45), 0.9, 0.9, color=CLASS_COLOUR[r["class"]]))
+                ax.text(x, y, f'{100 * float(r["mean_compression_avg"]):.1f}%' if r["class"] != "diverged" else "x",
+                        ha="center", va="center", fontsize=8)
+            ax.set_xticks(range(len(its)), its)
+            ax.set_yticks(range(len(subs)), subs)
+            ax.set_xlim(-0.5, len(its) - 0.5)
+            ax.set_ylim(-0.5, len(subs) - 0.5)
+            ax.set_xlabel("iterations")
+            ax.set_ylabel("substeps per frame")
+            ax.set_title(scene + (f", K = {k:g}" if method == "ldc" else ""), fontsize=9)
+        handles = [plt.Rectangle((0, 0), 1, 1, color=c) for c in CLASS_COLOUR.values()]
+        fig.legend(handles, list(CLASS_COLOUR), loc="lower center", ncol=3, fontsize=8)
+        fig.suptitle(f"Where {method} breaks on {device} (cells: mean compression)", fontsize=10)
+        fig.tight_layout(rect=(0, 0.08, 1, 1))
+        fig.savefig(os.path.join(out_dir, f"stability_{method}.png"), dpi=110)
+        plt.close(fig)
+
+
 def main():
     if len(sys.argv) != 2:
         sys.exit(__doc__)
@@ -144,6 +184,9 @@ def main():
     if len(devices) != 1:
         sys.exit(f"runs.csv mixes devices {devices}: one chart, one device")
     device = devices[0]
+    if len({r["substeps"] for r in runs}) > 1:
+        stability_maps(runs, out_dir, device)
+        return
     adaptive(runs, out_dir, device)
     runs = fixed(runs)
     if not runs:

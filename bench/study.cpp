@@ -32,7 +32,7 @@ const std::vector<std::string>& run_columns() {
     for (const char* pass : kPassGroupNames) c.push_back(std::string(pass) + "_ms");
     for (const char* k : {"particle_steps_per_s", "mean_compression_avg", "max_compression_avg",
                           "max_compression_peak", "final_mean_compression", "settle_mm", "kinetic_energy_final",
-                          "diverged"})
+                          "diverged", "class"})
       c.push_back(k);
     return c;
   }();
@@ -46,10 +46,12 @@ struct Run {
   int particles_wanted, iterations;
   double ldc_k;   // 0: the scene's
   double target;  // adaptive when > 0: iterations from `iterations` up to kMaxAdaptive
+  int substeps;   // 0: the scene's
 };
 
 constexpr int kMaxAdaptive = 41;   // 1 + 20 pairs
 constexpr double kBlownUp = 9.0;   // max compression (rho = 10 rho0) at which a run counts as diverged
+constexpr double kCompressed = 0.02;  // time-averaged mean compression above which a run counts as compressed
 
 struct Outcome {
   std::vector<std::string> cells;  // runs.csv row
@@ -84,6 +86,7 @@ Outcome simulate(const Run& r, int index, double seconds, const std::string& dev
                                         "solver.iterations=" + std::to_string(r.iterations),
                                         "frames=" + std::to_string(frames)};
   if (r.ldc_k > 0) overrides.push_back("solver.ldc_k=" + number(r.ldc_k));
+  if (r.substeps > 0) overrides.push_back("solver.substeps=" + std::to_string(r.substeps));
   if (r.target > 0) {
     overrides.push_back("solver.target_compression=" + number(r.target));
     overrides.push_back("solver.max_iterations=" + std::to_string(kMaxAdaptive));
@@ -143,6 +146,7 @@ Outcome simulate(const Run& r, int index, double seconds, const std::string& dev
   row.push_back(number(1000.0 * (height0 - mean_height(solver->read_frame()))));
   row.push_back(number(s.kinetic_energy));
   row.push_back(diverged ? "1" : "0");
+  row.push_back(diverged ? "diverged" : sum_mean / measured > kCompressed ? "compressed" : "stable");
   return {row, series.str()};
 }
 
@@ -169,12 +173,24 @@ std::string python_with_matplotlib() {
 
 }  // namespace
 
-int run_study(const StudyOptions& o) {
+int run_study(const StudyOptions& options) {
+  StudyOptions o = options;
+  if (o.stability) {  // the map's defaults, each unless given
+    if (o.scenes.empty()) o.scenes = {"dam_break", "drop"};
+    if (o.counts.empty()) o.counts = {4000};
+    if (o.iterations.empty()) o.iterations = {1, 2, 4};
+    if (o.substeps.empty()) o.substeps = {1, 2, 4};
+    if (o.ldc_k.empty()) o.ldc_k = {3000, 10000, 30000};
+    if (o.seconds <= 0) o.seconds = 1.0;
+  }
   std::vector<int> counts = o.counts, iterations = o.iterations;
   if (counts.empty()) counts = o.quick ? std::vector<int>{4000} : std::vector<int>{10000, 40000, 160000};
   if (iterations.empty()) iterations = o.quick ? std::vector<int>{1, 2, 3} : std::vector<int>{1, 2, 3, 4, 6, 8};
   if (!o.targets.empty() && o.iterations.empty()) iterations.clear();  // --targets alone: adaptive runs only
   const double seconds = o.seconds > 0 ? o.seconds : o.quick ? 1.0 : 2.0;
+  for (int n : o.substeps)
+    if (n < 1 || n > 1000) throw InputError("--substeps: from 1 to 1000");
+  const std::vector<int> substeps = o.substeps.empty() ? std::vector<int>{0} : o.substeps;
   for (int c : counts)
     if (c < 100 || c > 100000000) throw InputError("--counts: particle counts must be from 100 to 100000000");
   for (int k : iterations)
@@ -190,16 +206,17 @@ int run_study(const StudyOptions& o) {
   for (double t : o.targets)
     if (!(t > 0 && t < 1)) throw InputError("--targets: mean compressions in (0, 1), e.g. 0.01,0.001");
   for (const std::string& scene : scenes)
-    for (int count : counts) {
-      for (int k : iterations) {
-        runs.push_back({scene, "pbf", count, k, 0.0, 0.0});
-        for (double K : ks) runs.push_back({scene, "ldc", count, k, K, 0.0});
+    for (int count : counts)
+      for (int sub : substeps) {
+        for (int k : iterations) {
+          runs.push_back({scene, "pbf", count, k, 0.0, 0.0, sub});
+          for (double K : ks) runs.push_back({scene, "ldc", count, k, K, 0.0, sub});
+        }
+        for (double t : o.targets) {  // adaptive: from one iteration until the target
+          runs.push_back({scene, "pbf", count, 1, 0.0, t, sub});
+          for (double K : ks) runs.push_back({scene, "ldc", count, 1, K, t, sub});
+        }
       }
-      for (double t : o.targets) {  // adaptive: from one iteration until the target
-        runs.push_back({scene, "pbf", count, 1, 0.0, t});
-        for (double K : ks) runs.push_back({scene, "ldc", count, 1, K, t});
-      }
-    }
 
   fs::create_directories(o.out);
   std::ofstream runs_csv(fs::path(o.out) / "runs.csv"), series_csv(fs::path(o.out) / "series.csv");

@@ -21,6 +21,10 @@ struct StudyOptions {
   std::vector<double> ldc_k;      // K values for the ldc runs (a sweep); empty: the scene's
   std::vector<std::string> scenes;  // empty: dam_break and hydrostatic
   std::vector<double> targets;      // adaptive runs to these mean compressions instead of fixed iterations
+  std::vector<int> substeps;        // steps per frame to try; empty: the scene's
+  // The stability map: dam_break and drop, 4000 particles, substeps {1,2,4} x iterations
+  // {1,2,4} x K {3000,10000,30000} (each unless given), 1 s; every run classified.
+  bool stability = false;
   bool charts = true;
 };
 

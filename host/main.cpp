@@ -75,6 +75,9 @@ int main(int argc, char** argv) {
   bench_cmd->add_option("--ldc-k", bench.ldc_k, "sweep the LDC strength K, e.g. 1000,3000,10000")->delimiter(',');
   bench_cmd->add_option("--targets", bench.targets, "adaptive runs to these mean compressions, e.g. 0.01,0.001")
       ->delimiter(',');
+  bench_cmd->add_option("--substeps", bench.substeps, "steps per frame to try, e.g. 1,2,4")->delimiter(',');
+  bench_cmd->add_flag("--stability", bench.stability,
+                      "the stability map: dam_break and drop, substeps x iterations x K, each run classified");
   bench_cmd->add_option("--scenes", bench.scenes, "scenes, e.g. dam_break,drop (default dam_break,hydrostatic)")
       ->delimiter(',');
   bool no_charts = false;
