@@ -67,6 +67,11 @@ TEST(Bench, QuickStudyFinishesEveryRunWithItsColumnsAndCharts) {
     // Cost columns are finite numbers; accuracy columns are numbers (pbf@1 may blow up: that is data).
     for (size_t c = 3; c < runs[r].size(); ++c) {
       if (c == column("method")) continue;
+      if (c == column("class")) {
+        EXPECT_TRUE(runs[r][c] == "stable" || runs[r][c] == "compressed" || runs[r][c] == "diverged") << runs[r][c];
+        EXPECT_EQ(runs[r][c] == "diverged", runs[r][column("diverged")] == "1") << "row " << r;
+        continue;
+      }
       double v = std::stod(runs[r][c]);
       if (c <= column("particle_steps_per_s")) {
         EXPECT_TRUE(std::isfinite(v)) << runs[0][c] << ", row " << r;
