@@ -357,7 +357,8 @@ FrameStats GpuSolver::read_measures() const {
 
 FrameStats GpuSolver::advance(int steps) {
   auto start = std::chrono::steady_clock::now();
-  const uint32_t marks = 2 + (profiling_ ? uint32_t(steps) * kPassGroups : 0);
+  // While profiling a step marks the end of each pass group, the grid twice for ldc.
+  const uint32_t marks = 2 + (profiling_ ? uint32_t(steps) * (kPassGroups + 1) : 0);
   if (timer_->capacity() < marks) timer_ = std::make_unique<vk::GpuTimer>(ctx_, marks);
   segments_.clear();
   begin();

@@ -222,3 +222,26 @@ TEST_F(LatticeDensityTest, InteriorIsRestDensityAndWallsAreClose) {
 
 }  // namespace
 }  // namespace pbflow
+
+namespace pbflow {
+namespace {
+
+class ProfileTest : public test::GpuTest {};
+
+// Profiling marks the end of every pass group of every step (the grid twice per ldc step):
+// many steps in one frame must fit the timer, and the groups add up to the step time.
+TEST_F(ProfileTest, PassGroupsOfManyStepsAddUpToTheStepTime) {
+  Scene scene = load_scene("dam_break", {"particle_spacing=0.05", "solver.xsph=0.05"});
+  GpuSolver gpu(test::gpu(), derive(scene), initial_particles(scene));
+  gpu.set_profiling(true);
+  gpu.advance(0);
+  FrameStats s = gpu.advance(5);
+  double sum = 0;
+  for (double ms : s.pass_ms) sum += ms;
+  EXPECT_GT(s.pass_ms[size_t(PassGroup::Correction)], 0.0);
+  EXPECT_GT(s.pass_ms[size_t(PassGroup::Viscosity)], 0.0);
+  EXPECT_NEAR(sum, s.step_ms, 0.05 * s.step_ms + 1e-3) << "the groups should cover the step";
+}
+
+}  // namespace
+}  // namespace pbflow
