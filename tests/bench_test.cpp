@@ -99,16 +99,28 @@ TEST(Bench, QuickStudyFinishesEveryRunWithItsColumnsAndCharts) {
   expect_charts(dir);
 }
 
-TEST(Bench, ChartScriptDrawsFromAFixture) {
-  fs::path dir = fs::temp_directory_path() / "pbflow_test_charts";
+// Copies fixtures/<name>/ to a fresh directory and runs the chart script there.
+fs::path charts_from_fixture(const std::string& name) {
+  fs::path dir = fs::temp_directory_path() / ("pbflow_test_charts_" + name);
   fs::remove_all(dir);
   fs::create_directories(dir);
   for (const char* f : {"runs.csv", "series.csv"})
-    fs::copy_file(fs::path(PBFLOW_TEST_DATA) / "fixtures" / "bench" / f, dir / f);
+    fs::copy_file(fs::path(PBFLOW_TEST_DATA) / "fixtures" / name / f, dir / f);
   const fs::path script = fs::path(PBFLOW_TEST_DATA).parent_path() / "bench" / "charts.py";
   std::string cmd = "/usr/bin/python3 " + script.string() + " " + dir.string();
-  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
-  expect_charts(dir);
+  EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  return dir;
+}
+
+TEST(Bench, ChartScriptDrawsFromAFixture) { expect_charts(charts_from_fixture("bench")); }
+
+TEST(Bench, ChartScriptDrawsStabilityMapsFromAFixture) {
+  fs::path dir = charts_from_fixture("stability");
+  for (const char* map : {"stability_pbf.png", "stability_ldc.png"}) {
+    capture::Image image = capture::read_png(dir / map);
+    EXPECT_GT(image.width, 300) << map;
+  }
+  EXPECT_FALSE(fs::exists(dir / "accuracy_vs_cost.png")) << "a stability study draws only its maps";
 }
 
 }  // namespace
