@@ -58,13 +58,6 @@ struct Outcome {
   std::string series;              // series.csv rows
 };
 
-double fluid_volume(const Scene& s) {
-  double v = 0;
-  for (const Box& b : s.fluid_blocks) v += (b.max.x - b.min.x) * (b.max.y - b.min.y) * (b.max.z - b.min.z);
-  for (const Ball& b : s.fluid_spheres) v += 4.0 / 3.0 * M_PI * std::pow(b.radius, 3);
-  return v;
-}
-
 double mean_height(const ParticleFrame& f) {
   double sum = 0;
   for (const glm::vec4& x : f.x) sum += x.y;

@@ -22,9 +22,7 @@ struct CheckPush {  // check_converged.comp
   uint32_t full_x, full_y, per_check;
 };
 uint32_t partial_count(uint32_t n) { return (n + kReduceThreads - 1) / kReduceThreads; }
-}  // namespace
 
-namespace {
 // Bad input rather than a Vulkan failure: the scene asks for more than this device holds.
 uint32_t checked_count(const vk::Context& ctx, size_t n) {
   const uint64_t per_array = uint64_t(n) * sizeof(glm::vec4), limit = ctx.limits().maxStorageBufferRange;

@@ -50,8 +50,7 @@ SolverParams SolverParams::defaults() {
 }
 
 std::string time_step_warning(const Scene& scene, const Derived& d) {
-  const double height = scene.domain.max.y - scene.domain.min.y;
-  const double speed = std::sqrt(2.0 * glm::length(scene.gravity) * height);
+  const double speed = fall_speed(scene);
   const double travel = speed * d.dt / d.h;  // kernel radii per step
   if (travel <= 1.0) return "";
   const int substeps = int(std::ceil(scene.solver.substeps * travel));
@@ -97,8 +96,7 @@ Derived derive(const Scene& scene) {
   d.dt = 1.0 / (scene.fps * scene.solver.substeps);
   // Ten times the speed of a fall through the whole domain (at least 1 m/s): no flow of the
   // scene reaches it, a blow-up passes it within a few steps.
-  const double height = scene.domain.max.y - scene.domain.min.y;
-  d.speed_limit = 10.0 * std::max(std::sqrt(2.0 * glm::length(scene.gravity) * height), 1.0);
+  d.speed_limit = 10.0 * std::max(fall_speed(scene), 1.0);
   d.rho0 = scene.solver.rest_density;
   d.mass = lattice_mass(s, d.h, d.rho0);
   const double gradient_sq = lattice_gradient_sq(s, d.h, d.mass, d.rho0);

@@ -93,13 +93,10 @@ constexpr double kContact = 1e-3;
 void ReferenceSolver::predict() {
   for (size_t i = 0; i < state.x.size(); ++i) {
     state.v[i] += d_.gravity * d_.dt;
-    dvec3 to = state.x[i] + state.v[i] * d_.dt;  // stopped at the first obstacle it would enter
-    double first = 1;
-    for (const Obstacle& o : d_.obstacles) {
-      dvec3 hit = stop_at(o, state.x[i], to, kContact * d_.h);
-      if (hit != to) first = std::min(first, glm::length(hit - state.x[i]) / glm::length(to - state.x[i]));
-    }
-    state.x_pred[i] = project_out_of_solids(state.x[i] + first * (to - state.x[i]));
+    // Each obstacle can only shorten the move, so the last shortening is the first entry.
+    dvec3 to = state.x[i] + state.v[i] * d_.dt;
+    for (const Obstacle& o : d_.obstacles) to = stop_at(o, state.x[i], to, kContact * d_.h);
+    state.x_pred[i] = project_out_of_solids(to);
   }
 }
 

@@ -71,8 +71,7 @@ std::unique_ptr<capture::FrameCapture> make_capture(const RunOptions& o, const S
   c.view.particle_radius = 0.5 * scene.particle_spacing;
   c.view.rest_density = scene.solver.rest_density;
   // Red in the speed style: the speed of a fall through the domain's height.
-  c.view.speed_scale =
-      std::max(std::sqrt(2.0 * glm::length(scene.gravity) * (scene.domain.max.y - scene.domain.min.y)), 0.1);
+  c.view.speed_scale = std::max(fall_speed(scene), 0.1);
   c.frames_dir = std::filesystem::path(o.out) / "frames";
   c.frame_count = scene.frames;
   c.video = o.video;

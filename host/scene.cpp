@@ -144,10 +144,7 @@ Scene parse_scene(const std::string& json_text, const std::string& origin, const
   require(!s.fluid_blocks.empty() || !s.fluid_spheres.empty(),
           "scene needs fluid: a non-empty 'fluid_blocks' or 'fluid_spheres'");
   // Checked before any particle is made, so that a tiny spacing fails here, not in an allocation.
-  double volume = 0;
-  for (const Box& b : s.fluid_blocks) volume += (b.max.x - b.min.x) * (b.max.y - b.min.y) * (b.max.z - b.min.z);
-  for (const Ball& b : s.fluid_spheres) volume += 4.0 / 3.0 * M_PI * b.radius * b.radius * b.radius;
-  double estimate = volume / std::pow(s.particle_spacing, 3);
+  double estimate = fluid_volume(s) / std::pow(s.particle_spacing, 3);
   require(estimate <= kMaxParticles, "the fluid would hold about " + std::to_string(std::llround(estimate)) +
                                          " particles, more than pbflow's limit of " + std::to_string(kMaxParticles) +
                                          " (raise particle_spacing)");
@@ -255,6 +252,17 @@ std::vector<BuiltinScene> builtin_scenes() {
   for (const auto& [name, text] : builtin_scenes_text())
     out.push_back({std::string(name), json::parse(text).value("description", "")});
   return out;
+}
+
+double fluid_volume(const Scene& scene) {
+  double v = 0;
+  for (const Box& b : scene.fluid_blocks) v += (b.max.x - b.min.x) * (b.max.y - b.min.y) * (b.max.z - b.min.z);
+  for (const Ball& b : scene.fluid_spheres) v += 4.0 / 3.0 * M_PI * b.radius * b.radius * b.radius;
+  return v;
+}
+
+double fall_speed(const Scene& scene) {
+  return std::sqrt(2.0 * glm::length(scene.gravity) * (scene.domain.max.y - scene.domain.min.y));
 }
 
 std::vector<glm::dvec3> initial_particles(const Scene& scene) {

@@ -60,6 +60,13 @@ struct BuiltinScene {
 };
 std::vector<BuiltinScene> builtin_scenes();
 
+// The fluid's volume as the scene states it (blocks and spheres, overlaps counted twice),
+// m^3: the particle-count estimate before any particle is made.
+double fluid_volume(const Scene& scene);
+// The speed of a fall from rest through the domain's height, sqrt(2 |g| H), m/s: the
+// scale of the scene's flows (time-step check, divergence watch, speed colours).
+double fall_speed(const Scene& scene);
+
 // Lattice points of `particle_spacing` filling the fluid blocks (cell centres, so
 // that a block [a, b] holds (b - a)/spacing particles per axis) and the fluid spheres
 // (a lattice from the domain's corner); overlaps counted once; none where an obstacle
