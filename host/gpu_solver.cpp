@@ -49,11 +49,12 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
                   std::array<uint32_t, 1>{d.solver.ldc_clamp ? 1u : 0u}),
       predict_(ctx, "predict", 4, sizeof(SimConstants)),
       lambda_(ctx, "constraint_lambda", 4, sizeof(SimConstants)),
-      apply_(ctx, "constraint_apply", 5, sizeof(SimConstants)),
+      apply_(ctx, "constraint_apply", 5, sizeof(SimConstants), 0,
+             std::array<uint32_t, 1>{std::bit_cast<uint32_t>(float(d.solver.scorr_n))}),
       velocity_(ctx, "velocity_update", 3, sizeof(SimConstants)),
       viscosity_(ctx, "viscosity_vorticity", 5, sizeof(SimConstants)),
       vorticity_(ctx, "vorticity_force", 4, sizeof(SimConstants)),
-      reduce_(ctx, "reduce_stats", 3, sizeof(SimConstants), kReduceThreads),
+      reduce_(ctx, "reduce_stats", 4, sizeof(SimConstants), kReduceThreads),
       reduce_final_(ctx, "reduce_final", 2, sizeof(ReduceFinalPush), kReduceThreads),
       check_converged_(ctx, "check_converged", 2, sizeof(CheckPush), 1),
       watch_(ctx, "watch", 3, sizeof(SimConstants), 0,
@@ -61,8 +62,8 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
       grid_(ctx, sim_),
       rho_(ctx, n_ * sizeof(float)),
       lambda_buf_(ctx, n_ * sizeof(float)),
-      partials_(ctx, partial_count(n_) * sizeof(glm::vec4)),
-      result_(ctx, 4 * sizeof(glm::vec4), vk::Memory::Host),  // measures, adaptive count, watch (2 vec4)
+      partials_(ctx, 2 * partial_count(n_) * sizeof(glm::vec4)),
+      result_(ctx, 5 * sizeof(glm::vec4), vk::Memory::Host),  // measures (2 vec4), adaptive count, watch (2 vec4)
       obstacles_(ctx, pack_obstacles(d.obstacles).size() * sizeof(glm::vec4)),
       watch_buf_(ctx, 6 * sizeof(uint32_t)),
       cmd_(ctx),
@@ -70,7 +71,7 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
   for (auto& b : vec4_) b = vk::Buffer(ctx, n_ * sizeof(glm::vec4));
   obstacles_.upload(std::span<const glm::vec4>(pack_obstacles(d.obstacles)));
   if (d.solver.target_compression > 0) {
-    check_ = vk::Buffer(ctx, sizeof(glm::vec4));
+    check_ = vk::Buffer(ctx, 2 * sizeof(glm::vec4));
     indirect_ = vk::Buffer(ctx, 4 * sizeof(uint32_t));
   }
   for (auto& b : id_) b = vk::Buffer(ctx, n_ * sizeof(uint32_t));
@@ -205,8 +206,9 @@ void GpuSolver::constraint_lambda(const vk::Buffer* indirect) {
   run_particle_pass(indirect);
 }
 
-void GpuSolver::constraint_apply(const vk::Buffer* indirect) {
+void GpuSolver::constraint_apply(double relax, const vk::Buffer* indirect) {
   // Jacobi: every particle reads the same x_pred, so the result goes to a spare array.
+  sim_.relax = float(relax);
   bind_particle_pass(apply_);
   cmd_.bind(0, grid_.cell_start());
   cmd_.bind(1, at(XPred));
@@ -222,7 +224,8 @@ void GpuSolver::reduce_measures(const vk::Buffer& into) {
   cmd_.push(sim_);
   cmd_.bind(0, rho_);
   cmd_.bind(1, at(V));
-  cmd_.bind(2, partials_);
+  cmd_.bind(2, at(X));
+  cmd_.bind(3, partials_);
   cmd_.dispatch(n_);
   cmd_.set_program(reduce_final_);
   cmd_.push(ReduceFinalPush{partial_count(n_), n_, sim_.mass});
@@ -247,9 +250,9 @@ void GpuSolver::adaptive_iterations() {
     cmd_.bind(0, check_);
     cmd_.bind(1, indirect_);
     cmd_.dispatch(1);
-    for (int k = 0; k < kAdaptiveStride; ++k) {
+    for (double relax : d_.relaxation_schedule(kAdaptiveStride)) {
       constraint_lambda(&indirect_);
-      constraint_apply(&indirect_);
+      constraint_apply(relax, &indirect_);
     }
   }
 }
@@ -304,9 +307,9 @@ void GpuSolver::record_step() {
   end_of(PassGroup::Predict);
   grid_at_predictions();
   end_of(PassGroup::Grid);
-  for (int k = 0; k < d_.solver.iterations; ++k) {
+  for (double relax : d_.relaxation_schedule(d_.solver.iterations)) {
     constraint_lambda();
-    constraint_apply();
+    constraint_apply(relax);
   }
   if (d_.solver.target_compression > 0) adaptive_iterations();
   end_of(PassGroup::Constraints);
@@ -331,10 +334,10 @@ void GpuSolver::record_measures() {
   density();
   reduce_measures(result_);
   if (d_.solver.target_compression > 0) {  // the frame's adaptive iteration count, beside the measures
-    VkBufferCopy count{3 * sizeof(uint32_t), sizeof(glm::vec4), sizeof(uint32_t)};
+    VkBufferCopy count{3 * sizeof(uint32_t), 2 * sizeof(glm::vec4), sizeof(uint32_t)};
     vkCmdCopyBuffer(cmd_.handle(), indirect_.handle(), result_.handle(), 1, &count);
   }
-  VkBufferCopy watch{0, 2 * sizeof(glm::vec4), 5 * sizeof(uint32_t)};  // and what the watch saw
+  VkBufferCopy watch{0, 3 * sizeof(glm::vec4), 5 * sizeof(uint32_t)};  // and what the watch saw
   vkCmdCopyBuffer(cmd_.handle(), watch_buf_.handle(), result_.handle(), 1, &watch);
   vk::memory_barrier(cmd_.handle());
   density_current_ = true;
@@ -347,8 +350,8 @@ FrameStats GpuSolver::read_measures() const {
   s.max_compression = r[1];
   s.kinetic_energy = r[2];
   s.max_speed = r[3];
-  s.iterations = d_.solver.iterations;
-  const auto* w = static_cast<const uint32_t*>(result_.mapped()) + 8;  // watch.comp's flags, first step, counts
+  s.potential_energy = r[4];
+  const auto* w = static_cast<const uint32_t*>(result_.mapped()) + 12;  // watch.comp's flags, first step, counts
   if (w[0]) s.divergence = {int(w[1]), w[2], w[3], w[4]};
   return s;
 }
@@ -380,8 +383,9 @@ FrameStats GpuSolver::advance(int steps) {
                     ? t[end]
                     : std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     s.step_ms = ms / steps;
+    s.iterations = d_.solver.iterations;
     if (d_.solver.target_compression > 0)
-      s.iterations += double(static_cast<const uint32_t*>(result_.mapped())[4]) / steps;
+      s.iterations += double(static_cast<const uint32_t*>(result_.mapped())[8]) / steps;
     if (timer_->available())
       for (size_t k = 0; k < segments_.size(); ++k) s.pass_ms[size_t(segments_[k])] += (t[k + 1] - t[k]) / steps;
   }

@@ -36,7 +36,7 @@ class GpuSolver : public Solver {
   void predict();
   // With `indirect`, group counts come from that buffer (adaptive iterations).
   void constraint_lambda(const vk::Buffer* indirect = nullptr);
-  void constraint_apply(const vk::Buffer* indirect = nullptr);
+  void constraint_apply(double relax, const vk::Buffer* indirect = nullptr);
   void velocity_update();
   void viscosity_vorticity();
   void vorticity_force();

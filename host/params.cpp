@@ -5,6 +5,7 @@
 
 #include "kernels.hpp"
 #include "scene.hpp"
+#include "stability.hpp"
 
 namespace pbflow {
 
@@ -27,20 +28,25 @@ SolverParams SolverParams::defaults() {
   // resolution (an absolute eps would change meaning with spacing). 1% barely slows
   // convergence and keeps lambda bounded for particles with few neighbours.
   p.relaxation = 0.01;
-  // Macklin & Mueller 2013, section 4: k = 0.1, n = 4, dq = 0.2 h.
-  p.scorr_k = 0.1;
+  // One Jacobi pass unrelaxed moves some density modes 2.8x as far as their error (a
+  // lattice at h = 2 spacings, host/stability.hpp): past 4/3 a step grows them, and PBF at
+  // 1-3 iterations blew up. Gain 1 corrects no mode by more than its own error.
+  p.jacobi_gain = 1.0;
+  // Macklin & Mueller 2013, section 4: n = 4, dq = 0.2 h, and k = 0.1 there. Off here: the
+  // constraint is one-sided (C >= 0), so the negative pressures that clump particles, which
+  // the term was made for, do not arise; and its push is a displacement per step whatever
+  // dt, i.e. a velocity that grows as 1/dt (the tank at rest blew up at 16 substeps).
+  p.scorr_k = 0.0;
   p.scorr_n = 4.0;
   p.scorr_dq = 0.2;
   // XSPH c: 2% of the kernel-averaged relative velocity per step damps particle noise
   // without visibly thickening a dam break.
   p.xsph = 0.02;
   p.vorticity = 0.0;  // off unless a scene asks: it adds energy and a pass
-  // K, 1/s^2, measured with the clamped force (bench/results/ldc_k_sweep_clamped_lavapipe.md:
-  // ~7000 particles, 2 s, 1 and 2 iterations): at 1 iteration K = 3000 leaves 2.2 % mean
-  // compression in the dam break and keeps the tank at rest boiling (98 J), 10000 gives
-  // 1.5 % and 2.3 % (pbf@2: 1.9 %, 2.9 %) with 15 J left in the tank, 30000 spikes to
-  // 300 % local compression and lifts the tank. 10000 is the largest K that stays calm.
-  p.ldc_k = 10000.0;
+  // K as a fraction of the stiffness the step carries (K dt^2 s = 4, host/stability.hpp),
+  // so that one value means the same at any dt and spacing. MEASURED_LATER
+  p.ldc_strength = 0.5;
+  p.ldc_k = -1.0;
   // The seed's force reads a free-surface particle's missing neighbours as low density and
   // pushes the fluid towards the surface: a tank at rest rises by 15 % of its depth and boils
   // (bench/results/). Reading densities below rho0 as rho0 keeps what LDC is for (moving
@@ -93,6 +99,7 @@ Derived derive(const Scene& scene) {
   d.solver = scene.solver;
   const double s = scene.particle_spacing;
   d.h = scene.solver.kernel_ratio * s;
+  d.spacing = s;
   d.dt = 1.0 / (scene.fps * scene.solver.substeps);
   // Ten times the speed of a fall through the whole domain (at least 1 m/s): no flow of the
   // scene reaches it, a blow-up passes it within a few steps.
@@ -103,6 +110,17 @@ Derived derive(const Scene& scene) {
   d.epsilon = scene.solver.relaxation * gradient_sq;
   d.scorr_scale = scene.solver.scorr_k / gradient_sq;
   d.scorr_inv_wdq = 1.0 / kernels::poly6(std::pow(scene.solver.scorr_dq * d.h, 2), d.h);
+  d.jacobi_gain_max = jacobi_gain_max(scene.solver.kernel_ratio, scene.solver.relaxation);
+  d.ldc_k_limit = 4.0 / (d.dt * d.dt * ldc_stiffness_max(scene.solver.kernel_ratio));
+  d.ldc_k = scene.solver.method != Method::Ldc ? 0.0
+            : scene.solver.ldc_k >= 0          ? scene.solver.ldc_k
+                                               : scene.solver.ldc_strength * d.ldc_k_limit;
+  if (d.ldc_k >= d.ldc_k_limit) {
+    std::ostringstream m;
+    m << "solver.ldc_k = " << d.ldc_k << " 1/s^2 is past the LDC force's stability limit at dt = " << d.dt
+      << " s (" << d.ldc_k_limit << "); leave it out and set solver.ldc_strength (a fraction of that limit) instead";
+    throw InputError(m.str());
+  }
   d.gravity = scene.gravity;
   d.domain_min = scene.domain.min;
   d.domain_max = scene.domain.max;
@@ -118,6 +136,10 @@ Derived derive(const Scene& scene) {
     throw InputError("the domain holds too many grid cells (over 2^26) at this particle_spacing");
   d.grid = glm::ivec3(cells);
   return d;
+}
+
+std::vector<double> Derived::relaxation_schedule(int passes) const {
+  return jacobi_schedule(passes, solver.jacobi_gain, jacobi_gain_max);
 }
 
 SimConstants Derived::to_gpu(uint32_t count) const {
@@ -136,10 +158,10 @@ SimConstants Derived::to_gpu(uint32_t count) const {
   c.epsilon = float(epsilon);
   c.poly6_coef = float(kernels::poly6_coef(h));
   c.spiky_coef = float(kernels::spiky_coef(h));
-  c.ldc_k = solver.method == Method::Ldc ? float(solver.ldc_k) : 0.0f;
+  c.ldc_k = float(ldc_k);
   c.scorr_k = float(scorr_scale);
   c.scorr_inv_wdq = float(scorr_inv_wdq);
-  c.scorr_n = float(solver.scorr_n);
+  c.relax = 1.0f;  // set per constraint pass
   c.xsph_c = float(solver.xsph);
   c.vorticity_eps = float(solver.vorticity);
   return c;

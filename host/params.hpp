@@ -24,12 +24,14 @@ struct SolverParams {
   double kernel_ratio;     // h / particle spacing
   double rest_density;     // rho0, kg/m^3
   double relaxation;       // eps as a fraction of an interior particle's sum |grad C|^2
+  double jacobi_gain;      // largest per-pass gain of any density mode (sets omega; stable below 4/3)
   double scorr_k;          // tensile term strength, as an equivalent compression (dimensionless)
   double scorr_n;          // tensile term exponent
   double scorr_dq;         // tensile term reference distance, as a fraction of h
   double xsph;             // XSPH viscosity c (fraction of the neighbour-averaged relative velocity)
   double vorticity;        // vorticity confinement epsilon, m/s (0: off)
-  double ldc_k;            // LDC strength K, 1/s^2
+  double ldc_strength;     // LDC's K as a fraction of the largest K the step carries (ldc_k_limit)
+  double ldc_k;            // LDC strength K, 1/s^2, when a scene states it; < 0: from ldc_strength
   bool ldc_clamp;          // LDC reads densities below rho0 as rho0 (only compression pushes)
 
   static SolverParams defaults();
@@ -45,7 +47,7 @@ struct SimConstants {
   glm::vec3 wall_min; float rho0;
   glm::vec3 wall_max; float epsilon;
   float poly6_coef, spiky_coef, ldc_k, scorr_k;
-  float scorr_inv_wdq, scorr_n, xsph_c, vorticity_eps;
+  float scorr_inv_wdq, relax, xsph_c, vorticity_eps;
 };
 static_assert(sizeof(SimConstants) == 128, "SimConstants must match shaders/common.glsl and fit 128 bytes");
 
@@ -55,11 +57,18 @@ struct Scene;
 struct Derived {
   glm::dvec3 domain_min, domain_max, wall_min, wall_max, gravity;
   glm::ivec3 grid;
-  double h, dt, mass, rho0, epsilon;
+  double h, spacing, dt, mass, rho0, epsilon;
   double scorr_inv_wdq;
   // s_corr in the units of lambda (m^2): k divided by an interior particle's sum |grad C|^2,
   // so that k reads as the compression the tensile term is worth at r = dq.
   double scorr_scale;
+  // The largest gain of one unrelaxed Jacobi pass over all density modes (host/stability.hpp).
+  double jacobi_gain_max;
+  // Under-relaxation of each of `passes` Jacobi passes (stability.hpp, jacobi_schedule).
+  std::vector<double> relaxation_schedule(int passes) const;
+  // LDC: the K the force uses (1/s^2; 0 for pbf) and the K at which the explicit force
+  // alone goes unstable at this dt and h / spacing (K dt^2 s = 4).
+  double ldc_k, ldc_k_limit;
   SolverParams solver;
   std::vector<Obstacle> obstacles;  // grown by half a spacing: where particle centres may not be
   double speed_limit;  // m/s: the divergence watch stops a run with a particle faster than this

@@ -44,9 +44,10 @@ double ReferenceSolver::wall_density(const dvec3& x, dvec3& grad) const {
   dvec3 dlog;       // d log(kept) / dx
   for (int a = 0; a < 3; ++a) {
     double lo = x[a] - d_.domain_min[a], hi = d_.domain_max[a] - x[a];
-    double f_lo = kernels::wall_fraction(lo, d_.h), f_hi = kernels::wall_fraction(hi, d_.h);
+    const double h = d_.h, s = d_.spacing;
+    double f_lo = kernels::wall_fraction(lo, h, s), f_hi = kernels::wall_fraction(hi, h, s);
     kept *= (1 - f_lo) * (1 - f_hi);
-    dlog[a] = -kernels::wall_fraction_slope(lo, d_.h) / (1 - f_lo) + kernels::wall_fraction_slope(hi, d_.h) / (1 - f_hi);
+    dlog[a] = -kernels::wall_fraction_slope(lo, h, s) / (1 - f_lo) + kernels::wall_fraction_slope(hi, h, s) / (1 - f_hi);
   }
   grad = -d_.rho0 * kept * dlog;
   return d_.rho0 * (1 - kept);
@@ -77,8 +78,7 @@ dvec3 ReferenceSolver::correction_force(size_t i) const {
     double r = glm::length(d);
     if (r > 0 && r < d_.h) f += ((rho(j) - rho(i)) / d_.rho0) * d_.h * (1 - r / d_.h) * (d / r);
   });
-  double k = d_.solver.method == Method::Ldc ? d_.solver.ldc_k : 0.0;
-  return -k * f;
+  return -d_.ldc_k * f;
 }
 
 void ReferenceSolver::correction() {
@@ -117,12 +117,12 @@ void ReferenceSolver::constraint_lambda() {
     double rho = d_.mass * w_sum + wall_density(xi, wall_grad);
     dvec3 own = grad_i + wall_grad / d_.rho0;  // grad_i C_i, the walls included
     double c = std::max(rho / d_.rho0 - 1.0, 0.0);
-    state.lambda[i] = -c / (grad_sq + glm::dot(own, own) + d_.epsilon);
+    state.lambda[i] = -c / ((grad_sq + glm::dot(own, own) + d_.epsilon) * (1.0 + c));  // constraint_lambda.comp
     state.rho[i] = rho;  // kept for the adaptive iterations' check
   }
 }
 
-void ReferenceSolver::constraint_apply() {
+void ReferenceSolver::constraint_apply(double relax) {
   std::vector<dvec3> next(state.x.size());
   const double inv_wdq = d_.scorr_inv_wdq, k = d_.scorr_scale, n = d_.solver.scorr_n;
   for (size_t i = 0; i < next.size(); ++i) {
@@ -135,7 +135,7 @@ void ReferenceSolver::constraint_apply() {
     });
     dvec3 wall_grad;  // the walls push with the particle's own lambda
     wall_density(xi, wall_grad);
-    next[i] = project_out_of_solids(xi + (d_.mass / d_.rho0) * dp + state.lambda[i] * wall_grad / d_.rho0);
+    next[i] = project_out_of_solids(xi + relax * ((d_.mass / d_.rho0) * dp + state.lambda[i] * wall_grad / d_.rho0));
   }
   state.x_pred = std::move(next);
 }
@@ -185,16 +185,17 @@ void ReferenceSolver::step() {
   predict();
   build_grid(state.x_pred);
   int run = 0;
-  for (; run < p.iterations; ++run) {
+  for (double relax : d_.relaxation_schedule(p.iterations)) {
     constraint_lambda();
-    constraint_apply();
+    constraint_apply(relax);
+    ++run;
   }
   // Adaptive: as the GPU's check (check_converged.comp), from the last lambda pass's
   // densities, a pair of iterations at a time (GpuSolver::adaptive_iterations says why).
   while (p.target_compression > 0 && run + 2 <= p.max_iterations && mean_compression() > p.target_compression) {
-    for (int k = 0; k < 2; ++k) {
+    for (double relax : d_.relaxation_schedule(2)) {
       constraint_lambda();
-      constraint_apply();
+      constraint_apply(relax);
     }
     run += 2;
   }
@@ -233,7 +234,10 @@ FrameStats ReferenceSolver::measure() {
   build_grid(state.x);
   density();
   FrameStats s;
+  // The domain's lowest corner along g (shaders/reduce_stats.comp).
+  const dvec3 lowest = glm::mix(d_.domain_min, d_.domain_max, glm::dvec3(glm::greaterThan(d_.gravity, dvec3(0.0))));
   for (size_t i = 0; i < state.x.size(); ++i) {
+    s.potential_energy += d_.mass * glm::dot(-d_.gravity, state.x[i] - lowest);
     double c = std::max(state.rho[i] / d_.rho0 - 1.0, 0.0);
     s.mean_compression += c;
     s.max_compression = std::max(s.max_compression, c);

@@ -119,7 +119,7 @@ int run(const RunOptions& o) {
       std::ostringstream m;
       m << "the simulation diverged at step " << step << " (t = " << step * d.dt << " s, frame " << frame
         << "): " << s.divergence.describe(d.speed_limit) << ". Frames 0-" << frame - 1
-        << " are complete; try more substeps, more iterations or a smaller solver.ldc_k";
+        << " are complete; try a smaller solver.vorticity, more substeps or more iterations";
       diverged = m.str();
       break;
     }

@@ -20,8 +20,8 @@ const json& schema() {
     "description": "", "domain": {"min": 0, "max": 0}, "particle_spacing": 0,
     "fluid_blocks": [], "fluid_spheres": [], "obstacles": [], "gravity": 0, "fps": 0, "frames": 0,
     "solver": {"method": 0, "iterations": 0, "max_iterations": 0, "target_compression": 0, "substeps": 0, "kernel_ratio": 0, "rest_density": 0,
-               "relaxation": 0, "scorr_k": 0, "scorr_n": 0, "scorr_dq": 0, "xsph": 0,
-               "vorticity": 0, "ldc_k": 0, "ldc_clamp": 0},
+               "relaxation": 0, "jacobi_gain": 0, "scorr_k": 0, "scorr_n": 0, "scorr_dq": 0, "xsph": 0,
+               "vorticity": 0, "ldc_strength": 0, "ldc_k": 0, "ldc_clamp": 0},
     "camera": {"eye": 0, "target": 0, "fov": 0}
   })");
   return s;
@@ -209,6 +209,9 @@ Scene parse_scene(const std::string& json_text, const std::string& origin, const
   require(p.rest_density > 0, "solver.rest_density must be positive");
   p.relaxation = number(solver, "relaxation", p.relaxation);
   require(p.relaxation > 0, "solver.relaxation must be positive");
+  p.jacobi_gain = number(solver, "jacobi_gain", p.jacobi_gain);
+  require(p.jacobi_gain > 0 && p.jacobi_gain <= 1,
+          "solver.jacobi_gain must be in (0, 1]: a constraint pass that moves a mode past its error makes energy");
   p.scorr_k = number(solver, "scorr_k", p.scorr_k);
   require(p.scorr_k >= 0, "solver.scorr_k must not be negative");
   p.scorr_n = number(solver, "scorr_n", p.scorr_n);
@@ -219,8 +222,13 @@ Scene parse_scene(const std::string& json_text, const std::string& origin, const
   require(p.xsph >= 0 && p.xsph <= 1, "solver.xsph must be in [0, 1]");
   p.vorticity = number(solver, "vorticity", p.vorticity);
   require(p.vorticity >= 0, "solver.vorticity must not be negative");
-  p.ldc_k = number(solver, "ldc_k", p.ldc_k);
-  require(p.ldc_k >= 0, "solver.ldc_k must not be negative");
+  p.ldc_strength = number(solver, "ldc_strength", p.ldc_strength);
+  require(p.ldc_strength >= 0 && p.ldc_strength < 1,
+          "solver.ldc_strength (a fraction of the stiffness the step carries) must be in [0, 1)");
+  if (solver.contains("ldc_k")) {
+    p.ldc_k = number(solver, "ldc_k", 0);
+    require(p.ldc_k >= 0, "solver.ldc_k must not be negative");
+  }
   if (solver.contains("ldc_clamp")) {
     require(solver["ldc_clamp"].is_boolean(), "solver.ldc_clamp must be true or false");
     p.ldc_clamp = solver["ldc_clamp"].get<bool>();

@@ -28,6 +28,9 @@ struct Divergence {
 // DESIGN.md's measures, taken at the end of the last step from a fresh density pass.
 struct FrameStats {
   double mean_compression = 0, max_compression = 0, kinetic_energy = 0, max_speed = 0;
+  // sum m |g| (height above the domain's lowest corner along g), J: with kinetic_energy the
+  // mechanical energy that must never rise (DESIGN.md).
+  double potential_energy = 0;
   double step_ms = 0;  // mean time of one step (GPU timestamps, else wall time); 0 when no step ran
   double iterations = 0;  // constraint iterations per step, on average (adaptive runs vary)
   // Mean GPU time per step of each pass group; filled only while profiling (GpuSolver).

@@ -9,7 +9,7 @@ layout(push_constant) uniform Sim {
   vec3 wall_min; float rho0;
   vec3 wall_max; float epsilon;
   float poly6_coef; float spiky_coef; float ldc_k; float scorr_k;  // scorr_k: k / (interior sum |grad C|^2)
-  float scorr_inv_wdq; float scorr_n; float xsph_c; float vorticity_eps;
+  float scorr_inv_wdq; float relax; float xsph_c; float vorticity_eps;  // relax: this Jacobi pass's
 } sim;
 
 // Dispatches larger than the group-count limit fold into y (CommandList::dispatch).
@@ -31,17 +31,27 @@ vec3 spiky_grad(vec3 d, float r) {
   return (-sim.spiky_coef * s * s / r) * d;
 }
 
-// Walls as if the fluid continued past them: each wall adds rho0 times the fraction of
-// the poly6 kernel's volume beyond it, F(a) = int_a^h (pi K6 / 4)(h^2 - z^2)^4 dz at
-// distance a (closed form in u = a/h; F(0) = 1/2, F(h) = 0). Without it, particles at a
-// wall miss half their neighbours and pile up against it (host/kernels.hpp mirrors this).
-float wall_fraction(float a) {
-  float u = clamp(a / sim.h, 0.0, 1.0), u2 = u * u;
-  return 0.5 - (315.0 / 256.0) * u * (1.0 + u2 * (-4.0 / 3.0 + u2 * (6.0 / 5.0 + u2 * (-4.0 / 7.0 + u2 / 9.0))));
+// Walls as the fluid's lattice continued past them (host/kernels.hpp says why): the
+// fraction of a particle's poly6 sum that the layers beyond a wall at distance a would
+// give, F(a) = sum_n l(a + (n + 1/2) s) / sum_m l(m s), l(d) = (1 - d^2/h^2)^4, and dF/da.
+// The spacing s is twice the gap between a wall and the outermost centres.
+float spacing() { return 2.0 * (sim.wall_min.x - sim.domain_min.x); }
+float lattice_layers() {
+  float s = spacing(), sum = 1.0;
+  for (float d = s; d < sim.h; d += s) {
+    float t = 1.0 - d * d / (sim.h * sim.h);
+    sum += 2.0 * t * t * t * t;
+  }
+  return sum;
 }
-float wall_fraction_slope(float a) {  // dF/da
-  float u = clamp(a / sim.h, 0.0, 1.0), t = 1.0 - u * u;
-  return -(315.0 / 256.0) * t * t * t * t / sim.h;
+vec2 wall_fraction(float a) {  // (F, dF/da)
+  float s = spacing();
+  vec2 sum = vec2(0.0);
+  for (float d = max(a, 0.0) + 0.5 * s; d < sim.h; d += s) {
+    float t = 1.0 - d * d / (sim.h * sim.h);
+    sum += vec2(t * t * t * t, -8.0 * d / (sim.h * sim.h) * t * t * t);
+  }
+  return sum / lattice_layers();
 }
 // The walls' density at x and its gradient with respect to x. The kept fractions
 // (1 - F) multiply, so that at edges and corners the volume behind two or three walls
@@ -51,9 +61,9 @@ float wall_density(vec3 x, out vec3 grad) {
   float kept = 1.0;
   vec3 dlog;  // d log(kept) / dx
   for (int a = 0; a < 3; ++a) {
-    float f_lo = wall_fraction(lo[a]), f_hi = wall_fraction(hi[a]);
-    kept *= (1.0 - f_lo) * (1.0 - f_hi);
-    dlog[a] = -wall_fraction_slope(lo[a]) / (1.0 - f_lo) + wall_fraction_slope(hi[a]) / (1.0 - f_hi);
+    vec2 f_lo = wall_fraction(lo[a]), f_hi = wall_fraction(hi[a]);
+    kept *= (1.0 - f_lo.x) * (1.0 - f_hi.x);
+    dlog[a] = -f_lo.y / (1.0 - f_lo.x) + f_hi.y / (1.0 - f_hi.x);
   }
   grad = -sim.rho0 * kept * dlog;
   return sim.rho0 * (1.0 - kept);
@@ -68,15 +78,6 @@ ivec3 cell_of(vec3 x) {
 }
 
 uint cell_id(ivec3 c) { return uint((c.z * sim.grid.y + c.y) * sim.grid.x + c.x); }
-
-// (W(r)/W(dq))^n, by squaring for the usual n = 4: pow() is slow on CPU Vulkan.
-float tensile_power(float ratio) {
-  if (sim.scorr_n == 4.0) {
-    float r2 = ratio * ratio;
-    return r2 * r2;
-  }
-  return pow(ratio, sim.scorr_n);
-}
 
 vec3 project_to_walls(vec3 x) { return clamp(x, sim.wall_min, sim.wall_max); }
 

@@ -1,6 +1,8 @@
 #version 450
 // dp_i = (m/rho0) sum_j (lambda_i + lambda_j + s_corr) grad W_spiky(x*_i - x*_j), with the
-// tensile term s_corr = -k (W(r)/W(dq))^n; x*_i += dp_i, then out of walls and obstacles.
+// tensile term s_corr = -k (W(r)/W(dq))^n (off unless a scene asks); x*_i += omega dp_i,
+// then out of walls and obstacles. omega keeps every density mode's gain per pass at
+// most one (host/stability.hpp): an unrelaxed Jacobi pass overshoots and makes energy.
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x_id = 0) in;
 #include "common.glsl"
@@ -11,6 +13,16 @@ layout(std430, binding = 2) readonly buffer Lambda { float lambda[]; };
 layout(std430, binding = 3) writeonly buffer XOut { vec4 x_out[]; };
 #define OBSTACLES_BINDING 4
 #include "obstacles.glsl"
+layout(constant_id = 1) const float TENSILE_N = 4.0;  // solver.scorr_n
+
+// (W(r)/W(dq))^n, by squaring for the usual n = 4: pow() is slow on CPU Vulkan.
+float tensile_power(float ratio) {
+  if (TENSILE_N == 4.0) {
+    float r2 = ratio * ratio;
+    return r2 * r2;
+  }
+  return pow(ratio, TENSILE_N);
+}
 
 void main() {
   uint i = thread_index();
@@ -28,5 +40,5 @@ void main() {
   // The walls push with the particle's own lambda (they have none of their own).
   vec3 wall_grad;
   wall_density(xi, wall_grad);
-  x_out[i] = vec4(project_out_of_solids(xi + (sim.mass / sim.rho0) * dp + lambda_i * wall_grad / sim.rho0), 0.0);
+  x_out[i] = vec4(project_out_of_solids(xi + sim.relax * ((sim.mass / sim.rho0) * dp + lambda_i * wall_grad / sim.rho0)), 0.0);
 }

@@ -32,5 +32,8 @@ void main() {
   vec3 own = s * grad_i + wall_grad / sim.rho0;  // grad_i C_i, the walls included
   float c = max(rho / sim.rho0 - 1.0, 0.0);
   rho_out[i] = rho;
-  lambda[i] = -c / (s * s * grad_sq + dot(own, own) + sim.epsilon);
+  // A pass's gain grows with the neighbours inside h, i.e. with rho / rho0: the relaxation,
+  // sized at rho0 (host/stability.hpp), shrinks as 1 / (1 + c) so that compressed fluid is
+  // not over-corrected either (pbf@2 blew up in a dam break at ~20 % compression without it).
+  lambda[i] = -c / ((s * s * grad_sq + dot(own, own) + sim.epsilon) * (1.0 + c));
 }

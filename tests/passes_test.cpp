@@ -84,11 +84,11 @@ TEST_F(PassTest, ConstraintApply) {
   ParticleState g = run_gpu([&] {
     gpu.grid_at_predictions();
     gpu.constraint_lambda();
-    gpu.constraint_apply();
+    gpu.constraint_apply(0.5);
   });
   ref.build_grid(ref.state.x_pred);
   ref.constraint_lambda();
-  ref.constraint_apply();
+  ref.constraint_apply(0.5);
   expect_close(test::compare(test::difference(g.x_pred, input.x_pred),
                              test::difference(ref.state.x_pred, input.x_pred), "constraint apply dp"),
                1e-3);

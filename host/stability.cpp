@@ -1,0 +1,104 @@
+#include "stability.hpp"
+
+#include <cmath>
+#include <complex>
+#include <numbers>
+#include <vector>
+
+#include "kernels.hpp"
+#include "params.hpp"
+
+namespace pbflow {
+
+namespace {
+
+using cvec3 = glm::tvec3<std::complex<double>>;
+
+// A lattice of spacing 1 and rest density 1: the neighbour offsets o = x_i - x_j inside h.
+struct Lattice {
+  double h, mass;
+  std::vector<glm::dvec3> offsets;
+  explicit Lattice(double kernel_ratio) : h(kernel_ratio), mass(lattice_mass(1.0, kernel_ratio, 1.0)) {
+    int n = int(std::ceil(h));
+    for (int i = -n; i <= n; ++i)
+      for (int j = -n; j <= n; ++j)
+        for (int k = -n; k <= n; ++k) {
+          glm::dvec3 o(i, j, k);
+          double r = glm::length(o);
+          if (r > 0 && r < h) offsets.push_back(o);
+        }
+  }
+  // d(rho_i / rho0) for the mode u e^{ik.x} is c . u: rho_i moves with x_i - x_j for every j.
+  cvec3 density_change(const glm::dvec3& k) const {
+    cvec3 c(0.0);
+    for (const glm::dvec3& o : offsets) c += cvec3(mass * kernels::poly6_grad(o, h)) * (1.0 - phase(k, o));
+    return c;
+  }
+  // e^{-ik.o}: the mode at x_j = x_i - o relative to x_i.
+  static std::complex<double> phase(const glm::dvec3& k, const glm::dvec3& o) {
+    return std::polar(1.0, -glm::dot(k, o));
+  }
+};
+
+// Every mode up to the lattice's Nyquist limit; the cubic lattice's symmetry leaves [0, pi]^3.
+template <class F>
+double max_over_modes(F&& eigenvalue) {
+  constexpr int kSamples = 24;
+  double worst = 0;
+  for (int a = 0; a <= kSamples; ++a)
+    for (int b = 0; b <= a; ++b)
+      for (int c = 0; c <= b; ++c) {
+        glm::dvec3 k = std::numbers::pi / kSamples * glm::dvec3(a, b, c);
+        worst = std::max(worst, eigenvalue(k));
+      }
+  return worst;
+}
+
+std::complex<double> dot(const cvec3& a, const cvec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+
+}  // namespace
+
+double jacobi_gain_max(double kernel_ratio, double relaxation) {
+  const Lattice l(kernel_ratio);
+  double denominator = 0;  // sum_j |grad_j C_i|^2 (grad_i C_i vanishes on the lattice)
+  for (const glm::dvec3& o : l.offsets) {
+    glm::dvec3 g = l.mass * kernels::spiky_grad(o, l.h);
+    denominator += glm::dot(g, g);
+  }
+  denominator *= 1.0 + relaxation;
+  // lambda_i = -c.u / denominator; dx_i = m sum_j (lambda_i + lambda_j) grad W_spiky = -g (c.u) / denominator:
+  // a rank-one map whose eigenvalue is (c.g) / denominator.
+  return max_over_modes([&](const glm::dvec3& k) {
+    cvec3 g(0.0);
+    for (const glm::dvec3& o : l.offsets)
+      g += cvec3(l.mass * kernels::spiky_grad(o, l.h)) * (1.0 + Lattice::phase(k, o));
+    return dot(l.density_change(k), g).real() / denominator;
+  });
+}
+
+double ldc_stiffness_max(double kernel_ratio) {
+  const Lattice l(kernel_ratio);
+  // a_i = -K sum_j (drho_j - drho_i) (h - r) e_ij with e_ij = (x_j - x_i)/r = -o/r: again rank one,
+  // a = K a_dir (c.u), and the stiffness is -(c . a_dir).
+  return max_over_modes([&](const glm::dvec3& k) {
+    cvec3 a_dir(0.0);
+    for (const glm::dvec3& o : l.offsets) {
+      double r = glm::length(o);
+      a_dir -= cvec3(-o / r * (l.h - r)) * (Lattice::phase(k, o) - 1.0);
+    }
+    return -dot(l.density_change(k), a_dir).real();
+  });
+}
+
+std::vector<double> jacobi_schedule(int passes, double gain, double gain_max) {
+  // A pair of passes at w = 1.5 / gain_max leaves (1 - w lambda)^2 of a mode of gain lambda,
+  // within [0.25, 1] for every mode (2 / gain_max would reach 0 and left pbf@2 unstable in a
+  // dam break); a lone pass at 1 / gain_max leaves 1 - lambda / gain_max. Bolder schedules
+  // (Chebyshev roots, which the linear picture allows) blew up at 3-4 passes: the clamp
+  // C >= 0 undoes the cancellation they rely on.
+  std::vector<double> w(size_t(passes), 1.5 * gain / gain_max);
+  if (passes % 2) w.back() = gain / gain_max;
+  return w;
+}
+
+}  // namespace pbflow
