@@ -59,16 +59,11 @@ inline double lattice_layers(double h, double s) {  // sum_m l(m s) over every l
   for (double d = s; d < h; d += s) sum += 2.0 * layer_share(d, h);
   return sum;
 }
-// F(a) (value) and dF/da (slope).
-inline double wall_fraction(double a, double h, double s) {
-  double sum = 0;
-  for (double d = std::max(a, 0.0) + 0.5 * s; d < h; d += s) sum += layer_share(d, h);
-  return sum / lattice_layers(h, s);
-}
-inline double wall_fraction_slope(double a, double h, double s) {
-  double sum = 0;
-  for (double d = std::max(a, 0.0) + 0.5 * s; d < h; d += s) sum += layer_share_slope(d, h);
-  return sum / lattice_layers(h, s);
+// (F(a), dF/da) times lattice_layers(h, s): the caller divides once for all six walls.
+inline glm::dvec2 wall_layers(double a, double h, double s) {
+  glm::dvec2 sum(0.0);
+  for (double d = std::max(a, 0.0) + 0.5 * s; d < h; d += s) sum += glm::dvec2(layer_share(d, h), layer_share_slope(d, h));
+  return sum;
 }
 
 }  // namespace pbflow::kernels

@@ -24,7 +24,7 @@ struct SolverParams {
   double kernel_ratio;     // h / particle spacing
   double rest_density;     // rho0, kg/m^3
   double relaxation;       // eps as a fraction of an interior particle's sum |grad C|^2
-  double jacobi_gain;      // largest per-pass gain of any density mode (sets omega; stable below 4/3)
+  double jacobi_gain;      // (0, 1]: the most a step's passes correct any density mode, as a fraction of its error
   double scorr_k;          // tensile term strength, as an equivalent compression (dimensionless)
   double scorr_n;          // tensile term exponent
   double scorr_dq;         // tensile term reference distance, as a fraction of h

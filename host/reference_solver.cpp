@@ -42,12 +42,13 @@ void ReferenceSolver::for_each_neighbour(const dvec3& xi, F&& visit) const {
 double ReferenceSolver::wall_density(const dvec3& x, dvec3& grad) const {
   double kept = 1;  // fraction of the kernel volume in front of all walls
   dvec3 dlog;       // d log(kept) / dx
+  const double h = d_.h, s = d_.spacing, layers = kernels::lattice_layers(h, s);
   for (int a = 0; a < 3; ++a) {
-    double lo = x[a] - d_.domain_min[a], hi = d_.domain_max[a] - x[a];
-    const double h = d_.h, s = d_.spacing;
-    double f_lo = kernels::wall_fraction(lo, h, s), f_hi = kernels::wall_fraction(hi, h, s);
-    kept *= (1 - f_lo) * (1 - f_hi);
-    dlog[a] = -kernels::wall_fraction_slope(lo, h, s) / (1 - f_lo) + kernels::wall_fraction_slope(hi, h, s) / (1 - f_hi);
+    // (F, dF/da) of the walls below and above x on this axis (kernels.hpp).
+    glm::dvec2 f_lo = kernels::wall_layers(x[a] - d_.domain_min[a], h, s) / layers;
+    glm::dvec2 f_hi = kernels::wall_layers(d_.domain_max[a] - x[a], h, s) / layers;
+    kept *= (1 - f_lo.x) * (1 - f_hi.x);
+    dlog[a] = -f_lo.y / (1 - f_lo.x) + f_hi.y / (1 - f_hi.x);
   }
   grad = -d_.rho0 * kept * dlog;
   return d_.rho0 * (1 - kept);
@@ -184,12 +185,11 @@ void ReferenceSolver::step() {
   }
   predict();
   build_grid(state.x_pred);
-  int run = 0;
   for (double relax : d_.relaxation_schedule(p.iterations)) {
     constraint_lambda();
     constraint_apply(relax);
-    ++run;
   }
+  int run = p.iterations;
   // Adaptive: as the GPU's check (check_converged.comp), from the last lambda pass's
   // densities, a pair of iterations at a time (GpuSolver::adaptive_iterations says why).
   while (p.target_compression > 0 && run + 2 <= p.max_iterations && mean_compression() > p.target_compression) {

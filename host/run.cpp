@@ -8,8 +8,6 @@
 #include <fstream>
 #include <iostream>
 #include <sstream>
-#include <tuple>
-#include <tuple>
 
 #include "frame_capture.hpp"
 #include "frame_files.hpp"
@@ -112,9 +110,7 @@ int run(const RunOptions& o) {
   Progress progress(scene.frames, !o.quiet);
   auto start = std::chrono::steady_clock::now();
   double sum_mean = 0, worst = 0, sum_step_ms = 0;
-  // Mechanical energy against frame 0 (DESIGN.md's energy gain: max over frames of
-  // (E_k - E_0) / PE_0); a sound run never gains more than 1 %.
-  double e0 = 0, pe0 = 0, gain = 0, last_change = 0;
+  EnergyGain energy;
   std::string diverged;  // the message, when the watch stopped the run
   for (int frame = 0; frame < scene.frames; ++frame) {
     FrameStats s = solver->advance(frame == 0 ? 0 : scene.solver.substeps);
@@ -129,12 +125,7 @@ int run(const RunOptions& o) {
       break;
     }
     csv.write(frame, t, s);
-    const double energy = s.kinetic_energy + s.potential_energy;
-    if (frame == 0) std::tie(e0, pe0) = std::pair(energy, s.potential_energy);
-    if (pe0 > 0) {
-      last_change = (energy - e0) / pe0;
-      gain = std::max(gain, last_change);
-    }
+    energy.add(s);
     if (capture) capture->write(frame, *solver);
     if (export_format != capture::ExportFormat::None)
       capture::write_particles(
@@ -152,8 +143,8 @@ int run(const RunOptions& o) {
     return 3;
   }
   remove_stale_frames(out, scene.frames);
-  if (gain > 0.01)
-    std::cerr << "pbflow: warning: the run gained energy (" << 100 * gain
+  if (energy.largest() > 0.01)
+    std::cerr << "pbflow: warning: the run gained energy (" << 100 * energy.largest()
               << " % of the initial potential energy at most; a sound solver loses it): fewer "
                  "solver.substeps per iteration, more iterations or a smaller solver.ldc_strength\n";
   double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -164,8 +155,8 @@ int run(const RunOptions& o) {
     std::cout << "particles " << x0.size() << ", steps " << steps << ", wall " << wall << " s, "
               << (steps > 0 ? double(x0.size()) * steps / solver_s : 0.0) << " particle-steps/s (solver time "
               << solver_s << " s), mean compression " << sum_mean / scene.frames << ", max compression " << worst
-              << "\nenergy change " << 100 * last_change << " % of the initial potential energy (largest gain "
-              << 100 * gain << " %)\nreal-time factor " << simulated_s / std::max(wall - render_s, 1e-9) << " simulating";
+              << "\nenergy change " << 100 * energy.last() << " % of the initial potential energy (largest gain "
+              << 100 * energy.largest() << " %)\nreal-time factor " << simulated_s / std::max(wall - render_s, 1e-9) << " simulating";
     if (capture)
       std::cout << ", " << simulated_s / wall << " with rendering (" << 1000.0 * render_s / scene.frames
                 << " ms per frame)\nframes: " << (out / "frames").string() << "/";

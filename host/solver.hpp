@@ -2,9 +2,11 @@
 // What the run loop, the tests and the benchmarks see of a solver, GPU or reference.
 #include <glm/glm.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace pbflow {
@@ -36,6 +38,25 @@ struct FrameStats {
   // Mean GPU time per step of each pass group; filled only while profiling (GpuSolver).
   std::array<double, kPassGroups> pass_ms{};
   Divergence divergence;
+};
+
+// DESIGN.md's energy gain of a run: the largest (E_k - E_0) / PE_0 over its frames, with
+// E = kinetic + potential energy and frame 0 (the first added) giving E_0 and PE_0. A
+// sound run stays at or below 0.01.
+class EnergyGain {
+ public:
+  void add(const FrameStats& s) {
+    const double energy = s.kinetic_energy + s.potential_energy;
+    if (!started_) std::tie(started_, e0_, pe0_) = std::tuple(true, energy, s.potential_energy);
+    if (pe0_ > 0) last_ = (energy - e0_) / pe0_;
+    largest_ = std::max(largest_, last_);
+  }
+  double largest() const { return largest_; }
+  double last() const { return last_; }  // the latest frame's change
+
+ private:
+  bool started_ = false;
+  double e0_ = 0, pe0_ = 0, largest_ = 0, last_ = 0;
 };
 
 // Host copy of the per-particle state, indexed by particle id (the order of initial_particles).

@@ -44,14 +44,14 @@ float lattice_layers() {
   }
   return sum;
 }
-vec2 wall_fraction(float a) {  // (F, dF/da)
+vec2 wall_layers(float a) {  // (F, dF/da) times lattice_layers(): wall_density divides once
   float s = spacing();
   vec2 sum = vec2(0.0);
   for (float d = max(a, 0.0) + 0.5 * s; d < sim.h; d += s) {
     float t = 1.0 - d * d / (sim.h * sim.h);
     sum += vec2(t * t * t * t, -8.0 * d / (sim.h * sim.h) * t * t * t);
   }
-  return sum / lattice_layers();
+  return sum;
 }
 // The walls' density at x and its gradient with respect to x. The kept fractions
 // (1 - F) multiply, so that at edges and corners the volume behind two or three walls
@@ -60,8 +60,9 @@ float wall_density(vec3 x, out vec3 grad) {
   vec3 lo = x - sim.domain_min, hi = sim.domain_max - x;
   float kept = 1.0;
   vec3 dlog;  // d log(kept) / dx
+  float layers = lattice_layers();
   for (int a = 0; a < 3; ++a) {
-    vec2 f_lo = wall_fraction(lo[a]), f_hi = wall_fraction(hi[a]);
+    vec2 f_lo = wall_layers(lo[a]) / layers, f_hi = wall_layers(hi[a]) / layers;
     kept *= (1.0 - f_lo.x) * (1.0 - f_hi.x);
     dlog[a] = -f_lo.y / (1.0 - f_lo.x) + f_hi.y / (1.0 - f_hi.x);
   }

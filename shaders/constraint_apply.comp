@@ -1,8 +1,8 @@
 #version 450
 // dp_i = (m/rho0) sum_j (lambda_i + lambda_j + s_corr) grad W_spiky(x*_i - x*_j), with the
-// tensile term s_corr = -k (W(r)/W(dq))^n (off unless a scene asks); x*_i += omega dp_i,
-// then out of walls and obstacles. omega keeps every density mode's gain per pass at
-// most one (host/stability.hpp): an unrelaxed Jacobi pass overshoots and makes energy.
+// tensile term s_corr = -k (W(r)/W(dq))^n (off unless a scene asks); x*_i += relax dp_i,
+// then out of walls and obstacles. The pass's relax keeps every density mode's gain per
+// step at most one (host/stability.hpp): an unrelaxed Jacobi pass overshoots and makes energy.
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x_id = 0) in;
 #include "common.glsl"
