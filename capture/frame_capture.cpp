@@ -2,7 +2,6 @@
 
 #include <chrono>
 
-#include "frame_files.hpp"
 #include "png.hpp"
 
 namespace pbflow::capture {
@@ -12,19 +11,14 @@ FrameCapture::FrameCapture(const CaptureOptions& options, const Solver& solver, 
   transfer_ = make_particle_transfer(solver, vk, gl_, options.allow_shared);
   if (!options.video.empty())
     video_ = std::make_unique<VideoEncoder>(options.video, options.view.width, options.view.height, options.fps);
-  std::filesystem::create_directories(options.frames_dir);
 }
 
 FrameCapture::~FrameCapture() = default;
 
-std::filesystem::path FrameCapture::frame_path(int frame) const {
-  return frame_file(options_.frames_dir, frame, options_.frame_count, "png");
-}
-
-void FrameCapture::write(int frame, const Solver& solver) {
+void FrameCapture::write(const std::filesystem::path& png, const Solver& solver) {
   auto start = std::chrono::steady_clock::now();
   Image image = renderer_.render(transfer_->update(solver), uint32_t(solver.particle_count()));
-  write_png(frame_path(frame), image);
+  write_png(png, image);
   if (video_) video_->add(image);
   seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }

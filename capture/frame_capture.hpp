@@ -1,6 +1,6 @@
 #pragma once
-// The capture stage of a run: after each frame, particles to GL, render, write
-// DIR/frames/frame_NNNNN.png, and feed the video when one is asked for.
+// The capture stage of a run: after each frame, particles to GL, render, write the
+// frame's PNG, and feed the video when one is asked for.
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -14,8 +14,6 @@ namespace pbflow::capture {
 
 struct CaptureOptions {
   View view;
-  std::filesystem::path frames_dir;  // DIR/frames
-  int frame_count = 0;               // fixes the width of the frame numbers
   std::filesystem::path video;       // empty: none
   double fps = 60;
   bool allow_shared = true;  // false forces the read-back path
@@ -28,10 +26,9 @@ class FrameCapture {
   FrameCapture(const CaptureOptions& options, const Solver& solver, const vk::Context* vk);
   ~FrameCapture();
 
-  void write(int frame, const Solver& solver);
+  void write(const std::filesystem::path& png, const Solver& solver);
   void finish();  // completes the video
 
-  std::filesystem::path frame_path(int frame) const;
   std::string description() const;  // GL platform, renderer and transfer path
   double seconds() const { return seconds_; }  // spent rendering and writing so far
   std::vector<std::string> gl_errors() const { return gl_.errors(); }

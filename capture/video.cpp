@@ -1,8 +1,14 @@
 #include "video.hpp"
 
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstdlib>
+#include <cstring>
+#include <vector>
 #include <sstream>
 #include <stdexcept>
 
@@ -20,36 +26,63 @@ std::filesystem::path find_ffmpeg() {
   return {};
 }
 
-namespace {
-std::string quoted(const std::string& s) {
-  std::string out = "'";
-  for (char c : s) {
-    if (c == '\'') out.append("'\\''");  // close the quote, an escaped quote, reopen
-    else out.push_back(c);
-  }
-  return out + "'";
-}
-}  // namespace
 
 VideoEncoder::VideoEncoder(const std::filesystem::path& file, int width, int height, double fps)
     : file_(file), width_(width), height_(height) {
   std::filesystem::path ffmpeg = find_ffmpeg();
   if (ffmpeg.empty()) throw InputError("--video needs ffmpeg, which is not on PATH (apt-get install ffmpeg)");
   if (width % 2 || height % 2) throw InputError("--video needs an even --width and --height (H.264 with 4:2:0)");
-  if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path());
   tmp_ = file;
   tmp_ += ".part" + std::to_string(getpid()) + file.extension().string();
-  std::ostringstream cmd;
-  cmd << quoted(ffmpeg) << " -y -loglevel error -f rawvideo -pix_fmt rgb24 -s " << width << "x" << height
-      << " -framerate " << fps << " -i - -c:v libx264 -pix_fmt yuv420p -crf 20 " << quoted(tmp_.string());
-  pipe_ = popen(cmd.str().c_str(), "w");
-  if (!pipe_) throw std::runtime_error("cannot start ffmpeg");
+  // Found now, not after the whole run: the folder must exist (or be made) and take a file.
+  std::error_code error;
+  if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path(), error);
+  int probe = error ? -1 : open(tmp_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+  if (probe < 0)
+    throw InputError("--video " + file.string() + " cannot be written: " + (error ? error.message() : std::strerror(errno)));
+  close(probe);
+
+  int fds[2];
+  if (pipe2(fds, O_CLOEXEC) != 0) throw std::runtime_error(std::string("cannot start ffmpeg: ") + std::strerror(errno));
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_adddup2(&actions, fds[0], STDIN_FILENO);
+  posix_spawnattr_t attr;
+  posix_spawnattr_init(&attr);
+  posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETPGROUP);
+  posix_spawnattr_setpgroup(&attr, 0);
+  std::string size = std::to_string(width) + "x" + std::to_string(height), rate = std::to_string(fps);
+  std::vector<std::string> args = {ffmpeg.string(), "-y", "-loglevel", "error", "-nostdin", "-f", "rawvideo", "-pix_fmt",
+                                   "rgb24", "-s", size, "-framerate", rate, "-i", "pipe:0", "-c:v", "libx264",
+                                   "-pix_fmt", "yuv420p", "-crf", "20", tmp_.string()};
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  int spawned = posix_spawn(&pid_, ffmpeg.c_str(), &actions, &attr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  posix_spawnattr_destroy(&attr);
+  close(fds[0]);
+  if (spawned != 0) {
+    close(fds[1]);
+    std::filesystem::remove(tmp_, error);
+    throw std::runtime_error(std::string("cannot start ffmpeg: ") + std::strerror(spawned));
+  }
+  pipe_ = fdopen(fds[1], "w");
 }
 
 VideoEncoder::~VideoEncoder() {
   if (!pipe_) return;
-  pclose(pipe_);
-  std::filesystem::remove(tmp_);
+  wait();
+  std::error_code ignored;
+  std::filesystem::remove(tmp_, ignored);
+}
+
+int VideoEncoder::wait() {
+  std::fclose(std::exchange(pipe_, nullptr));
+  int status = 0;
+  while (waitpid(pid_, &status, 0) < 0 && errno == EINTR) {
+  }
+  return status;
 }
 
 void VideoEncoder::add(const Image& frame) {
@@ -59,7 +92,7 @@ void VideoEncoder::add(const Image& frame) {
 }
 
 void VideoEncoder::finish() {
-  int status = pclose(std::exchange(pipe_, nullptr));
+  int status = wait();
   if (status != 0) {
     std::filesystem::remove(tmp_);
     throw std::runtime_error("ffmpeg failed to encode " + file_.string() + " (status " + std::to_string(status) + ")");

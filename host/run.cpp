@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -10,11 +11,11 @@
 #include <sstream>
 
 #include "frame_capture.hpp"
-#include "frame_files.hpp"
 #include "particle_export.hpp"
 #include "gpu_solver.hpp"
-#include "output_dir.hpp"
+#include "interrupt.hpp"
 #include "reference_solver.hpp"
+#include "run_directory.hpp"
 #include "scene.hpp"
 #include "stats_csv.hpp"
 #include "vk/context.hpp"
@@ -72,8 +73,6 @@ std::unique_ptr<capture::FrameCapture> make_capture(const RunOptions& o, const S
   c.view.rest_density = scene.solver.rest_density;
   // Red in the speed style: the speed of a fall through the domain's height.
   c.view.speed_scale = std::max(fall_speed(scene), 0.1);
-  c.frames_dir = std::filesystem::path(o.out) / "frames";
-  c.frame_count = scene.frames;
   c.video = o.video;
   c.fps = scene.fps;
   c.allow_shared = !o.readback;
@@ -83,96 +82,127 @@ std::unique_ptr<capture::FrameCapture> make_capture(const RunOptions& o, const S
 
 }  // namespace
 
+namespace {
+
+// What DIR/run.json records of a run besides its files and status.
+nlohmann::json describe_run(const RunOptions& o, const Scene& scene, const Solver& solver) {
+  return {{"scene_name", scene.name},
+          {"scene", nlohmann::json::parse(scene.resolved)},
+          {"options",
+           {{"params", o.params}, {"device", o.device}, {"render", o.render}, {"style", o.style},
+            {"width", o.width}, {"height", o.height}, {"export", o.export_format}, {"validate", o.validate}}},
+          {"video", o.video.empty() ? "" : std::filesystem::absolute(o.video).string()},
+          {"device", solver.device_name()}};
+}
+
+}  // namespace
+
 int run(const RunOptions& o) {
+  if (!o.video.empty() && !o.render) throw InputError("--video needs frames to encode: leave out --no-render");
   Scene scene = load_scene(o.scene, scene_overrides(o));
   Derived d = derive(scene);
+  const std::filesystem::path out(o.out);
+  RunDirectory::check(out);  // before any work: a foreign file here is refused at once
   std::vector<glm::dvec3> x0 = initial_particles(scene);
 
   std::unique_ptr<vk::Context> ctx;
   std::unique_ptr<Solver> solver = make_solver(o.device, o.validate, d, x0, ctx);
-  const std::filesystem::path out(o.out);
-  check_output_dir(out);
   const capture::ExportFormat export_format = capture::parse_export_format(o.export_format);
   std::unique_ptr<capture::FrameCapture> capture;
   if (o.render) capture = make_capture(o, scene, *solver, ctx.get());
 
-  std::filesystem::create_directories(out);
-  if (export_format != capture::ExportFormat::None) std::filesystem::create_directories(out / "particles");
-  StatsCsv csv(out / "stats.csv");
-  if (std::string w = time_step_warning(scene, d); !w.empty()) std::cerr << "pbflow: " << w << "\n";
-  if (!o.quiet) {
-    std::cerr << "pbflow: " << scene.name << ", " << x0.size() << " particles, " << method_name(scene.solver.method)
-              << " with " << scene.solver.iterations << " iteration(s), " << scene.solver.substeps
-              << " substeps per frame, on " << solver->device_name() << "\n";
-    if (capture && o.verbose) std::cerr << "pbflow: rendering with " << capture->description() << "\n";
-  }
-
-  Progress progress(scene.frames, !o.quiet);
+  // Everything is checked: from here the run owns DIR and replaces the previous run's files.
+  RunDirectory dir(out, RunFiles{scene.frames, bool(capture),
+                                    export_format == capture::ExportFormat::None ? "" : capture::export_extension(export_format)});
+  dir.begin(describe_run(o, scene, *solver));
+  InterruptGuard interrupt;
   auto start = std::chrono::steady_clock::now();
-  double sum_mean = 0, worst = 0, sum_step_ms = 0;
-  EnergyGain energy;
-  std::string diverged;  // the message, when the watch stopped the run
-  for (int frame = 0; frame < scene.frames; ++frame) {
-    FrameStats s = solver->advance(frame == 0 ? 0 : scene.solver.substeps);
-    double t = frame / scene.fps;
-    if (s.divergence.any()) {  // nothing of this frame is written: no NaN image, no garbage row
-      long step = long(frame - 1) * scene.solver.substeps + s.divergence.first_step + 1;
-      std::ostringstream m;
-      m << "the simulation diverged at step " << step << " (t = " << step * d.dt << " s, frame " << frame
-        << "): " << s.divergence.describe(d.speed_limit) << ". Frames 0-" << frame - 1
-        << " are complete; try a smaller solver.vorticity, more substeps or more iterations";
-      diverged = m.str();
-      break;
+  auto wall = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+  int frame = 0;
+  try {
+    StatsCsv csv(dir.stats_path());
+    if (std::string w = time_step_warning(scene, d); !w.empty()) std::cerr << "pbflow: " << w << "\n";
+    if (!o.quiet) {
+      std::cerr << "pbflow: " << scene.name << ", " << x0.size() << " particles, " << method_name(scene.solver.method)
+                << " with " << scene.solver.iterations << " iteration(s), " << scene.solver.substeps
+                << " substeps per frame, on " << solver->device_name() << "\n";
+      if (capture && o.verbose) std::cerr << "pbflow: rendering with " << capture->description() << "\n";
     }
-    csv.write(frame, t, s);
-    energy.add(s);
-    if (capture) capture->write(frame, *solver);
-    if (export_format != capture::ExportFormat::None)
-      capture::write_particles(
-          capture::frame_file(out / "particles", frame, scene.frames, capture::export_extension(export_format)),
-          export_format, solver->read_frame());
-    sum_mean += s.mean_compression;
-    worst = std::max(worst, s.max_compression);
-    sum_step_ms += s.step_ms;
-    progress.update(frame, t, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+
+    Progress progress(scene.frames, !o.quiet);
+    double sum_mean = 0, worst = 0, sum_step_ms = 0;
+    EnergyGain energy;
+    std::string diverged;  // the message, when the watch stopped the run
+    for (; frame < scene.frames && !interrupt.signal(); ++frame) {
+      FrameStats s = solver->advance(frame == 0 ? 0 : scene.solver.substeps);
+      double t = frame / scene.fps;
+      if (s.divergence.any()) {  // nothing of this frame is written: no NaN image, no garbage row
+        long step = long(frame - 1) * scene.solver.substeps + s.divergence.first_step + 1;
+        std::ostringstream m;
+        m << "the simulation diverged at step " << step << " (t = " << step * d.dt << " s, frame " << frame
+          << "): " << s.divergence.describe(d.speed_limit) << ". Frames 0-" << frame - 1
+          << " are complete; try a smaller solver.vorticity, more substeps or more iterations";
+        diverged = m.str();
+        break;
+      }
+      // The frame's files first, its stats row last: a row stands for a frame whole on disk.
+      if (capture) capture->write(dir.frame_path(frame), *solver);
+      if (export_format != capture::ExportFormat::None)
+        capture::write_particles(dir.particle_path(frame), export_format, solver->read_frame());
+      csv.write(frame, t, s);
+      dir.frames_done(frame + 1);
+      energy.add(s);
+      sum_mean += s.mean_compression;
+      worst = std::max(worst, s.max_compression);
+      sum_step_ms += s.step_ms;
+      progress.update(frame, t, wall());
+    }
+    if (capture) capture->finish();  // the video of the frames done, also when stopped early
+    progress.done();
+    if (!diverged.empty()) {
+      std::cerr << "pbflow: " << diverged << "\n";
+      dir.end("diverged", diverged, wall());
+      return 3;
+    }
+    if (int signal = interrupt.signal()) {
+      std::string m = std::string("interrupted by ") + (signal == SIGINT ? "SIGINT" : "SIGTERM") + "; frames 0-" +
+                      std::to_string(frame - 1) + " are complete";
+      std::cerr << "pbflow: " << m << "\n";
+      dir.end("interrupted", m, wall());
+      return 128 + signal;
+    }
+    if (energy.largest() > 0.01)
+      std::cerr << "pbflow: warning: the run gained energy (" << 100 * energy.largest()
+                << " % of the initial potential energy at most; a sound solver loses it): fewer "
+                   "solver.substeps per iteration, more iterations or a smaller solver.ldc_strength\n";
+    long steps = long(scene.frames - 1) * scene.solver.substeps;
+    if (!o.quiet) {
+      double solver_s = sum_step_ms / 1000.0 * scene.solver.substeps;
+      double render_s = capture ? capture->seconds() : 0.0, simulated_s = (scene.frames - 1) / scene.fps;
+      std::cout << "particles " << x0.size() << ", steps " << steps << ", wall " << wall() << " s, "
+                << (steps > 0 ? double(x0.size()) * steps / solver_s : 0.0) << " particle-steps/s (solver time "
+                << solver_s << " s), mean compression " << sum_mean / scene.frames << ", max compression " << worst
+                << "\nenergy change " << 100 * energy.last() << " % of the initial potential energy (largest gain "
+                << 100 * energy.largest() << " %)\nreal-time factor " << simulated_s / std::max(wall() - render_s, 1e-9)
+                << " simulating";
+      if (capture)
+        std::cout << ", " << simulated_s / wall() << " with rendering (" << 1000.0 * render_s / scene.frames
+                  << " ms per frame)\nframes: " << (out / "frames").string() << "/";
+      if (!o.video.empty()) std::cout << "\nvideo: " << o.video;
+      std::cout << "\nstats: " << dir.stats_path().string() << "\n";
+    }
+  } catch (const std::exception& e) {
+    dir.end("failed", e.what(), wall());
+    throw;
   }
-  if (capture) capture->finish();
-  progress.done();
-  if (!diverged.empty()) {
-    std::cerr << "pbflow: " << diverged << "\n";
-    return 3;
-  }
-  remove_stale_frames(out, scene.frames);
-  if (energy.largest() > 0.01)
-    std::cerr << "pbflow: warning: the run gained energy (" << 100 * energy.largest()
-              << " % of the initial potential energy at most; a sound solver loses it): fewer "
-                 "solver.substeps per iteration, more iterations or a smaller solver.ldc_strength\n";
-  double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  long steps = long(scene.frames - 1) * scene.solver.substeps;
-  if (!o.quiet) {
-    double solver_s = sum_step_ms / 1000.0 * scene.solver.substeps;
-    double render_s = capture ? capture->seconds() : 0.0, simulated_s = (scene.frames - 1) / scene.fps;
-    std::cout << "particles " << x0.size() << ", steps " << steps << ", wall " << wall << " s, "
-              << (steps > 0 ? double(x0.size()) * steps / solver_s : 0.0) << " particle-steps/s (solver time "
-              << solver_s << " s), mean compression " << sum_mean / scene.frames << ", max compression " << worst
-              << "\nenergy change " << 100 * energy.last() << " % of the initial potential energy (largest gain "
-              << 100 * energy.largest() << " %)\nreal-time factor " << simulated_s / std::max(wall - render_s, 1e-9) << " simulating";
-    if (capture)
-      std::cout << ", " << simulated_s / wall << " with rendering (" << 1000.0 * render_s / scene.frames
-                << " ms per frame)\nframes: " << (out / "frames").string() << "/";
-    if (!o.video.empty()) std::cout << "\nvideo: " << o.video;
-    std::cout << "\nstats: " << (out / "stats.csv").string() << "\n";
-  }
-  int status = 0;
-  if (ctx && !ctx->validation_messages().empty()) {
-    std::cerr << "pbflow: " << ctx->validation_messages().size() << " Vulkan validation message(s)\n";
-    status = 1;
-  }
-  if (capture && !capture->gl_errors().empty()) {
-    std::cerr << "pbflow: OpenGL error: " << capture->gl_errors().front() << "\n";
-    status = 1;
-  }
-  return status;
+  std::string problem;
+  if (ctx && !ctx->validation_messages().empty())
+    problem = std::to_string(ctx->validation_messages().size()) + " Vulkan validation message(s)";
+  else if (capture && !capture->gl_errors().empty())
+    problem = "OpenGL error: " + capture->gl_errors().front();
+  dir.end(problem.empty() ? "complete" : "failed", problem, wall());
+  if (!problem.empty()) std::cerr << "pbflow: " << problem << "\n";
+  return problem.empty() ? 0 : 1;
 }
 
 }  // namespace pbflow

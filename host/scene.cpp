@@ -118,6 +118,7 @@ Scene parse_scene(const std::string& json_text, const std::string& origin, const
 
   Scene s;
   s.name = origin;
+  s.resolved = j.dump();
   s.description = j.value("description", "");
   require(j.contains("domain"), "scene needs a 'domain'");
   s.domain = box(j["domain"], "domain");

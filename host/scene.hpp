@@ -37,6 +37,7 @@ struct Camera {
 struct Scene {
   std::string name;
   std::string description;
+  std::string resolved;  // the scene as read, overrides applied: JSON text (DIR/run.json)
   Box domain;
   double particle_spacing;
   std::vector<Box> fluid_blocks;

@@ -13,9 +13,13 @@ class StatsCsv {
   ~StatsCsv();
   StatsCsv(const StatsCsv&) = delete;
   StatsCsv& operator=(const StatsCsv&) = delete;
+  // Throws std::runtime_error naming the file and the cause when the row cannot be written.
   void write(int frame, double time, const FrameStats& s);
 
  private:
+  void append(const char* text);
+
+  std::filesystem::path path_;
   std::FILE* file_;
 };
 

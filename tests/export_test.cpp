@@ -139,16 +139,16 @@ TEST(Export, FrameNamesSortInFrameOrder) {
 TEST(Export, RunWritesOneFilePerFrameStartingFromTheInitialLattice) {
   fs::path dir = fs::temp_directory_path() / "pbflow_test_export_run";
   fs::remove_all(dir);
-  for (const char* format : {"ply", "vtk"}) {
+  for (const char* format : {"ply", "vtk"}) {  // a directory each: a run replaces the previous run's files
     std::string cmd = std::string(PBFLOW_BINARY) + " run dam_break --no-render --frames 3 --quiet --validate" +
-                      " --param particle_spacing=0.04 --export " + format + " --out " + dir.string();
+                      " --param particle_spacing=0.04 --export " + format + " --out " + (dir / format).string();
     ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   }
   Scene scene = load_scene("dam_break", {"particle_spacing=0.04"});
   std::vector<glm::dvec3> x0 = initial_particles(scene);
   for (int frame = 0; frame < 3; ++frame) {
-    Rows ply = read_ply(capture::frame_file(dir / "particles", frame, 3, "ply"));
-    Rows vtp = read_vtp(capture::frame_file(dir / "particles", frame, 3, "vtp"));
+    Rows ply = read_ply(capture::frame_file(dir / "ply" / "particles", frame, 3, "ply"));
+    Rows vtp = read_vtp(capture::frame_file(dir / "vtk" / "particles", frame, 3, "vtp"));
     ASSERT_EQ(ply.size(), x0.size());
     // Two runs: GPU atomics order sums differently from run to run, so they agree to rounding.
     ASSERT_EQ(vtp.size(), ply.size());

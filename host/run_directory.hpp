@@ -1,0 +1,54 @@
+#pragma once
+// A run owns its --out directory: it locks it for its lifetime (flock, so that a second
+// run into it is refused), writes only the files its manifest DIR/run.json lists, and
+// replaces the previous run's files as a whole, so that the directory never mixes two runs.
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+
+namespace pbflow {
+
+// What a run writes under its directory besides run.json and stats.csv.
+struct RunFiles {
+  int frame_count = 0;             // fixes the width of the frame numbers
+  bool images = false;             // frames/frame_N.png
+  std::string particle_extension;  // particles/frame_N.EXT; empty: none
+};
+
+class RunDirectory {
+ public:
+  // Read-only: throws InputError when `dir` cannot be this run's (not a directory, a file
+  // pbflow's manifest does not list where the run would write). Nothing changes on disk.
+  static void check(const std::filesystem::path& dir);
+
+  // Creates and locks `dir`, then checks it again under the lock. Throws InputError naming
+  // the directory and the pid of a run that holds it.
+  RunDirectory(const std::filesystem::path& dir, const RunFiles& files);
+  ~RunDirectory();
+  RunDirectory(const RunDirectory&) = delete;
+  RunDirectory& operator=(const RunDirectory&) = delete;
+
+  // Removes every file of the previous run (from its manifest, temporaries of a crashed run
+  // included) and writes this run's manifest, status "running". `about` holds what the
+  // manifest records of the run (scene, options, device); files and status are added here.
+  void begin(nlohmann::json about);
+  // Frames 0..completed-1 are whole on disk; the manifest catches up at most once a second.
+  void frames_done(int completed);
+  // The final manifest: status complete / diverged / interrupted / failed, and why.
+  void end(const std::string& status, const std::string& message, double wall_seconds);
+
+  std::filesystem::path stats_path() const { return dir_ / "stats.csv"; }
+  std::filesystem::path frame_path(int frame) const;  // frames/frame_N.png
+  std::filesystem::path particle_path(int frame) const;
+
+ private:
+  void write_manifest();
+
+  std::filesystem::path dir_;
+  RunFiles files_;
+  int lock_fd_ = -1;
+  nlohmann::json manifest_;
+  double last_write_ = 0;  // steady-clock seconds of the last manifest write
+};
+
+}  // namespace pbflow
