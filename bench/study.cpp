@@ -87,8 +87,8 @@ Outcome simulate(const Run& r, int index, double seconds, const std::string& dev
   Scene scene = load_scene(r.scene, overrides);
   Derived d = derive(scene);
   auto x0 = initial_particles(scene);
-  std::unique_ptr<vk::Context> ctx;
-  std::unique_ptr<Solver> solver = make_solver(device, false, d, x0, ctx);
+  std::unique_ptr<vk::Context> ctx = make_context(device, false);
+  std::unique_ptr<Solver> solver = make_solver(ctx.get(), d, x0);
   if (auto* gpu = dynamic_cast<GpuSolver*>(solver.get())) gpu->set_profiling(true);
 
   const double height0 = mean_height(solver->read_frame());

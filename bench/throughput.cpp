@@ -30,8 +30,8 @@ int main(int argc, char** argv) {
                       "solver.iterations=" + iterations});
     pbflow::Derived d = pbflow::derive(scene);
     auto x0 = pbflow::initial_particles(scene);
-    std::unique_ptr<pbflow::vk::Context> ctx;
-    auto solver = pbflow::make_solver(device, false, d, x0, ctx);
+    std::unique_ptr<pbflow::vk::Context> ctx = pbflow::make_context(device, false);
+    auto solver = pbflow::make_solver(ctx.get(), d, x0);
     solver->advance(scene.solver.substeps);  // warm-up: pipelines, caches, first sort
     double ms = 0;
     for (int f = 0; f < frames; ++f) ms += solver->advance(scene.solver.substeps).step_ms;

@@ -82,7 +82,10 @@ Renderer::FrameUniforms Renderer::uniforms(uint32_t count, int pass) const {
     far = std::max(far, glm::length(glm::vec3(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z) - eye));
   far = 1.5f * far + 1.0f;
   FrameUniforms u{};
-  u.view = glm::lookAt(eye, target, glm::vec3(0, 1, 0));
+  // Up is +y, unless the camera looks (nearly) along it: then the image's up is -z, as on a map.
+  glm::vec3 forward = glm::normalize(target - eye);
+  glm::vec3 up = std::abs(forward.y) > 0.999f ? glm::vec3(0, 0, -1) : glm::vec3(0, 1, 0);
+  u.view = glm::lookAt(eye, target, up);
   u.proj = glm::perspective(glm::radians(float(c.fov_degrees)), float(view_.width) / float(view_.height),
                             std::max(far * 1e-4f, 1e-3f), far);
   u.light_view = glm::vec4(glm::normalize(glm::mat3(u.view) * glm::normalize(glm::vec3(0.3f, 1.0f, 0.5f))), 0.0f);

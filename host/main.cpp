@@ -34,6 +34,7 @@ int list_scenes() {
 
 int main(int argc, char** argv) {
   std::signal(SIGPIPE, SIG_IGN);  // a dying ffmpeg shows as a failed write, not a silent exit
+  std::signal(SIGXFSZ, SIG_IGN);  // past a file size limit a write fails (EFBIG) and is reported
   CLI::App app{"pbflow: position based fluids with local density correction, on Vulkan compute"};
   app.require_subcommand(0, 1);
 
@@ -43,7 +44,7 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--method", run.method, "pbf | ldc")->check(CLI::IsMember({"pbf", "ldc"}));
   run_cmd->add_option("--iterations", run.iterations, "constraint iterations per step")->check(CLI::Range(1, 1000));
   run_cmd->add_option("--frames", run.frames, "frames to write (frame 0 is the initial state)")
-      ->check(CLI::Range(1, 100000000));
+      ->check(CLI::Range(1, pbflow::kMaxFrames));
   run_cmd->add_option("--out", run.out, "output directory")->capture_default_str();
   run_cmd->add_option("--device", run.device, "auto | cpu | INDEX (see 'pbflow devices')")->capture_default_str();
   run_cmd->add_option("--param", run.params, "override a scene key, e.g. solver.ldc_k=2000 (repeatable)");
@@ -71,7 +72,7 @@ int main(int argc, char** argv) {
   bench_cmd->add_option("--device", bench.device, "auto | cpu | INDEX")->capture_default_str();
   bench_cmd->add_option("--counts", bench.counts, "particle counts, e.g. 10000,40000")->delimiter(',');
   bench_cmd->add_option("--iterations", bench.iterations, "iteration counts, e.g. 1,2,3")->delimiter(',');
-  bench_cmd->add_option("--seconds", bench.seconds, "simulated seconds per run");
+  bench_cmd->add_option("--seconds", bench.seconds, "simulated seconds per run")->check(CLI::Range(0.001, 3600.0));
   bench_cmd->add_option("--ldc-k", bench.ldc_k, "sweep the LDC strength K, e.g. 1000,3000,10000")->delimiter(',');
   bench_cmd->add_option("--targets", bench.targets, "adaptive runs to these mean compressions, e.g. 0.01,0.001")
       ->delimiter(',');

@@ -62,12 +62,15 @@ std::string time_step_warning(const Scene& scene, const Derived& d) {
   const double speed = fall_speed(scene);
   const double travel = speed * d.dt / d.h;  // kernel radii per step
   if (travel <= 1.0) return "";
-  const int substeps = int(std::ceil(scene.solver.substeps * travel));
+  const double substeps = std::ceil(scene.solver.substeps * travel);
   std::ostringstream m;
   m.precision(3);
   m << "warning: dt = " << d.dt << " s lets a particle falling through the domain (" << speed << " m/s) move "
-    << travel << " kernel radii per step, past its neighbours; solver.substeps=" << substeps
-    << " keeps it within one (tunnelling and blow-ups are likely otherwise)";
+    << travel << " kernel radii per step, past its neighbours; ";
+  if (substeps <= 1000)
+    m << "solver.substeps=" << int(substeps) << " keeps it within one (tunnelling and blow-ups are likely otherwise)";
+  else
+    m << "even 1000 solver.substeps (the most) do not keep it within one: raise fps or particle_spacing";
   return m.str();
 }
 

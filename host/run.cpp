@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
@@ -14,6 +15,7 @@
 #include "particle_export.hpp"
 #include "gpu_solver.hpp"
 #include "interrupt.hpp"
+#include "memory_estimate.hpp"
 #include "reference_solver.hpp"
 #include "run_directory.hpp"
 #include "scene.hpp"
@@ -30,10 +32,13 @@ std::vector<std::string> scene_overrides(const RunOptions& o) {
   return all;
 }
 
-std::unique_ptr<Solver> make_solver(const std::string& device, bool validate, const Derived& d,
-                                    const std::vector<glm::dvec3>& x0, std::unique_ptr<vk::Context>& ctx) {
-  if (device == "cpu") return std::make_unique<ReferenceSolver>(d, x0);
-  ctx = std::make_unique<vk::Context>(vk::Context::Options{device, validate, 0});
+std::unique_ptr<vk::Context> make_context(const std::string& device, bool validate) {
+  if (device == "cpu") return nullptr;
+  return std::make_unique<vk::Context>(vk::Context::Options{device, validate, 0});
+}
+
+std::unique_ptr<Solver> make_solver(const vk::Context* ctx, const Derived& d, const std::vector<glm::dvec3>& x0) {
+  if (!ctx) return std::make_unique<ReferenceSolver>(d, x0);
   return std::make_unique<GpuSolver>(*ctx, d, x0);
 }
 
@@ -103,10 +108,13 @@ int run(const RunOptions& o) {
   Derived d = derive(scene);
   const std::filesystem::path out(o.out);
   RunDirectory::check(out);  // before any work: a foreign file here is refused at once
+  std::unique_ptr<vk::Context> ctx = make_context(o.device, o.validate);
+  const double pixels = o.render ? double(o.width) * o.height : 0.0;
+  check_memory(memory_need(d, fluid_volume(scene) / std::pow(scene.particle_spacing, 3), ctx ? &ctx->info() : nullptr,
+                           pixels),
+               ctx ? &ctx->info() : nullptr);
   std::vector<glm::dvec3> x0 = initial_particles(scene);
-
-  std::unique_ptr<vk::Context> ctx;
-  std::unique_ptr<Solver> solver = make_solver(o.device, o.validate, d, x0, ctx);
+  std::unique_ptr<Solver> solver = make_solver(ctx.get(), d, x0);
   const capture::ExportFormat export_format = capture::parse_export_format(o.export_format);
   std::unique_ptr<capture::FrameCapture> capture;
   if (o.render) capture = make_capture(o, scene, *solver, ctx.get());

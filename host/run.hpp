@@ -36,10 +36,10 @@ struct RunOptions {
 // The scene's overrides: --param entries, then the dedicated options (which win).
 std::vector<std::string> scene_overrides(const RunOptions& o);
 
-// A solver for `device` ("cpu" for the reference, else a Vulkan device); `ctx` is
-// filled for Vulkan devices and must outlive the solver.
-std::unique_ptr<Solver> make_solver(const std::string& device, bool validate, const Derived& d,
-                                    const std::vector<glm::dvec3>& x0, std::unique_ptr<vk::Context>& ctx);
+// The Vulkan context for `device`, or null for "cpu" (the reference solver).
+std::unique_ptr<vk::Context> make_context(const std::string& device, bool validate);
+// The reference solver where `ctx` is null, else the GPU solver on it; `ctx` must outlive it.
+std::unique_ptr<Solver> make_solver(const vk::Context* ctx, const Derived& d, const std::vector<glm::dvec3>& x0);
 
 // Runs the scene; returns the exit status (DESIGN.md). Throws InputError for bad input.
 int run(const RunOptions& o);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -36,6 +37,10 @@ void reject_unknown(const json& j, const json& allowed, const std::string& path)
   }
 }
 
+// Lengths and coordinates, m: a scene beyond a thousand kilometres is a mistake, and past it
+// the arithmetic of particle counts and time steps would overflow.
+constexpr double kMaxCoordinate = 1e6;
+
 double number(const json& j, const std::string& key, double fallback) {
   if (!j.contains(key)) return fallback;
   if (!j[key].is_number()) throw InputError("scene key '" + key + "' must be a number");
@@ -47,7 +52,10 @@ glm::dvec3 vec3(const json& j, const std::string& key, const std::string& path, 
   const json& a = j[key];
   if (!a.is_array() || a.size() != 3 || !a[0].is_number() || !a[1].is_number() || !a[2].is_number())
     throw InputError("scene key '" + path + "' must be an array of three numbers");
-  return {a[0].get<double>(), a[1].get<double>(), a[2].get<double>()};
+  glm::dvec3 v(a[0].get<double>(), a[1].get<double>(), a[2].get<double>());
+  if (glm::any(glm::greaterThan(glm::abs(v), glm::dvec3(kMaxCoordinate))))
+    throw InputError("scene key '" + path + "' must lie within 1e6 of the origin");
+  return v;
 }
 
 Box box(const json& j, const std::string& path) {
@@ -119,26 +127,30 @@ Scene parse_scene(const std::string& json_text, const std::string& origin, const
   Scene s;
   s.name = origin;
   s.resolved = j.dump();
+  require(!j.contains("description") || j["description"].is_string(), "scene key 'description' must be a string");
   s.description = j.value("description", "");
   require(j.contains("domain"), "scene needs a 'domain'");
   s.domain = box(j["domain"], "domain");
   require(j.contains("particle_spacing"), "scene needs a 'particle_spacing'");
   s.particle_spacing = number(j, "particle_spacing", 0);
   require(s.particle_spacing > 0, "particle_spacing must be positive");
+  require(s.particle_spacing >= 1e-6 && s.particle_spacing <= kMaxCoordinate, "particle_spacing must be in [1e-6, 1e6] m");
   auto inside_domain = [&](glm::dvec3 lo, glm::dvec3 hi) {
     return glm::all(glm::greaterThanEqual(lo, s.domain.min)) && glm::all(glm::lessThanEqual(hi, s.domain.max));
   };
   for (const char* key : {"fluid_blocks", "fluid_spheres", "obstacles"})
     require(!j.contains(key) || j[key].is_array(), std::string("scene key '") + key + "' must be an array");
-  for (size_t i = 0; i < j.value("fluid_blocks", json::array()).size(); ++i) {
+  static const json none = json::array();
+  auto array = [&](const char* key) -> const json& { return j.contains(key) ? j[key] : none; };
+  for (size_t i = 0; i < array("fluid_blocks").size(); ++i) {
     std::string path = "fluid_blocks[" + std::to_string(i) + "]";
-    Box b = box(j["fluid_blocks"][i], path);
+    Box b = box(array("fluid_blocks")[i], path);
     require(inside_domain(b.min, b.max), path + " must lie inside the domain");
     s.fluid_blocks.push_back(b);
   }
-  for (size_t i = 0; i < j.value("fluid_spheres", json::array()).size(); ++i) {
+  for (size_t i = 0; i < array("fluid_spheres").size(); ++i) {
     std::string path = "fluid_spheres[" + std::to_string(i) + "]";
-    Ball b = ball(j["fluid_spheres"][i], path);
+    Ball b = ball(array("fluid_spheres")[i], path);
     require(inside_domain(b.centre - b.radius, b.centre + b.radius), path + " must lie inside the domain");
     s.fluid_spheres.push_back(b);
   }
@@ -146,12 +158,16 @@ Scene parse_scene(const std::string& json_text, const std::string& origin, const
           "scene needs fluid: a non-empty 'fluid_blocks' or 'fluid_spheres'");
   // Checked before any particle is made, so that a tiny spacing fails here, not in an allocation.
   double estimate = fluid_volume(s) / std::pow(s.particle_spacing, 3);
-  require(estimate <= kMaxParticles, "the fluid would hold about " + std::to_string(std::llround(estimate)) +
-                                         " particles, more than pbflow's limit of " + std::to_string(kMaxParticles) +
-                                         " (raise particle_spacing)");
-  for (size_t i = 0; i < j.value("obstacles", json::array()).size(); ++i) {
+  if (!(estimate <= kMaxParticles)) {
+    std::ostringstream m;
+    m.precision(3);
+    m << "the fluid would hold about " << estimate << " particles, more than pbflow's limit of " << kMaxParticles
+      << " (raise particle_spacing)";
+    throw InputError(m.str());
+  }
+  for (size_t i = 0; i < array("obstacles").size(); ++i) {
     std::string path = "obstacles[" + std::to_string(i) + "]";
-    const json& o = j["obstacles"][i];
+    const json& o = array("obstacles")[i];
     require(o.is_object() && o.contains("type") && o["type"].is_string(),
             path + " needs a \"type\": \"box\" or \"sphere\"");
     json shape = o;
@@ -173,10 +189,12 @@ Scene parse_scene(const std::string& json_text, const std::string& origin, const
     s.obstacles.push_back(ob);
   }
   s.gravity = vec3(j, "gravity", "gravity", {0, -9.81, 0});
+  require(glm::length(s.gravity) <= 1e4, "gravity must not exceed 1e4 m/s^2 (a thousand g)");
   s.fps = number(j, "fps", 60);
-  require(s.fps > 0, "fps must be positive");
+  require(s.fps >= 1e-3 && s.fps <= 1e5, "fps must be in [0.001, 100000]");
   double frames = number(j, "frames", 240);
-  require(frames >= 1 && frames == std::floor(frames), "frames must be a whole number of at least 1");
+  require(frames >= 1 && frames <= kMaxFrames && frames == std::floor(frames),
+          "frames must be a whole number from 1 to " + std::to_string(kMaxFrames));
   s.frames = int(frames);
 
   s.solver = SolverParams::defaults();
@@ -207,22 +225,22 @@ Scene parse_scene(const std::string& json_text, const std::string& origin, const
   p.kernel_ratio = number(solver, "kernel_ratio", p.kernel_ratio);
   require(p.kernel_ratio > 1 && p.kernel_ratio <= 4, "solver.kernel_ratio (h / spacing) must be in (1, 4]");
   p.rest_density = number(solver, "rest_density", p.rest_density);
-  require(p.rest_density > 0, "solver.rest_density must be positive");
+  require(p.rest_density > 0 && p.rest_density <= 1e6, "solver.rest_density must be in (0, 1e6] kg/m^3");
   p.relaxation = number(solver, "relaxation", p.relaxation);
-  require(p.relaxation > 0, "solver.relaxation must be positive");
+  require(p.relaxation > 0 && p.relaxation <= 1e6, "solver.relaxation must be in (0, 1e6]");
   p.jacobi_gain = number(solver, "jacobi_gain", p.jacobi_gain);
   require(p.jacobi_gain > 0 && p.jacobi_gain <= 1,
           "solver.jacobi_gain must be in (0, 1]: a constraint pass that moves a mode past its error makes energy");
   p.scorr_k = number(solver, "scorr_k", p.scorr_k);
-  require(p.scorr_k >= 0, "solver.scorr_k must not be negative");
+  require(p.scorr_k >= 0 && p.scorr_k <= 1e3, "solver.scorr_k must be in [0, 1000]");
   p.scorr_n = number(solver, "scorr_n", p.scorr_n);
-  require(p.scorr_n >= 1, "solver.scorr_n must be at least 1");
+  require(p.scorr_n >= 1 && p.scorr_n <= 16, "solver.scorr_n must be in [1, 16]");
   p.scorr_dq = number(solver, "scorr_dq", p.scorr_dq);
   require(p.scorr_dq > 0 && p.scorr_dq < 1, "solver.scorr_dq (a fraction of h) must be in (0, 1)");
   p.xsph = number(solver, "xsph", p.xsph);
   require(p.xsph >= 0 && p.xsph <= 1, "solver.xsph must be in [0, 1]");
   p.vorticity = number(solver, "vorticity", p.vorticity);
-  require(p.vorticity >= 0, "solver.vorticity must not be negative");
+  require(p.vorticity >= 0 && p.vorticity <= 1e6, "solver.vorticity must be in [0, 1e6]");
   p.ldc_strength = number(solver, "ldc_strength", p.ldc_strength);
   require(p.ldc_strength >= 0 && p.ldc_strength < 1,
           "solver.ldc_strength (a fraction of the stiffness the step carries) must be in [0, 1)");
@@ -248,9 +266,19 @@ Scene parse_scene(const std::string& json_text, const std::string& origin, const
 Scene load_scene(const std::string& name_or_path, const std::vector<std::string>& overrides) {
   for (const auto& [name, text] : builtin_scenes_text())
     if (name == name_or_path) return parse_scene(std::string(text), std::string(name), overrides);
-  std::ifstream file(name_or_path);
-  if (!file)
+  // A scene is a regular file of modest size: a directory, FIFO or device (/dev/zero) is
+  // refused before it is read, and so is a file too large to be a scene.
+  std::error_code error;
+  const std::filesystem::file_status status = std::filesystem::status(name_or_path, error);
+  if (error || !std::filesystem::exists(status))
     throw InputError("no built-in scene or readable file named '" + name_or_path + "' (see 'pbflow scenes')");
+  if (!std::filesystem::is_regular_file(status))
+    throw InputError("scene '" + name_or_path + "' is not a regular file (a directory, FIFO or device)");
+  if (std::filesystem::file_size(name_or_path, error) > kMaxSceneBytes)
+    throw InputError("scene '" + name_or_path + "' is larger than " + std::to_string(kMaxSceneBytes >> 20) +
+                     " MiB, too large to be a scene");
+  std::ifstream file(name_or_path);
+  if (!file) throw InputError("cannot read scene '" + name_or_path + "'");
   std::stringstream text;
   text << file.rdbuf();
   return parse_scene(text.str(), name_or_path, overrides);

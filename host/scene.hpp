@@ -19,6 +19,10 @@ struct InputError : std::runtime_error {
 
 // The most particles a scene may hold (positions alone are 2 GiB on the GPU).
 constexpr long long kMaxParticles = 1LL << 27;
+// The most frames a run may write (as --frames): far past any real run, well inside int.
+constexpr int kMaxFrames = 100000000;
+// The largest scene file read: 100 000 obstacles take about 10 MiB of JSON.
+constexpr long long kMaxSceneBytes = 64LL << 20;
 
 struct Box {
   glm::dvec3 min, max;

@@ -1,0 +1,33 @@
+#pragma once
+// The memory a run needs, estimated before anything is allocated, so that a scene too large
+// for the machine is refused at once with the numbers ("needs X GiB, the device has Y")
+// instead of failing in an allocation after minutes of set-up.
+#include <cstdint>
+#include <string>
+
+#include "params.hpp"
+
+namespace pbflow {
+
+namespace vk {
+struct DeviceInfo;
+}
+
+struct MemoryNeed {
+  uint64_t device = 0;  // GPU buffers (none for the reference solver)
+  uint64_t host = 0;    // the solver's host arrays, host copies of a frame, framebuffers
+  uint64_t largest_array = 0;  // one GPU buffer, against the device's storage buffer range
+};
+
+// `particles` as estimated from the scene; `device` null for the reference solver;
+// `pixels` 0 without rendering.
+MemoryNeed memory_need(const Derived& d, double particles, const vk::DeviceInfo* device, double pixels);
+
+// Host memory this process may still take: the least of /proc/meminfo's MemAvailable, the
+// cgroup's limit and RLIMIT_AS, each less what is in use.
+uint64_t host_memory_available();
+
+// Throws InputError when `need` does not fit the device or the host.
+void check_memory(const MemoryNeed& need, const vk::DeviceInfo* device);
+
+}  // namespace pbflow

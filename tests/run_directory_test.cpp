@@ -1,0 +1,258 @@
+// A run owns its --out directory (README "What a run guarantees about its directory"):
+// one run at a time, no foreign file touched, never two runs mixed, every write checked,
+// interrupts leave whole files and a manifest that says why the run stopped.
+#include <gtest/gtest.h>
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "png.hpp"
+#include "scene.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+fs::path fresh_dir(const std::string& name) {
+  fs::path dir = fs::temp_directory_path() / ("pbflow_test_dir_" + name);
+  fs::remove_all(dir);
+  return dir;
+}
+
+struct Result {
+  int status;
+  std::string output;
+};
+
+// `shell` (e.g. "ulimit -f 8;") runs before the binary in the same shell.
+Result pbflow(const std::string& args, const std::string& shell = "") {
+  fs::path log = fs::temp_directory_path() / ("pbflow_dir_" + std::to_string(getpid()) + ".log");
+  std::string cmd = "bash -c '" + shell + " exec " + std::string(PBFLOW_BINARY) + " " + args + "' > " + log.string() + " 2>&1";
+  int raw = std::system(cmd.c_str());
+  std::ifstream in(log);
+  std::stringstream text;
+  text << in.rdbuf();
+  fs::remove(log);
+  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, text.str()};
+}
+
+json manifest(const fs::path& dir) {
+  std::ifstream in(dir / "run.json");
+  return json::parse(in, nullptr, false);
+}
+
+std::vector<std::string> rows(const fs::path& stats) {
+  std::ifstream in(stats);
+  std::vector<std::string> out;
+  for (std::string line; std::getline(in, line);) out.push_back(line);
+  return out;
+}
+
+size_t files_in(const fs::path& dir) {
+  return fs::is_directory(dir) ? std::distance(fs::directory_iterator(dir), fs::directory_iterator()) : 0;
+}
+
+bool any_temporary(const fs::path& dir) {
+  for (const auto& e : fs::recursive_directory_iterator(dir))
+    if (e.path().filename().string().find(".tmp") != std::string::npos) return true;
+  return false;
+}
+
+const std::string kSmall = " --param particle_spacing=0.04 --style particles --width 64 --height 32 --quiet ";
+
+// A long run in the background, as a child process with its own pid.
+class Background {
+ public:
+  explicit Background(const std::string& args) {
+    std::vector<std::string> a = {PBFLOW_BINARY};
+    std::istringstream words(args);
+    for (std::string w; words >> w;) a.push_back(w);
+    std::vector<char*> argv;
+    for (auto& s : a) argv.push_back(s.data());
+    argv.push_back(nullptr);
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
+    EXPECT_EQ(posix_spawn(&pid_, PBFLOW_BINARY, &actions, nullptr, argv.data(), environ), 0);
+    posix_spawn_file_actions_destroy(&actions);
+  }
+  ~Background() {
+    if (pid_ > 0) stop(SIGKILL);
+  }
+  pid_t pid() const { return pid_; }
+  int stop(int signal) {  // the exit status
+    kill(pid_, signal);
+    int status = 0;
+    waitpid(std::exchange(pid_, -1), &status, 0);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+
+ private:
+  pid_t pid_ = -1;
+};
+
+// Waits (up to a minute) until the manifest in `dir` says that the run `pid` has completed `frames` frames.
+bool wait_for_frames(const fs::path& dir, pid_t pid, int frames) {
+  for (int i = 0; i < 600; ++i) {
+    json m = manifest(dir);
+    if (!m.is_discarded() && m.value("pid", 0L) == long(pid) && m["frames"]["completed"].get<int>() >= frames)
+      return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  return false;
+}
+
+TEST(RunDirectory, ASecondRunIsRefusedAndAnInterruptedRunLeavesOnlyItsOwnWholeFiles) {
+  fs::path dir = fresh_dir("interrupt");
+  // An earlier, longer run with particle files: none of its files may survive the next run.
+  ASSERT_EQ(pbflow("run" + kSmall + "--frames 12 --export ply --out " + dir.string()).status, 0);
+  ASSERT_EQ(files_in(dir / "frames"), 12u);
+
+  Background run("run --param particle_spacing=0.015 --style particles --width 64 --height 32 --quiet "
+                 "--frames 2000 --out " + dir.string());
+  ASSERT_TRUE(wait_for_frames(dir, run.pid(), 2)) << "the background run did not get going";
+  Result second = pbflow("run" + kSmall + "--frames 2 --out " + dir.string());
+  EXPECT_EQ(second.status, 2) << second.output;
+  EXPECT_NE(second.output.find("in use by another pbflow run (pid " + std::to_string(run.pid()) + ")"),
+            std::string::npos) << second.output;
+
+  EXPECT_EQ(run.stop(SIGTERM), 143);
+  json m = manifest(dir);
+  ASSERT_FALSE(m.is_discarded());
+  EXPECT_EQ(m["status"], "interrupted");
+  const int done = m["frames"]["completed"].get<int>();
+  EXPECT_GE(done, 2);
+  EXPECT_LT(done, 2000);
+  EXPECT_EQ(files_in(dir / "frames"), size_t(done)) << "frames 0..k of this run, nothing of the earlier one";
+  EXPECT_FALSE(fs::exists(dir / "particles")) << "the earlier run's particle files survived";
+  EXPECT_EQ(rows(dir / "stats.csv").size(), size_t(done) + 1) << "a header and a row per frame written";
+  for (int f = 0; f < done; ++f)  // every frame whole (this throws on a truncated PNG)
+    EXPECT_EQ(pbflow::capture::read_png(dir / "frames" / ("frame_" + std::string(5 - std::to_string(f).size(), '0') +
+                                                          std::to_string(f) + ".png")).width, 64);
+  EXPECT_FALSE(any_temporary(dir));
+}
+
+TEST(RunDirectory, FilesPbflowDidNotWriteAreRefusedAndKept) {
+  fs::path dir = fresh_dir("foreign");
+  fs::create_directories(dir);
+  std::ofstream(dir / "stats.csv") << "my spreadsheet\n";
+  Result r = pbflow("run" + kSmall + "--frames 2 --out " + dir.string());
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("stats.csv was not written by pbflow"), std::string::npos) << r.output;
+  EXPECT_EQ(rows(dir / "stats.csv"), std::vector<std::string>{"my spreadsheet"});
+  EXPECT_FALSE(fs::exists(dir / "run.json"));
+
+  fs::remove(dir / "stats.csv");
+  std::ofstream(dir / "run.json") << "{\"not\": \"ours\"}";
+  r = pbflow("run" + kSmall + "--frames 2 --out " + dir.string());
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("not a pbflow manifest"), std::string::npos) << r.output;
+}
+
+TEST(RunDirectory, AnAbsurdFrameCountChangesNothing) {
+  fs::path dir = fresh_dir("absurd");
+  ASSERT_EQ(pbflow("run" + kSmall + "--frames 3 --out " + dir.string()).status, 0);
+  for (const char* bad : {"--param frames=3000000000", "--param frames=1e10", "--frames 3000000000"}) {
+    Result r = pbflow("run" + kSmall + bad + " --out " + dir.string());
+    EXPECT_EQ(r.status, 2) << bad << ": " << r.output;
+    EXPECT_EQ(files_in(dir / "frames"), 3u) << bad << " touched the earlier run";
+    EXPECT_EQ(manifest(dir)["status"], "complete") << bad;
+  }
+}
+
+TEST(RunDirectory, AFailedWriteIsAnErrorNamingTheFileAndLeavesWholeRows) {
+  fs::path dir = fresh_dir("efbig");
+  // ulimit -f: past 8 KiB a write fails with EFBIG (pbflow ignores SIGXFSZ), ~80 rows in.
+  Result r = pbflow("run --no-render --param particle_spacing=0.04 --quiet --frames 400 --out " + dir.string(),
+                    "ulimit -f 8;");
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("stats.csv: File too large"), std::string::npos) << r.output;
+  std::vector<std::string> lines = rows(dir / "stats.csv");
+  ASSERT_GT(lines.size(), 10u);
+  EXPECT_LT(lines.size(), 400u);
+  for (const std::string& line : lines) EXPECT_EQ(std::count(line.begin(), line.end(), ','), 8) << line;
+  std::ifstream raw(dir / "stats.csv", std::ios::binary);
+  std::string text((std::istreambuf_iterator<char>(raw)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(text.back(), '\n') << "a row cut in the middle";
+  json m = manifest(dir);
+  EXPECT_EQ(m["status"], "failed");
+  EXPECT_EQ(m["frames"]["completed"].get<size_t>(), lines.size() - 1);
+}
+
+TEST(RunDirectory, BadOptionsAndScenesAreRefusedBeforeTheDirectoryIsTouched) {
+  fs::path dir = fresh_dir("options");
+  struct Case {
+    std::string args, expect;
+  } cases[] = {
+      {"run --no-render --out \"\"", "--out is empty"},
+      {"run --no-render --video " + (dir / "v.mp4").string() + " --out " + dir.string(), "--video needs frames"},
+      {"run " + fs::temp_directory_path().string() + " --no-render --out " + dir.string(), "not a regular file"},
+      {"run /dev/zero --no-render --out " + dir.string(), "not a regular file"},
+      {"bench --seconds -1 --out " + dir.string(), "--seconds"},
+  };
+  for (const Case& c : cases) {
+    Result r = pbflow(c.args);
+    EXPECT_EQ(r.status, 2) << c.args << ": " << r.output;
+    EXPECT_NE(r.output.find(c.expect), std::string::npos) << c.args << ": " << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << c.args << ": not one line: " << r.output;
+    EXPECT_FALSE(fs::exists(dir)) << c.args << " wrote output despite bad input";
+  }
+}
+
+TEST(RunDirectory, ARunTooLargeForTheMemoryIsRefusedWithTheNumbers) {
+  fs::path dir = fresh_dir("memory");
+  // About 30 million particles for the reference solver under a 3 GB address space.
+  Result r = pbflow("run --device cpu --no-render --param particle_spacing=0.002 --out " + dir.string(),
+                    "ulimit -v 3000000;");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("the run needs"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("GiB available"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir));
+}
+
+TEST(RunDirectory, ACameraLookingStraightDownSeesTheFluid) {
+  fs::path dir = fresh_dir("camera");
+  Result r = pbflow("run" + kSmall + "--frames 1 --param camera.eye=[0.2,3,0.2] --param camera.target=[0.2,0,0.2] --out " +
+                    dir.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  pbflow::capture::Image image = pbflow::capture::read_png(dir / "frames" / "frame_00000.png");
+  size_t differs = 0;
+  for (size_t p = 0; p < image.rgb.size(); p += 3)
+    differs += image.rgb[p] != image.rgb[0] || image.rgb[p + 1] != image.rgb[1] || image.rgb[p + 2] != image.rgb[2];
+  EXPECT_GT(differs, image.rgb.size() / 3 / 20) << "a blank frame: fewer than 5 % of the pixels show anything";
+}
+
+// Reading a scene is linear in its size: four times the obstacles take about four times as
+// long, where the quadratic reader took sixteen (a ratio within one run, not a timing bound).
+TEST(RunDirectory, SceneReadingIsLinearInTheObstacles) {
+  auto scene_with = [](int n) {
+    std::string s = R"({"domain": {"min": [0,0,0], "max": [1,1,1]}, "particle_spacing": 0.1,
+      "fluid_blocks": [{"min": [0,0,0], "max": [0.5,0.5,0.5]}], "obstacles": [)";
+    for (int i = 0; i < n; ++i)
+      s += std::string(i ? "," : "") + R"({"type": "sphere", "centre": [0.8, 0.8, 0.8], "radius": 0.01})";
+    return s + "]}";
+  };
+  auto seconds = [&](int n) {
+    std::string text = scene_with(n);
+    auto start = std::chrono::steady_clock::now();
+    EXPECT_EQ(pbflow::parse_scene(text, "obstacles").obstacles.size(), size_t(n));
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  seconds(1000);  // warm-up
+  double small = seconds(20000), large = seconds(80000);
+  EXPECT_LT(large / small, 10.0) << small << " s for 20 000 obstacles, " << large << " s for 80 000";
+}
+
+}  // namespace
