@@ -4,6 +4,7 @@
 #include <chrono>
 #include <numeric>
 
+#include "memory_estimate.hpp"
 #include "scene.hpp"
 #include "vk/check.hpp"
 #include "vk/context.hpp"
@@ -24,14 +25,9 @@ struct CheckPush {  // check_converged.comp
 uint32_t partial_count(uint32_t n) { return (n + kReduceThreads - 1) / kReduceThreads; }
 
 // Bad input rather than a Vulkan failure: the scene asks for more than this device holds.
-uint32_t checked_count(const vk::Context& ctx, size_t n) {
-  const uint64_t per_array = uint64_t(n) * sizeof(glm::vec4), limit = ctx.limits().maxStorageBufferRange;
-  // Five vec4 arrays, two id arrays, rho, lambda, vorticity and the grid: under 128 bytes a particle.
-  const uint64_t total = uint64_t(n) * 128, memory = ctx.info().device_local_bytes;
-  if (per_array > limit || (memory && total > memory))
-    throw InputError(std::to_string(n) + " particles are more than " + ctx.info().name + " holds (" +
-                     std::to_string(per_array) + "-byte arrays, limit " + std::to_string(limit) + "; about " +
-                     std::to_string(total >> 20) + " MiB in all): raise particle_spacing");
+// run.cpp checks the same estimate before any particle is made; this guards every other caller.
+uint32_t checked_count(const vk::Context& ctx, const Derived& d, size_t n) {
+  check_device_memory(memory_need(d, double(n), &ctx.info(), 0), ctx.info());
   return uint32_t(n);
 }
 }  // namespace
@@ -39,7 +35,7 @@ uint32_t checked_count(const vk::Context& ctx, size_t n) {
 GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector<glm::dvec3>& x0)
     : ctx_(ctx),
       d_(d),
-      sim_(d.to_gpu(checked_count(ctx, x0.size()))),
+      sim_(d.to_gpu(checked_count(ctx, d, x0.size()))),
       n_(sim_.count),
       viscosity_pass_(d.solver.xsph > 0 || d.solver.vorticity > 0),
       vorticity_pass_(d.solver.vorticity > 0),

@@ -57,13 +57,13 @@ uint64_t address_space_in_use() {
 MemoryNeed memory_need(const Derived& d, double particles, const vk::DeviceInfo* device, double pixels) {
   const double cells = double(d.grid.x) * d.grid.y * d.grid.z;
   double gpu = 0, host = kBytesPerPixel * pixels;
-  if (device) {  // the largest array: a vec4 per particle
+  if (device) {
     gpu = kGpuPerParticle * particles + kGpuPerCell * cells;
     host += kHostPerParticleGpuRun * particles;
   } else {
     host += kHostPerParticleCpuRun * particles + kHostPerCellCpuRun * cells;
   }
-  return {uint64_t(gpu), uint64_t(host), device ? uint64_t(16 * particles) : 0};
+  return {uint64_t(gpu), uint64_t(host), device ? uint64_t(sizeof(glm::vec4) * particles) : 0};
 }
 
 uint64_t host_memory_available() {
@@ -79,24 +79,29 @@ uint64_t host_memory_available() {
   return available;
 }
 
-void check_memory(const MemoryNeed& need, const vk::DeviceInfo* device) {
+void check_device_memory(const MemoryNeed& need, const vk::DeviceInfo& device) {
   std::ostringstream m;
   m.precision(3);
+  if (device.max_storage_buffer_range && need.largest_array > device.max_storage_buffer_range) {
+    m << "the run needs arrays of " << gib(need.largest_array) << " GiB, " << device.name << " takes at most "
+      << gib(device.max_storage_buffer_range) << " GiB in one: raise particle_spacing";
+    throw InputError(m.str());
+  }
+  if (device.device_local_bytes && need.device > device.device_local_bytes) {
+    m << "the run needs " << gib(need.device) << " GiB of GPU memory, " << device.name << " has "
+      << gib(device.device_local_bytes) << " GiB: raise particle_spacing";
+    throw InputError(m.str());
+  }
+}
+
+void check_memory(const MemoryNeed& need, const vk::DeviceInfo* device) {
+  if (device) check_device_memory(need, *device);
   // A CPU Vulkan device (lavapipe) keeps its buffers in host memory.
-  const bool device_in_host = device && device->kind == "cpu";
-  const uint64_t host_need = need.host + (device_in_host ? need.device : 0);
-  if (device && device->max_storage_buffer_range && need.largest_array > device->max_storage_buffer_range) {
-    m << "the run needs arrays of " << gib(need.largest_array) << " GiB, " << device->name << " takes at most "
-      << gib(device->max_storage_buffer_range) << " GiB in one: raise particle_spacing";
-    throw InputError(m.str());
-  }
-  if (device && !device_in_host && device->device_local_bytes && need.device > device->device_local_bytes) {
-    m << "the run needs " << gib(need.device) << " GiB of GPU memory, " << device->name << " has "
-      << gib(device->device_local_bytes) << " GiB: raise particle_spacing";
-    throw InputError(m.str());
-  }
+  const uint64_t host_need = need.host + (device && device->kind == "cpu" ? need.device : 0);
   const uint64_t host = host_memory_available();
   if (host_need > host) {
+    std::ostringstream m;
+    m.precision(3);
     m << "the run needs " << gib(host_need) << " GiB of memory, this machine has " << gib(host)
       << " GiB available: raise particle_spacing";
     throw InputError(m.str());

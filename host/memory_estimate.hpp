@@ -16,7 +16,7 @@ struct DeviceInfo;
 struct MemoryNeed {
   uint64_t device = 0;  // GPU buffers (none for the reference solver)
   uint64_t host = 0;    // the solver's host arrays, host copies of a frame, framebuffers
-  uint64_t largest_array = 0;  // one GPU buffer, against the device's storage buffer range
+  uint64_t largest_array = 0;  // one GPU buffer (a vec4 per particle), against the storage buffer range
 };
 
 // `particles` as estimated from the scene; `device` null for the reference solver;
@@ -27,7 +27,10 @@ MemoryNeed memory_need(const Derived& d, double particles, const vk::DeviceInfo*
 // cgroup's limit and RLIMIT_AS, each less what is in use.
 uint64_t host_memory_available();
 
-// Throws InputError when `need` does not fit the device or the host.
+// Throws InputError when `need` does not fit the device: its largest array past the
+// storage buffer range, or all its buffers past the device's memory.
+void check_device_memory(const MemoryNeed& need, const vk::DeviceInfo& device);
+// As check_device_memory where `device` is not null, and then the host.
 void check_memory(const MemoryNeed& need, const vk::DeviceInfo* device);
 
 }  // namespace pbflow

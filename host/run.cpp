@@ -3,7 +3,6 @@
 #include <unistd.h>
 
 #include <chrono>
-#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
@@ -85,10 +84,6 @@ std::unique_ptr<capture::FrameCapture> make_capture(const RunOptions& o, const S
   return std::make_unique<capture::FrameCapture>(c, solver, vk);
 }
 
-}  // namespace
-
-namespace {
-
 // What DIR/run.json records of a run besides its files and status.
 nlohmann::json describe_run(const RunOptions& o, const Scene& scene, const Solver& solver) {
   return {{"scene_name", scene.name},
@@ -109,10 +104,8 @@ int run(const RunOptions& o) {
   const std::filesystem::path out(o.out);
   RunDirectory::check(out);  // before any work: a foreign file here is refused at once
   std::unique_ptr<vk::Context> ctx = make_context(o.device, o.validate);
-  const double pixels = o.render ? double(o.width) * o.height : 0.0;
-  check_memory(memory_need(d, fluid_volume(scene) / std::pow(scene.particle_spacing, 3), ctx ? &ctx->info() : nullptr,
-                           pixels),
-               ctx ? &ctx->info() : nullptr);
+  const vk::DeviceInfo* device = ctx ? &ctx->info() : nullptr;
+  check_memory(memory_need(d, particle_estimate(scene), device, o.render ? double(o.width) * o.height : 0.0), device);
   std::vector<glm::dvec3> x0 = initial_particles(scene);
   std::unique_ptr<Solver> solver = make_solver(ctx.get(), d, x0);
   const capture::ExportFormat export_format = capture::parse_export_format(o.export_format);

@@ -72,10 +72,14 @@ json previous_manifest(const fs::path& dir) {
   return m;
 }
 
-// Every file where a run writes that the previous manifest lists, relative to `dir`.
-// Throws InputError for one it does not list.
-std::vector<std::string> previous_files(const fs::path& dir) {
-  Listed listed(previous_manifest(dir));
+InputError foreign(const fs::path& file) {
+  return InputError(file.string() + " was not written by pbflow (no run.json lists it); choose another --out");
+}
+
+// Every file where a run writes that `previous` (the manifest in `dir`) lists, relative to
+// `dir`. Throws InputError for one it does not list.
+std::vector<std::string> previous_files(const fs::path& dir, const json& previous) {
+  Listed listed(previous);
   std::vector<std::string> owned;
   for (const auto& entry : fs::directory_iterator(dir)) {
     std::string name = entry.path().filename().string();
@@ -84,14 +88,13 @@ std::vector<std::string> previous_files(const fs::path& dir) {
       if (!entry.is_directory()) throw InputError(entry.path().string() + " exists and is not a directory; choose another --out");
       for (const auto& file : fs::directory_iterator(entry.path())) {
         std::string relative = name + "/" + file.path().filename().string();
-        if (!file.is_regular_file() || !listed.lists(relative))
-          throw InputError(file.path().string() + " was not written by pbflow (no run.json lists it); choose another --out");
+        if (!file.is_regular_file() || !listed.lists(relative)) throw foreign(file.path());
         owned.push_back(relative);
       }
     } else if (listed.lists(name)) {
       owned.push_back(name);
     } else if (name == "stats.csv") {
-      throw InputError(entry.path().string() + " was not written by pbflow (no run.json lists it); choose another --out");
+      throw foreign(entry.path());
     }
   }
   return owned;
@@ -127,11 +130,11 @@ void RunDirectory::check(const fs::path& dir) {
   if (dir.empty()) throw InputError("--out is empty: name a directory");
   if (!fs::exists(dir)) return;
   if (!fs::is_directory(dir)) throw InputError("--out " + dir.string() + " exists and is not a directory");
-  previous_files(dir);
+  previous_files(dir, previous_manifest(dir));
 }
 
 RunDirectory::RunDirectory(const fs::path& dir, const RunFiles& files) : dir_(dir), files_(files) {
-  check(dir);
+  if (dir.empty()) throw InputError("--out is empty: name a directory");
   std::error_code error;
   fs::create_directories(dir, error);
   if (error) throw InputError("cannot create --out " + dir.string() + ": " + error.message());
@@ -143,7 +146,7 @@ RunDirectory::RunDirectory(const fs::path& dir, const RunFiles& files) : dir_(di
     throw InputError("--out " + dir.string() + " is in use by another pbflow run" +
                      (pid > 0 ? " (pid " + std::to_string(pid) + ")" : "") + "; wait for it or choose another --out");
   }
-  check(dir);  // again, now that no other run can change it
+  check(dir);  // under the lock, so that no other run changes it after
 }
 
 RunDirectory::~RunDirectory() {
@@ -154,17 +157,23 @@ RunDirectory::~RunDirectory() {
   close(lock_fd_);
 }
 
+std::array<std::pair<const char*, std::string>, 2> RunDirectory::frame_folders() const {
+  return {{{kSubdirs[0], files_.images ? "png" : ""}, {kSubdirs[1], files_.particle_extension}}};
+}
+
 fs::path RunDirectory::frame_path(int frame) const {
-  return capture::frame_file(dir_ / "frames", frame, files_.frame_count, "png");
+  const auto& [sub, extension] = frame_folders()[0];
+  return capture::frame_file(dir_ / sub, frame, files_.frame_count, extension);
 }
 
 fs::path RunDirectory::particle_path(int frame) const {
-  return capture::frame_file(dir_ / "particles", frame, files_.frame_count, files_.particle_extension);
+  const auto& [sub, extension] = frame_folders()[1];
+  return capture::frame_file(dir_ / sub, frame, files_.frame_count, extension);
 }
 
 void RunDirectory::begin(json about) {
   const json previous = previous_manifest(dir_);
-  for (const std::string& file : previous_files(dir_)) fs::remove(dir_ / file);
+  for (const std::string& file : previous_files(dir_, previous)) fs::remove(dir_ / file);
   // The video of an interrupted encoder: NAME.partPID.EXT beside NAME (capture/video.hpp).
   if (previous.contains("video") && previous["video"].is_string() && !previous["video"].get<std::string>().empty()) {
     fs::path video = previous["video"].get<std::string>();
@@ -175,11 +184,10 @@ void RunDirectory::begin(json about) {
       if (entry.path().filename().string().rfind(prefix, 0) == 0) fs::remove(entry.path(), ignored);
   }
   std::vector<std::string> listed = {"stats.csv"};
-  for (const char* sub : kSubdirs) {
-    bool used = (std::string(sub) == "frames") ? files_.images : !files_.particle_extension.empty();
-    if (used) {
+  for (const auto& [sub, extension] : frame_folders()) {
+    if (!extension.empty()) {
       fs::create_directories(dir_ / sub);
-      listed.push_back(std::string(sub) + "/frame_*." + (std::string(sub) == "frames" ? "png" : files_.particle_extension));
+      listed.push_back(std::string(sub) + "/frame_*." + extension);
     } else if (fs::is_directory(dir_ / sub) && fs::is_empty(dir_ / sub)) {
       fs::remove(dir_ / sub);
     }

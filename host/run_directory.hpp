@@ -2,9 +2,11 @@
 // A run owns its --out directory: it locks it for its lifetime (flock, so that a second
 // run into it is refused), writes only the files its manifest DIR/run.json lists, and
 // replaces the previous run's files as a whole, so that the directory never mixes two runs.
+#include <array>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
 
 namespace pbflow {
 
@@ -43,6 +45,8 @@ class RunDirectory {
 
  private:
   void write_manifest();
+  // frames/ and particles/ with the extension this run writes there; empty: none.
+  std::array<std::pair<const char*, std::string>, 2> frame_folders() const;
 
   std::filesystem::path dir_;
   RunFiles files_;

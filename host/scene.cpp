@@ -157,7 +157,7 @@ Scene parse_scene(const std::string& json_text, const std::string& origin, const
   require(!s.fluid_blocks.empty() || !s.fluid_spheres.empty(),
           "scene needs fluid: a non-empty 'fluid_blocks' or 'fluid_spheres'");
   // Checked before any particle is made, so that a tiny spacing fails here, not in an allocation.
-  double estimate = fluid_volume(s) / std::pow(s.particle_spacing, 3);
+  double estimate = particle_estimate(s);
   if (!(estimate <= kMaxParticles)) {
     std::ostringstream m;
     m.precision(3);
@@ -297,6 +297,8 @@ double fluid_volume(const Scene& scene) {
   for (const Ball& b : scene.fluid_spheres) v += 4.0 / 3.0 * M_PI * b.radius * b.radius * b.radius;
   return v;
 }
+
+double particle_estimate(const Scene& scene) { return fluid_volume(scene) / std::pow(scene.particle_spacing, 3); }
 
 double fall_speed(const Scene& scene) {
   return std::sqrt(2.0 * glm::length(scene.gravity) * (scene.domain.max.y - scene.domain.min.y));

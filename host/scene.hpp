@@ -68,6 +68,8 @@ std::vector<BuiltinScene> builtin_scenes();
 // The fluid's volume as the scene states it (blocks and spheres, overlaps counted twice),
 // m^3: the particle-count estimate before any particle is made.
 double fluid_volume(const Scene& scene);
+// fluid_volume / spacing^3: the particles a scene will hold, known before any is made.
+double particle_estimate(const Scene& scene);
 // The speed of a fall from rest through the domain's height, sqrt(2 |g| H), m/s: the
 // scale of the scene's flows (time-step check, divergence watch, speed colours).
 double fall_speed(const Scene& scene);

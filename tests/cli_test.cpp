@@ -2,37 +2,23 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
-#include <sys/wait.h>
 #include <vector>
 
 #include "png.hpp"
+#include "support.hpp"
 #include "video.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int status;
-  std::string output;
-};
-
-// Runs the binary with `args`; `env` (e.g. "PATH=/x") is set for it alone.
-Result pbflow(const std::string& args, const std::string& env = "") {
-  fs::path log = fs::temp_directory_path() / ("pbflow_cli_" + std::to_string(::getpid()) + ".log");
-  std::string cmd = env + " " + std::string(PBFLOW_BINARY) + " " + args + " > " + log.string() + " 2>&1";
-  int raw = std::system(cmd.c_str());
-  std::ifstream in(log);
-  std::stringstream text;
-  text << in.rdbuf();
-  fs::remove(log);
-  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, text.str()};
-}
+using Result = pbflow::test::CliResult;
+using pbflow::test::fresh_dir;
+using pbflow::test::run_pbflow;
 
 std::vector<std::vector<double>> read_csv(const fs::path& path, std::string* header) {
   std::ifstream in(path);
@@ -47,18 +33,12 @@ std::vector<std::vector<double>> read_csv(const fs::path& path, std::string* hea
   return rows;
 }
 
-fs::path fresh_dir(const std::string& name) {
-  fs::path dir = fs::temp_directory_path() / ("pbflow_test_" + name);
-  fs::remove_all(dir);
-  return dir;
-}
-
 TEST(Cli, GpuAndCpuWriteMatchingStats) {
   const std::string common = " run dam_break --no-render --frames 4 --param particle_spacing=0.04 --quiet --out ";
   fs::path gpu = fresh_dir("gpu"), cpu = fresh_dir("cpu");
-  Result g = pbflow(common + gpu.string() + " --validate");
+  Result g = run_pbflow(common + gpu.string() + " --validate");
   ASSERT_EQ(g.status, 0) << g.output;
-  Result c = pbflow(common + cpu.string() + " --device cpu");
+  Result c = run_pbflow(common + cpu.string() + " --device cpu");
   ASSERT_EQ(c.status, 0) << c.output;
 
   std::string header_g, header_c;
@@ -102,7 +82,7 @@ TEST(Cli, BadInputExitsWithStatus2AndOneLine) {
       {"run --device banana", "--device"},
   };
   for (const Case& c : cases) {
-    Result r = pbflow(c.args + " --no-render --frames 2 --out " + (dir / "out").string());
+    Result r = run_pbflow(c.args + " --no-render --frames 2 --out " + (dir / "out").string());
     EXPECT_EQ(r.status, 2) << c.args << ": " << r.output;
     EXPECT_NE(r.output.find(c.expect), std::string::npos) << c.args << ": " << r.output;
     EXPECT_FALSE(fs::exists(dir / "out" / "stats.csv")) << c.args << " wrote output despite bad input";
@@ -111,7 +91,7 @@ TEST(Cli, BadInputExitsWithStatus2AndOneLine) {
 
 TEST(Cli, FramesAreCompletePngsOfTheRequestedSize) {
   fs::path dir = fresh_dir("frames");
-  Result r = pbflow("run dam_break --frames 3 --width 160 --height 96 --style particles --validate --quiet"
+  Result r = run_pbflow("run dam_break --frames 3 --width 160 --height 96 --style particles --validate --quiet"
                     " --param particle_spacing=0.04 --out " + dir.string());
   ASSERT_EQ(r.status, 0) << r.output;
   std::vector<std::string> names;
@@ -135,7 +115,7 @@ TEST(Cli, BadRenderOptionsExitWithStatus2AndWriteNothing) {
       {"--video " + (dir / "v.mp4").string(), "PATH=/nonexistent", "ffmpeg"},
   };
   for (const Case& c : cases) {
-    Result r = pbflow("run --frames 2 --param particle_spacing=0.04 --out " + (dir / "out").string() + " " + c.args,
+    Result r = run_pbflow("run --frames 2 --param particle_spacing=0.04 --out " + (dir / "out").string() + " " + c.args,
                       c.env);
     EXPECT_EQ(r.status, 2) << c.args << ": " << r.output;
     EXPECT_NE(r.output.find(c.expect), std::string::npos) << c.args << ": " << r.output;
@@ -146,7 +126,7 @@ TEST(Cli, BadRenderOptionsExitWithStatus2AndWriteNothing) {
 TEST(Cli, VideoHoldsEveryFrame) {
   if (pbflow::capture::find_ffmpeg().empty()) GTEST_SKIP() << "ffmpeg is not installed (scripts/setup.sh --test installs it)";
   fs::path dir = fresh_dir("video");
-  Result r = pbflow("run --frames 5 --width 160 --height 96 --quiet --param particle_spacing=0.04 --out " +
+  Result r = run_pbflow("run --frames 5 --width 160 --height 96 --quiet --param particle_spacing=0.04 --out " +
                     dir.string() + " --video " + (dir / "clip" / "dam.mp4").string());
   ASSERT_EQ(r.status, 0) << r.output;
   Result probe = {0, ""};
@@ -175,7 +155,7 @@ TEST(Cli, EveryBrokenSceneOfTheCorpusIsRefusedByName) {
     ASSERT_NE(tab, std::string::npos) << line;
     std::string file = line.substr(0, tab), expect = line.substr(tab + 1);
     fs::path out = fresh_dir("broken_" + file);  // no --frames: it would mend fractional_frames.json
-    Result r = pbflow("run " + (corpus / file).string() + " --no-render --out " + out.string());
+    Result r = run_pbflow("run " + (corpus / file).string() + " --no-render --out " + out.string());
     EXPECT_EQ(r.status, 2) << file << ": " << r.output;
     EXPECT_NE(r.output.find(expect), std::string::npos) << file << " should say '" << expect << "': " << r.output;
     EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << file << ": not one line: " << r.output;
@@ -189,7 +169,7 @@ TEST(Cli, EveryBrokenSceneOfTheCorpusIsRefusedByName) {
 
 TEST(Cli, ParamOverridesReachTheSolver) {
   fs::path dir = fresh_dir("param");
-  Result r = pbflow("run dam_break --no-render --frames 2 --param particle_spacing=0.04 "
+  Result r = run_pbflow("run dam_break --no-render --frames 2 --param particle_spacing=0.04 "
                     "--param solver.iterations=3 --param solver.method=pbf --out " + dir.string());
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("2000 particles, pbf with 3 iteration(s)"), std::string::npos) << r.output;
@@ -199,13 +179,13 @@ TEST(Cli, OutputDirectoryIsReusedOnlyForPbflowsOwnFiles) {
   fs::path dir = fresh_dir("reuse");
   const std::string run = "run --style particles --width 64 --height 32 --quiet --param particle_spacing=0.04 --out " +
                           dir.string() + " --frames ";
-  ASSERT_EQ(pbflow(run + "4").status, 0);
-  ASSERT_EQ(pbflow(run + "2").status, 0);  // a shorter run into the same directory
+  ASSERT_EQ(run_pbflow(run + "4").status, 0);
+  ASSERT_EQ(run_pbflow(run + "2").status, 0);  // a shorter run into the same directory
   EXPECT_TRUE(fs::exists(dir / "frames" / "frame_00001.png"));
   EXPECT_FALSE(fs::exists(dir / "frames" / "frame_00002.png")) << "a stale frame of the longer run survived";
 
   std::ofstream(dir / "frames" / "holiday.jpg") << "not ours";
-  Result r = pbflow(run + "2");
+  Result r = run_pbflow(run + "2");
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find("holiday.jpg"), std::string::npos) << r.output;
   EXPECT_TRUE(fs::exists(dir / "frames" / "holiday.jpg"));
@@ -213,11 +193,11 @@ TEST(Cli, OutputDirectoryIsReusedOnlyForPbflowsOwnFiles) {
 
 TEST(Cli, ATimeStepTooLargeForTheSpacingIsWarnedAbout) {
   fs::path dir = fresh_dir("cfl");
-  Result coarse = pbflow("run --no-render --frames 2 --quiet --param solver.substeps=1 --out " + dir.string());
+  Result coarse = run_pbflow("run --no-render --frames 2 --quiet --param solver.substeps=1 --out " + dir.string());
   EXPECT_EQ(coarse.status, 0) << coarse.output;
   EXPECT_NE(coarse.output.find("warning: dt"), std::string::npos) << coarse.output;
   EXPECT_NE(coarse.output.find("solver.substeps=2"), std::string::npos) << coarse.output;
-  Result fine = pbflow("run --no-render --frames 2 --quiet --out " + dir.string());
+  Result fine = run_pbflow("run --no-render --frames 2 --quiet --out " + dir.string());
   EXPECT_EQ(fine.output.find("warning"), std::string::npos) << "the default scene is within the limit: " << fine.output;
 }
 

@@ -19,34 +19,18 @@
 
 #include "png.hpp"
 #include "scene.hpp"
+#include "support.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-fs::path fresh_dir(const std::string& name) {
-  fs::path dir = fs::temp_directory_path() / ("pbflow_test_dir_" + name);
-  fs::remove_all(dir);
-  return dir;
-}
+using Result = pbflow::test::CliResult;
+using pbflow::test::run_pbflow;
 
-struct Result {
-  int status;
-  std::string output;
-};
-
-// `shell` (e.g. "ulimit -f 8;") runs before the binary in the same shell.
-Result pbflow(const std::string& args, const std::string& shell = "") {
-  fs::path log = fs::temp_directory_path() / ("pbflow_dir_" + std::to_string(getpid()) + ".log");
-  std::string cmd = "bash -c '" + shell + " exec " + std::string(PBFLOW_BINARY) + " " + args + "' > " + log.string() + " 2>&1";
-  int raw = std::system(cmd.c_str());
-  std::ifstream in(log);
-  std::stringstream text;
-  text << in.rdbuf();
-  fs::remove(log);
-  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, text.str()};
-}
+// A run's directory for this test: pbflow_test_dir_NAME, empty.
+fs::path fresh_dir(const std::string& name) { return pbflow::test::fresh_dir("dir_" + name); }
 
 json manifest(const fs::path& dir) {
   std::ifstream in(dir / "run.json");
@@ -117,13 +101,13 @@ bool wait_for_frames(const fs::path& dir, pid_t pid, int frames) {
 TEST(RunDirectory, ASecondRunIsRefusedAndAnInterruptedRunLeavesOnlyItsOwnWholeFiles) {
   fs::path dir = fresh_dir("interrupt");
   // An earlier, longer run with particle files: none of its files may survive the next run.
-  ASSERT_EQ(pbflow("run" + kSmall + "--frames 12 --export ply --out " + dir.string()).status, 0);
+  ASSERT_EQ(run_pbflow("run" + kSmall + "--frames 12 --export ply --out " + dir.string()).status, 0);
   ASSERT_EQ(files_in(dir / "frames"), 12u);
 
   Background run("run --param particle_spacing=0.015 --style particles --width 64 --height 32 --quiet "
                  "--frames 2000 --out " + dir.string());
   ASSERT_TRUE(wait_for_frames(dir, run.pid(), 2)) << "the background run did not get going";
-  Result second = pbflow("run" + kSmall + "--frames 2 --out " + dir.string());
+  Result second = run_pbflow("run" + kSmall + "--frames 2 --out " + dir.string());
   EXPECT_EQ(second.status, 2) << second.output;
   EXPECT_NE(second.output.find("in use by another pbflow run (pid " + std::to_string(run.pid()) + ")"),
             std::string::npos) << second.output;
@@ -148,7 +132,7 @@ TEST(RunDirectory, FilesPbflowDidNotWriteAreRefusedAndKept) {
   fs::path dir = fresh_dir("foreign");
   fs::create_directories(dir);
   std::ofstream(dir / "stats.csv") << "my spreadsheet\n";
-  Result r = pbflow("run" + kSmall + "--frames 2 --out " + dir.string());
+  Result r = run_pbflow("run" + kSmall + "--frames 2 --out " + dir.string());
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find("stats.csv was not written by pbflow"), std::string::npos) << r.output;
   EXPECT_EQ(rows(dir / "stats.csv"), std::vector<std::string>{"my spreadsheet"});
@@ -156,16 +140,16 @@ TEST(RunDirectory, FilesPbflowDidNotWriteAreRefusedAndKept) {
 
   fs::remove(dir / "stats.csv");
   std::ofstream(dir / "run.json") << "{\"not\": \"ours\"}";
-  r = pbflow("run" + kSmall + "--frames 2 --out " + dir.string());
+  r = run_pbflow("run" + kSmall + "--frames 2 --out " + dir.string());
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find("not a pbflow manifest"), std::string::npos) << r.output;
 }
 
 TEST(RunDirectory, AnAbsurdFrameCountChangesNothing) {
   fs::path dir = fresh_dir("absurd");
-  ASSERT_EQ(pbflow("run" + kSmall + "--frames 3 --out " + dir.string()).status, 0);
+  ASSERT_EQ(run_pbflow("run" + kSmall + "--frames 3 --out " + dir.string()).status, 0);
   for (const char* bad : {"--param frames=3000000000", "--param frames=1e10", "--frames 3000000000"}) {
-    Result r = pbflow("run" + kSmall + bad + " --out " + dir.string());
+    Result r = run_pbflow("run" + kSmall + bad + " --out " + dir.string());
     EXPECT_EQ(r.status, 2) << bad << ": " << r.output;
     EXPECT_EQ(files_in(dir / "frames"), 3u) << bad << " touched the earlier run";
     EXPECT_EQ(manifest(dir)["status"], "complete") << bad;
@@ -175,7 +159,7 @@ TEST(RunDirectory, AnAbsurdFrameCountChangesNothing) {
 TEST(RunDirectory, AFailedWriteIsAnErrorNamingTheFileAndLeavesWholeRows) {
   fs::path dir = fresh_dir("efbig");
   // ulimit -f: past 8 KiB a write fails with EFBIG (pbflow ignores SIGXFSZ), ~80 rows in.
-  Result r = pbflow("run --no-render --param particle_spacing=0.04 --quiet --frames 400 --out " + dir.string(),
+  Result r = run_pbflow("run --no-render --param particle_spacing=0.04 --quiet --frames 400 --out " + dir.string(),
                     "ulimit -f 8;");
   EXPECT_EQ(r.status, 1) << r.output;
   EXPECT_NE(r.output.find("stats.csv: File too large"), std::string::npos) << r.output;
@@ -203,7 +187,7 @@ TEST(RunDirectory, BadOptionsAndScenesAreRefusedBeforeTheDirectoryIsTouched) {
       {"bench --seconds -1 --out " + dir.string(), "--seconds"},
   };
   for (const Case& c : cases) {
-    Result r = pbflow(c.args);
+    Result r = run_pbflow(c.args);
     EXPECT_EQ(r.status, 2) << c.args << ": " << r.output;
     EXPECT_NE(r.output.find(c.expect), std::string::npos) << c.args << ": " << r.output;
     EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << c.args << ": not one line: " << r.output;
@@ -214,7 +198,7 @@ TEST(RunDirectory, BadOptionsAndScenesAreRefusedBeforeTheDirectoryIsTouched) {
 TEST(RunDirectory, ARunTooLargeForTheMemoryIsRefusedWithTheNumbers) {
   fs::path dir = fresh_dir("memory");
   // About 30 million particles for the reference solver under a 3 GB address space.
-  Result r = pbflow("run --device cpu --no-render --param particle_spacing=0.002 --out " + dir.string(),
+  Result r = run_pbflow("run --device cpu --no-render --param particle_spacing=0.002 --out " + dir.string(),
                     "ulimit -v 3000000;");
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find("the run needs"), std::string::npos) << r.output;
@@ -224,7 +208,7 @@ TEST(RunDirectory, ARunTooLargeForTheMemoryIsRefusedWithTheNumbers) {
 
 TEST(RunDirectory, ACameraLookingStraightDownSeesTheFluid) {
   fs::path dir = fresh_dir("camera");
-  Result r = pbflow("run" + kSmall + "--frames 1 --param camera.eye=[0.2,3,0.2] --param camera.target=[0.2,0,0.2] --out " +
+  Result r = run_pbflow("run" + kSmall + "--frames 1 --param camera.eye=[0.2,3,0.2] --param camera.target=[0.2,0,0.2] --out " +
                     dir.string());
   ASSERT_EQ(r.status, 0) << r.output;
   pbflow::capture::Image image = pbflow::capture::read_png(dir / "frames" / "frame_00000.png");

@@ -1,7 +1,12 @@
 #include "support.hpp"
 
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <fstream>
 #include <random>
 
 namespace pbflow::test {
@@ -76,6 +81,23 @@ std::vector<glm::dvec3> difference(const std::vector<glm::dvec3>& a, const std::
   std::vector<glm::dvec3> d(a.size());
   for (size_t i = 0; i < a.size(); ++i) d[i] = a[i] - b[i];
   return d;
+}
+
+CliResult run_pbflow(const std::string& args, const std::string& prefix) {
+  namespace fs = std::filesystem;
+  fs::path log = fs::temp_directory_path() / ("pbflow_cli_" + std::to_string(getpid()) + ".log");
+  std::string cmd = prefix + " " + std::string(PBFLOW_BINARY) + " " + args + " > " + log.string() + " 2>&1";
+  int raw = std::system(cmd.c_str());
+  std::ifstream in(log);
+  std::string output((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  fs::remove(log);
+  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, output};
+}
+
+std::filesystem::path fresh_dir(const std::string& name) {
+  std::filesystem::path dir = std::filesystem::temp_directory_path() / ("pbflow_test_" + name);
+  std::filesystem::remove_all(dir);
+  return dir;
 }
 
 }  // namespace pbflow::test

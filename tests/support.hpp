@@ -3,6 +3,7 @@
 // error reports (max and mean, absolute and relative, printed for every comparison).
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -41,5 +42,17 @@ ErrorReport compare(const std::vector<double>& gpu, const std::vector<double>& r
 ErrorReport compare(const std::vector<glm::dvec3>& gpu, const std::vector<glm::dvec3>& ref, const std::string& what);
 
 std::vector<glm::dvec3> difference(const std::vector<glm::dvec3>& a, const std::vector<glm::dvec3>& b);
+
+// The command line as a user runs it: the binary's exit status and its stdout and stderr.
+struct CliResult {
+  int status;  // -1 where it did not exit normally
+  std::string output;
+};
+// Runs `pbflow args` through the shell; `prefix` goes before the binary, e.g. an
+// environment ("PATH=/x") or a limit ("ulimit -f 8;"), and holds for this run alone.
+CliResult run_pbflow(const std::string& args, const std::string& prefix = "");
+
+// An empty path under the temporary directory: pbflow_test_NAME, removed if it exists.
+std::filesystem::path fresh_dir(const std::string& name);
 
 }  // namespace pbflow::test
