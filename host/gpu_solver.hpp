@@ -46,8 +46,8 @@ class GpuSolver : public Solver {
   // Timestamps after every pass group, reported in FrameStats::pass_ms (benchmarks).
   void set_profiling(bool on) { profiling_ = on; }
 
-  void upload(const ParticleState& s);  // x, v, x_pred, in id order
-  ParticleState download() const;       // everything, in id order
+  void upload(const ParticleState& s) override;
+  ParticleState download() const override;
 
  private:
   enum Slot { X, V, XPred, Spare0, Spare1, kSlots };  // roles of the vec4 arrays, swapped on the host

@@ -38,32 +38,4 @@ inline double spiky(double r, double h) {
   return r < h ? spiky_coef(h) / 3.0 * s * s * s : 0.0;  // 15/(pi h^6) (h - r)^3
 }
 
-// The walls as the fluid's lattice continued past them (shaders/common.glsl mirrors this).
-// A particle at distance a from a wall misses the layers of particles that would lie at
-// a + s/2, a + 3s/2, ... beyond it (s: the spacing; the lattice's outermost centres sit
-// s/2 from the wall). A layer at distance d holds a share of the poly6 sum proportional
-// to l(d) = (1 - d^2/h^2)^4 (the kernel integrated over the layer's plane), so the missing
-// fraction is F(a) = sum_n l(a + (n + 1/2) s) / sum_m l(m s). Counting layers, not a
-// continuous slab, is what makes a lattice at rest read rho0 at a wall (the slab integral
-// read +2.6 % at faces and +3.6 % at corners).
-inline double layer_share(double d, double h) {
-  double t = std::max(1.0 - d * d / (h * h), 0.0);
-  return t * t * t * t;
-}
-inline double layer_share_slope(double d, double h) {  // d l / d d
-  double t = std::max(1.0 - d * d / (h * h), 0.0);
-  return -8.0 * d / (h * h) * t * t * t;
-}
-inline double lattice_layers(double h, double s) {  // sum_m l(m s) over every layer within h
-  double sum = 1.0;
-  for (double d = s; d < h; d += s) sum += 2.0 * layer_share(d, h);
-  return sum;
-}
-// (F(a), dF/da) times lattice_layers(h, s): the caller divides once for all six walls.
-inline glm::dvec2 wall_layers(double a, double h, double s) {
-  glm::dvec2 sum(0.0);
-  for (double d = std::max(a, 0.0) + 0.5 * s; d < h; d += s) sum += glm::dvec2(layer_share(d, h), layer_share_slope(d, h));
-  return sum;
-}
-
 }  // namespace pbflow::kernels

@@ -1,6 +1,7 @@
 #include "reference_solver.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 
@@ -21,6 +22,12 @@ ReferenceSolver::ReferenceSolver(const Derived& d, const std::vector<dvec3>& x0)
   cells_.resize(size_t(d.grid.x) * d.grid.y * d.grid.z);
 }
 
+void ReferenceSolver::upload(const ParticleState& s) {
+  state.x = s.x;
+  state.v = s.v;
+  state.x_pred = s.x_pred;
+}
+
 glm::ivec3 ReferenceSolver::cell_of(const dvec3& x) const {
   dvec3 c = glm::floor((x - d_.domain_min) / d_.h);
   glm::ivec3 cell(0);  // a NaN coordinate (a diverged particle) goes to cell 0; the watch reports it
@@ -39,19 +46,25 @@ void ReferenceSolver::for_each_neighbour(const dvec3& xi, F&& visit) const {
         for (size_t j : cells_[cell_id({x, y, z})]) visit(j);
 }
 
-double ReferenceSolver::wall_density(const dvec3& x, dvec3& grad) const {
-  double kept = 1;  // fraction of the kernel volume in front of all walls
-  dvec3 dlog;       // d log(kept) / dx
-  const double h = d_.h, s = d_.spacing, layers = kernels::lattice_layers(h, s);
+ReferenceSolver::WallImages ReferenceSolver::walls_near(const dvec3& x) const {
+  glm::ivec3 side(0);  // per axis: 0 none, -1 the lower wall, +1 the upper one (the nearer, within h)
   for (int a = 0; a < 3; ++a) {
-    // (F, dF/da) of the walls below and above x on this axis (kernels.hpp).
-    glm::dvec2 f_lo = kernels::wall_layers(x[a] - d_.domain_min[a], h, s) / layers;
-    glm::dvec2 f_hi = kernels::wall_layers(d_.domain_max[a] - x[a], h, s) / layers;
-    kept *= (1 - f_lo.x) * (1 - f_hi.x);
-    dlog[a] = -f_lo.y / (1 - f_lo.x) + f_hi.y / (1 - f_hi.x);
+    double lo = x[a] - d_.domain_min[a], hi = d_.domain_max[a] - x[a];
+    side[a] = std::min(lo, hi) >= d_.h ? 0 : lo <= hi ? -1 : 1;
   }
-  grad = -d_.rho0 * kept * dlog;
-  return d_.rho0 * (1 - kept);
+  WallImages w;
+  for (int k = 1; k < 8; ++k) {  // bit a of k: reflect across axis a's wall
+    dvec3 sign(1.0), offset(0.0);
+    bool valid = true;
+    for (int a = 0; a < 3; ++a)
+      if (k >> a & 1) {
+        valid = valid && side[a] != 0;
+        sign[a] = -1;
+        offset[a] = 2 * (side[a] < 0 ? d_.domain_min[a] : d_.domain_max[a]);
+      }
+    if (valid) w.image[w.count++] = {sign, offset};
+  }
+  return w;
 }
 
 void ReferenceSolver::build_grid(const std::vector<dvec3>& at) {
@@ -61,23 +74,30 @@ void ReferenceSolver::build_grid(const std::vector<dvec3>& at) {
 
 void ReferenceSolver::density() {
   for (size_t i = 0; i < state.x.size(); ++i) {
+    const WallImages walls = walls_near(state.x[i]);
     double sum = 0;
     for_each_neighbour(state.x[i], [&](size_t j) {
-      dvec3 d = state.x[i] - state.x[j];
-      sum += kernels::poly6(glm::dot(d, d), d_.h);
+      for (const WallImage& m : walls) {
+        dvec3 d = state.x[i] - m.of(state.x[j]);
+        sum += kernels::poly6(glm::dot(d, d), d_.h);
+      }
     });
-    dvec3 wall_grad;
-    state.rho[i] = d_.mass * sum + wall_density(state.x[i], wall_grad);
+    state.rho[i] = d_.mass * sum;
   }
 }
 
 dvec3 ReferenceSolver::correction_force(size_t i) const {
   auto rho = [&](size_t k) { return d_.solver.ldc_clamp ? std::max(state.rho[k], d_.rho0) : state.rho[k]; };
+  const dvec3 xi = state.x[i];
+  const WallImages walls = walls_near(xi);
   dvec3 f(0.0);
-  for_each_neighbour(state.x[i], [&](size_t j) {
-    dvec3 d = state.x[j] - state.x[i];
-    double r = glm::length(d);
-    if (r > 0 && r < d_.h) f += ((rho(j) - rho(i)) / d_.rho0) * d_.h * (1 - r / d_.h) * (d / r);
+  for_each_neighbour(xi, [&](size_t j) {
+    const double difference = (rho(j) - rho(i)) / d_.rho0;
+    for (const WallImage& m : walls) {
+      dvec3 d = m.of(state.x[j]) - xi;
+      double r = glm::length(d);
+      if (r > 0 && r < d_.h) f += difference * d_.h * (1 - r / d_.h) * (d / r);
+    }
   });
   return -d_.ldc_k * f;
 }
@@ -105,18 +125,28 @@ void ReferenceSolver::constraint_lambda() {
   const double s = d_.mass / d_.rho0;
   for (size_t i = 0; i < state.x.size(); ++i) {
     const dvec3 xi = state.x_pred[i];
+    const WallImages walls = walls_near(xi);
     double w_sum = 0, grad_sq = 0;
-    dvec3 grad_i(0.0);
+    dvec3 own(0.0);  // grad_i C_i
     for_each_neighbour(xi, [&](size_t j) {
-      dvec3 d = xi - state.x_pred[j];
-      w_sum += kernels::poly6(glm::dot(d, d), d_.h);
-      dvec3 g = s * kernels::spiky_grad(d, d_.h);  // grad_j C_i = -g, and g adds to grad_i C_i
-      grad_i += g;
-      grad_sq += glm::dot(g, g);
+      // grad_i C_i gains grad W for j and each of its images; grad_j C_i = -sum over them
+      // of the image's reflection times grad W (j moves its images, mirrored).
+      dvec3 g(0.0), g_j(0.0);
+      for (const WallImage& m : walls) {
+        dvec3 d = xi - m.of(state.x_pred[j]);
+        w_sum += kernels::poly6(glm::dot(d, d), d_.h);
+        dvec3 grad = s * kernels::spiky_grad(d, d_.h);
+        g += grad;
+        g_j += m.sign * grad;
+      }
+      if (j == i) {
+        own += 2.0 * g;  // i's images move with i, away from it
+      } else {
+        own += g;
+        grad_sq += glm::dot(g_j, g_j);
+      }
     });
-    dvec3 wall_grad;
-    double rho = d_.mass * w_sum + wall_density(xi, wall_grad);
-    dvec3 own = grad_i + wall_grad / d_.rho0;  // grad_i C_i, the walls included
+    double rho = d_.mass * w_sum;
     double c = std::max(rho / d_.rho0 - 1.0, 0.0);
     state.lambda[i] = -c / ((grad_sq + glm::dot(own, own) + d_.epsilon) * (1.0 + c));  // constraint_lambda.comp
     state.rho[i] = rho;  // kept for the adaptive iterations' check
@@ -128,15 +158,17 @@ void ReferenceSolver::constraint_apply(double relax) {
   const double inv_wdq = d_.scorr_inv_wdq, k = d_.scorr_scale, n = d_.solver.scorr_n;
   for (size_t i = 0; i < next.size(); ++i) {
     const dvec3 xi = state.x_pred[i];
+    const WallImages walls = walls_near(xi);
     dvec3 dp(0.0);
     for_each_neighbour(xi, [&](size_t j) {
-      dvec3 d = xi - state.x_pred[j];
-      double s_corr = k > 0 ? -k * std::pow(kernels::poly6(glm::dot(d, d), d_.h) * inv_wdq, n) : 0.0;
-      dp += (state.lambda[i] + state.lambda[j] + s_corr) * kernels::spiky_grad(d, d_.h);
+      // An image carries its particle's lambda; i's own images push i away from the wall.
+      for (const WallImage& m : walls) {
+        dvec3 d = xi - m.of(state.x_pred[j]);
+        double s_corr = k > 0 ? -k * std::pow(kernels::poly6(glm::dot(d, d), d_.h) * inv_wdq, n) : 0.0;
+        dp += (state.lambda[i] + state.lambda[j] + s_corr) * kernels::spiky_grad(d, d_.h);
+      }
     });
-    dvec3 wall_grad;  // the walls push with the particle's own lambda
-    wall_density(xi, wall_grad);
-    next[i] = project_out_of_solids(xi + relax * ((d_.mass / d_.rho0) * dp + state.lambda[i] * wall_grad / d_.rho0));
+    next[i] = project_out_of_solids(xi + relax * (d_.mass / d_.rho0) * dp);
   }
   state.x_pred = std::move(next);
 }

@@ -2,6 +2,7 @@
 // The C++ reference: the same passes in the same order as the GPU solver, in double
 // precision and written for clarity. Tests compare every GPU pass with it; it is also
 // the CPU baseline (--device cpu).
+#include <array>
 #include <vector>
 
 #include "params.hpp"
@@ -15,6 +16,8 @@ class ReferenceSolver : public Solver {
 
   FrameStats advance(int steps) override;
   ParticleFrame read_frame() const override;
+  ParticleState download() const override { return state; }
+  void upload(const ParticleState& s) override;
   size_t particle_count() const override { return state.x.size(); }
   std::string device_name() const override { return "cpu (C++ reference)"; }
 
@@ -35,8 +38,24 @@ class ReferenceSolver : public Solver {
   // The LDC acceleration on particle i (from rho and x); correction() applies it.
   glm::dvec3 correction_force(size_t i) const;
 
-  // The walls' density at x (the fluid continued past them) and its gradient.
-  double wall_density(const glm::dvec3& x, glm::dvec3& grad) const;
+  // The walls are mirrors (shaders/common.glsl): behind each wall within h of a particle,
+  // and behind each pair and the triple of them at edges and corners, lies the reflection
+  // of its neighbours. The image of x is sign * x + offset. Ghost particles made this way
+  // continue any lattice exactly, so walls read rho0 at faces, edges and corners alike;
+  // and they mirror the fluid that is really there, so a wall next to a free surface does
+  // not add density that is not there (the earlier wall term counted a full lattice
+  // behind every wall, which pushed surface particles off the walls).
+  struct WallImage {
+    glm::dvec3 sign{1.0}, offset{0.0};  // the identity: the neighbour itself
+    glm::dvec3 of(const glm::dvec3& x) const { return sign * x + offset; }
+  };
+  struct WallImages {  // the identity first, then one image per combination of near walls
+    std::array<WallImage, 8> image;
+    size_t count = 1;
+    const WallImage* begin() const { return image.data(); }
+    const WallImage* end() const { return image.data() + count; }
+  };
+  WallImages walls_near(const glm::dvec3& x) const;
 
   const Derived& derived() const { return d_; }
   ParticleState state;
@@ -44,6 +63,7 @@ class ReferenceSolver : public Solver {
  private:
   template <class F>
   void for_each_neighbour(const glm::dvec3& xi, F&& visit) const;
+
   glm::ivec3 cell_of(const glm::dvec3& x) const;
   size_t cell_id(const glm::ivec3& c) const { return (size_t(c.z) * d_.grid.y + c.y) * d_.grid.x + c.x; }
   glm::dvec3 project_out_of_solids(glm::dvec3 x) const;  // out of the obstacles, then into the walls

@@ -16,6 +16,7 @@
 #include "interrupt.hpp"
 #include "memory_estimate.hpp"
 #include "reference_solver.hpp"
+#include "settle.hpp"
 #include "run_directory.hpp"
 #include "scene.hpp"
 #include "stats_csv.hpp"
@@ -52,6 +53,9 @@ class Progress {
     double left = (frames_ - 1 - frame) / std::max(rate, 1e-9);
     std::fprintf(stderr, "\rframe %d/%d  t = %.2f s  %.1f frames/s  %.0f s left   ", frame + 1, frames_, sim_time,
                  rate, left);
+  }
+  void settling(int step) {
+    if (enabled_) std::fprintf(stderr, "\rsettling: step %d   ", step);
   }
   void done() {
     if (enabled_) std::fprintf(stderr, "\r%*s\r", 70, "");
@@ -131,6 +135,16 @@ int run(const RunOptions& o) {
     }
 
     Progress progress(scene.frames, !o.quiet);
+    if (scene.settle) {
+      SettleReport r = settle(*solver, d, [&](int step) {
+        progress.settling(step);
+        return !interrupt.signal();
+      });
+      progress.done();
+      if (!o.quiet || !r.converged)
+        std::cerr << "pbflow: settled into the solver's equilibrium in " << r.steps << " steps (potential energy -"
+                  << r.potential_drop << " J)" << (r.converged ? "" : "; still moving at the step limit") << "\n";
+    }
     double sum_mean = 0, worst = 0, sum_step_ms = 0;
     EnergyGain energy;
     std::string diverged;  // the message, when the watch stopped the run

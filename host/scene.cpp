@@ -19,7 +19,7 @@ using nlohmann::json;
 const json& schema() {
   static const json s = json::parse(R"({
     "description": "", "domain": {"min": 0, "max": 0}, "particle_spacing": 0,
-    "fluid_blocks": [], "fluid_spheres": [], "obstacles": [], "gravity": 0, "fps": 0, "frames": 0,
+    "fluid_blocks": [], "fluid_spheres": [], "obstacles": [], "gravity": 0, "settle": 0, "fps": 0, "frames": 0,
     "solver": {"method": 0, "iterations": 0, "max_iterations": 0, "target_compression": 0, "substeps": 0, "kernel_ratio": 0, "rest_density": 0,
                "relaxation": 0, "jacobi_gain": 0, "scorr_k": 0, "scorr_n": 0, "scorr_dq": 0, "xsph": 0,
                "vorticity": 0, "ldc_strength": 0, "ldc_k": 0, "ldc_clamp": 0},
@@ -190,6 +190,10 @@ Scene parse_scene(const std::string& json_text, const std::string& origin, const
   }
   s.gravity = vec3(j, "gravity", "gravity", {0, -9.81, 0});
   require(glm::length(s.gravity) <= 1e4, "gravity must not exceed 1e4 m/s^2 (a thousand g)");
+  if (j.contains("settle")) {
+    require(j["settle"].is_boolean(), "settle must be true or false");
+    s.settle = j["settle"].get<bool>();
+  }
   s.fps = number(j, "fps", 60);
   require(s.fps >= 1e-3 && s.fps <= 1e5, "fps must be in [0.001, 100000]");
   double frames = number(j, "frames", 240);

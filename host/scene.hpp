@@ -48,6 +48,9 @@ struct Scene {
   std::vector<Ball> fluid_spheres;
   std::vector<Obstacle> obstacles;
   glm::dvec3 gravity;
+  // The fluid starts at rest in the solver's own equilibrium (host/settle.hpp): for a tank,
+  // not for a drop in the air (every particle settles along gravity).
+  bool settle = false;
   double fps;
   int frames;
   SolverParams solver;

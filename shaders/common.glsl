@@ -31,44 +31,32 @@ vec3 spiky_grad(vec3 d, float r) {
   return (-sim.spiky_coef * s * s / r) * d;
 }
 
-// Walls as the fluid's lattice continued past them (host/kernels.hpp says why): the
-// fraction of a particle's poly6 sum that the layers beyond a wall at distance a would
-// give, F(a) = sum_n l(a + (n + 1/2) s) / sum_m l(m s), l(d) = (1 - d^2/h^2)^4, and dF/da.
-// The spacing s is twice the gap between a wall and the outermost centres.
-float spacing() { return 2.0 * (sim.wall_min.x - sim.domain_min.x); }
-float lattice_layers() {
-  float s = spacing(), sum = 1.0;
-  for (float d = s; d < sim.h; d += s) {
-    float t = 1.0 - d * d / (sim.h * sim.h);
-    sum += 2.0 * t * t * t * t;
-  }
-  return sum;
-}
-vec2 wall_layers(float a) {  // (F, dF/da) times lattice_layers(): wall_density divides once
-  float s = spacing();
-  vec2 sum = vec2(0.0);
-  for (float d = max(a, 0.0) + 0.5 * s; d < sim.h; d += s) {
-    float t = 1.0 - d * d / (sim.h * sim.h);
-    sum += vec2(t * t * t * t, -8.0 * d / (sim.h * sim.h) * t * t * t);
-  }
-  return sum;
-}
-// The walls' density at x and its gradient with respect to x. The kept fractions
-// (1 - F) multiply, so that at edges and corners the volume behind two or three walls
-// is not counted twice.
-float wall_density(vec3 x, out vec3 grad) {
-  vec3 lo = x - sim.domain_min, hi = sim.domain_max - x;
-  float kept = 1.0;
-  vec3 dlog;  // d log(kept) / dx
-  float layers = lattice_layers();
+// The walls are mirrors: the fluid behind a wall is the fluid in front of it, reflected
+// (ghost particles; host/reference_solver.hpp says why). A neighbour j of particle i has
+// an image behind every wall within h of i (the nearer wall of each axis), and one behind
+// each pair and the triple of them at edges and corners: image k (a bit mask of axes,
+// 1..7) reflects j across the walls of the axes in k. A lattice continued this way is
+// the lattice itself, so walls read rho0 exactly.
+struct WallImages {
+  int axes;     // bit a: axis a has a wall within h; the images are the non-empty subsets
+  vec3 plane2;  // twice the near wall's coordinate on each such axis
+};
+WallImages walls_near(vec3 x) {
+  WallImages w;
+  w.axes = 0;
   for (int a = 0; a < 3; ++a) {
-    vec2 f_lo = wall_layers(lo[a]) / layers, f_hi = wall_layers(hi[a]) / layers;
-    kept *= (1.0 - f_lo.x) * (1.0 - f_hi.x);
-    dlog[a] = -f_lo.y / (1.0 - f_lo.x) + f_hi.y / (1.0 - f_hi.x);
+    float lo = x[a] - sim.domain_min[a], hi = sim.domain_max[a] - x[a];
+    if (min(lo, hi) < sim.h) w.axes |= 1 << a;  // a box narrower than 2h: the nearer wall only
+    w.plane2[a] = 2.0 * (lo <= hi ? sim.domain_min[a] : sim.domain_max[a]);
   }
-  grad = -sim.rho0 * kept * dlog;
-  return sim.rho0 * (1.0 - kept);
+  return w;
 }
+// Every image of a neighbour: for (int k = w.axes; k != 0; k = next_image(w, k)) ...
+int next_image(WallImages w, int k) { return (k - 1) & w.axes; }
+bvec3 reflected(int k) { return bvec3((k & 1) != 0, (k & 2) != 0, (k & 4) != 0); }
+vec3 mirror(WallImages w, int k, vec3 x) { return mix(x, w.plane2 - x, reflected(k)); }
+// The reflection's matrix (diagonal): maps a gradient at the image back to the neighbour.
+vec3 mirror_sign(int k) { return mix(vec3(1.0), vec3(-1.0), reflected(k)); }
 
 ivec3 cell_of(vec3 x) {
   // Clamp in float first (a far-away position must not overflow the int), then in int:

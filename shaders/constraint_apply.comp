@@ -24,21 +24,27 @@ float tensile_power(float ratio) {
   return pow(ratio, TENSILE_N);
 }
 
+// (lambda_i + lambda_j + s_corr) grad W_spiky(d), d = x*_i - x*_j (or j's image).
+vec3 pair_push(vec3 d, float lambda_ij) {
+  float r2 = dot(d, d);
+  if (r2 >= sim.h * sim.h) return vec3(0.0);
+  float s_corr = sim.scorr_k > 0.0 ? -sim.scorr_k * tensile_power(poly6(r2) * sim.scorr_inv_wdq) : 0.0;
+  return (lambda_ij + s_corr) * spiky_grad(d, sqrt(r2));
+}
+
 void main() {
   uint i = thread_index();
   if (i >= sim.count) return;
   vec3 xi = x_pred[i].xyz;
+  WallImages walls = walls_near(xi);
   float lambda_i = lambda[i];
   vec3 dp = vec3(0.0);
   FOR_EACH_NEIGHBOUR(xi, j) {
-    vec3 d = xi - x_pred[j].xyz;
-    float r2 = dot(d, d);
-    if (r2 >= sim.h * sim.h) continue;
-    float s_corr = sim.scorr_k > 0.0 ? -sim.scorr_k * tensile_power(poly6(r2) * sim.scorr_inv_wdq) : 0.0;
-    dp += (lambda_i + lambda[j] + s_corr) * spiky_grad(d, sqrt(r2));
+    vec3 xj = x_pred[j].xyz;
+    float lambda_ij = lambda_i + lambda[j];
+    dp += pair_push(xi - xj, lambda_ij);
+    // An image behind a wall carries its particle's lambda; i's own images push i away.
+    for (int k = walls.axes; k != 0; k = next_image(walls, k)) dp += pair_push(xi - mirror(walls, k, xj), lambda_ij);
   }
-  // The walls push with the particle's own lambda (they have none of their own).
-  vec3 wall_grad;
-  wall_density(xi, wall_grad);
-  x_out[i] = vec4(project_out_of_solids(xi + sim.relax * ((sim.mass / sim.rho0) * dp + lambda_i * wall_grad / sim.rho0)), 0.0);
+  x_out[i] = vec4(project_out_of_solids(xi + sim.relax * (sim.mass / sim.rho0) * dp), 0.0);
 }

@@ -14,22 +14,32 @@ void main() {
   uint i = thread_index();
   if (i >= sim.count) return;
   vec3 xi = x_pred[i].xyz;
+  WallImages walls = walls_near(xi);
   float w_sum = 0.0;
   vec3 grad_i = vec3(0.0);  // grad of C_i with respect to x_i, times rho0/m
   float grad_sq = 0.0;      // sum over j != i of |grad_j C_i|^2, times (rho0/m)^2
   FOR_EACH_NEIGHBOUR(xi, j) {
-    vec3 d = xi - x_pred[j].xyz;
+    vec3 xj = x_pred[j].xyz, d = xi - xj;
     float r2 = dot(d, d);
-    if (r2 >= sim.h * sim.h) continue;
     w_sum += poly6(r2);
-    vec3 g = spiky_grad(d, sqrt(r2));
+    vec3 g = spiky_grad(d, sqrt(r2));  // zero for j = i
+    vec3 g_j = g;                      // -grad_j C_i: j moves its images too, reflected
+    for (int k = walls.axes; k != 0; k = next_image(walls, k)) {
+      d = xi - mirror(walls, k, xj);
+      r2 = dot(d, d);
+      w_sum += poly6(r2);
+      vec3 g_image = spiky_grad(d, sqrt(r2));
+      g += g_image;
+      g_j += mirror_sign(k) * g_image;
+    }
+    // i's own images move with i, away from it: they count twice in grad_i C_i.
+    if (j == i) g *= 2.0;
+    else grad_sq += dot(g_j, g_j);
     grad_i += g;
-    grad_sq += dot(g, g);
   }
-  vec3 wall_grad;
-  float rho = sim.mass * w_sum + wall_density(xi, wall_grad);
+  float rho = sim.mass * w_sum;
   float s = sim.mass / sim.rho0;
-  vec3 own = s * grad_i + wall_grad / sim.rho0;  // grad_i C_i, the walls included
+  vec3 own = s * grad_i;  // grad_i C_i
   float c = max(rho / sim.rho0 - 1.0, 0.0);
   rho_out[i] = rho;
   // A pass's gain grows with the neighbours inside h, i.e. with rho / rho0: the relaxation,

@@ -3,6 +3,9 @@
 // pushing each particle away from denser neighbours; applied at once as v_i += f_i dt.
 // With CLAMP_DENSITY (solver.ldc_clamp) densities below rho0 count as rho0, so that a
 // free surface (neighbours missing, density low) does not draw the fluid towards it.
+// Within h of a wall the sum also runs over the neighbours' mirror images behind it (the
+// walls' ghost fluid, common.glsl): without them a particle at a wall got half the force
+// that holds up a compressed column, sank, and drove a jet down every wall.
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x_id = 0) in;
 #include "common.glsl"
@@ -15,18 +18,26 @@ layout(constant_id = 1) const bool CLAMP_DENSITY = true;
 
 float ldc_density(uint k) { return CLAMP_DENSITY ? max(rho[k], sim.rho0) : rho[k]; }
 
+// One neighbour's term, h(1 - r/h) = h - r.
+vec3 pair_term(vec3 d, float rho_difference) {
+  float r2 = dot(d, d);
+  if (r2 >= sim.h * sim.h || r2 == 0.0) return vec3(0.0);
+  float r = sqrt(r2);
+  return (rho_difference * (sim.h - r) / r) * d;
+}
+
 void main() {
   uint i = thread_index();
   if (i >= sim.count) return;
   vec3 xi = x[i].xyz;
   float rho_i = ldc_density(i);
+  WallImages walls = walls_near(xi);
   vec3 f = vec3(0.0);
   FOR_EACH_NEIGHBOUR(xi, j) {
-    vec3 d = x[j].xyz - xi;
-    float r2 = dot(d, d);
-    if (r2 >= sim.h * sim.h || r2 == 0.0) continue;
-    float r = sqrt(r2);
-    f += ((ldc_density(j) - rho_i) * (sim.h - r) / r) * d;  // h(1 - r/h) = h - r
+    vec3 xj = x[j].xyz;
+    float difference = ldc_density(j) - rho_i;
+    f += pair_term(xj - xi, difference);
+    for (int k = walls.axes; k != 0; k = next_image(walls, k)) f += pair_term(mirror(walls, k, xj) - xi, difference);
   }
   v[i].xyz += (-sim.ldc_k / sim.rho0 * sim.dt) * f;
 }

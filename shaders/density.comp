@@ -1,5 +1,5 @@
 #version 450
-// rho_i = sum_j m W_poly6(x_i - x_j), self included, plus the walls' share.
+// rho_i = sum_j m W_poly6(x_i - x_j), self included, and the neighbours' images behind the walls.
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x_id = 0) in;
 #include "common.glsl"
@@ -12,11 +12,15 @@ void main() {
   uint i = thread_index();
   if (i >= sim.count) return;
   vec3 xi = x[i].xyz;
+  WallImages walls = walls_near(xi);
   float sum = 0.0;
   FOR_EACH_NEIGHBOUR(xi, j) {
-    vec3 d = xi - x[j].xyz;
+    vec3 xj = x[j].xyz, d = xi - xj;
     sum += poly6(dot(d, d));
+    for (int k = walls.axes; k != 0; k = next_image(walls, k)) {
+      d = xi - mirror(walls, k, xj);
+      sum += poly6(dot(d, d));
+    }
   }
-  vec3 wall_grad;
-  rho[i] = sim.mass * sum + wall_density(xi, wall_grad);
+  rho[i] = sim.mass * sum;
 }

@@ -177,48 +177,6 @@ INSTANTIATE_TEST_SUITE_P(Methods, StepTest,
                                            StepCase{"ldc_obstacles", "ldc", kObstaclesInTheColumn}),
                          [](const auto& info) { return std::string(info.param.name); });
 
-}  // namespace
-}  // namespace pbflow
-
-namespace pbflow {
-namespace {
-
-class LatticeDensityTest : public test::GpuTest {};
-
-// The mass is calibrated so that an interior lattice particle has rho0 exactly; the
-// wall term approximates the missing neighbours by a continuum, good to a few percent.
-TEST_F(LatticeDensityTest, InteriorIsRestDensityAndWallsAreClose) {
-  Scene scene = load_scene("hydrostatic");
-  Derived d = derive(scene);
-  auto x0 = initial_particles(scene);
-  GpuSolver gpu(test::gpu(), d, x0);
-  gpu.begin();
-  gpu.grid_at_positions();
-  gpu.density();
-  gpu.finish();
-  ParticleState g = gpu.download();
-  double interior_err = 0, wall_err = 0;
-  size_t interior = 0, walls = 0;
-  const double top = scene.fluid_blocks[0].max.y;
-  for (size_t i = 0; i < x0.size(); ++i) {
-    glm::dvec3 lo = x0[i] - d.domain_min, hi = d.domain_max - x0[i];
-    double wall = std::min({lo.x, lo.y, lo.z, hi.x, hi.z});
-    if (top - x0[i].y < d.h) continue;  // the free surface is genuinely less dense
-    double err = std::abs(g.rho[i] / d.rho0 - 1.0);
-    if (wall > d.h) {
-      interior_err = std::max(interior_err, err);
-      ++interior;
-    } else {
-      wall_err = std::max(wall_err, err);
-      ++walls;
-    }
-  }
-  std::printf("  interior particles %zu: max |rho/rho0 - 1| %.2e; next to walls %zu: %.2e\n", interior, interior_err,
-              walls, wall_err);
-  EXPECT_GT(interior, 1000u);
-  EXPECT_LT(interior_err, 1e-5);
-  EXPECT_LT(wall_err, 0.2);  // corners, where three walls overlap, are the worst (see README)
-}
 
 }  // namespace
 }  // namespace pbflow
