@@ -1,9 +1,12 @@
 // A tank at rest at its own spacing (0.02 m) and step (60 fps x 2 substeps): 0.4 m deep
 // like the hydrostatic scene, a smaller cross-section (0.3 x 0.2 m, 3000 particles) to
-// keep CI short. It must lose energy, stay inside, and come nearly to rest.
+// keep CI short. Settled into the solver's equilibrium first (the scene's "settle", as
+// the hydrostatic scene does), it must lose energy, stay inside and stay at rest.
+// (Released from the lattice instead, it must not gain energy: energy_test.cpp.)
 #include <cmath>
 
 #include "gpu_solver.hpp"
+#include "settle.hpp"
 #include "support.hpp"
 
 namespace pbflow {
@@ -12,14 +15,18 @@ namespace {
 struct Setting {
   const char* method;
   int iterations;
+  double max_speed;  // at 2 s, settled
 };
 void PrintTo(const Setting& s, std::ostream* os) { *os << s.method << "@" << s.iterations; }
 
-// Measured here (README "Physics at the real-time step"): max speed at 2 s 0.2-0.7 m/s and
-// mean compression 6-14 % for these settings: a soft, slowly sloshing column, not the
-// 0.1 m/s that DESIGN.md asks for (not met; stated in the README). The bounds fail for the
-// solver before the relaxation (7-9 m/s, or a blow-up) and for any energy-making one.
-constexpr double kMaxSpeed = 1.0, kMeanCompression = 0.2;
+// DESIGN.md asks for max speed well under 0.1 m/s at 2 s. pbf@2 and pbf@3 hold it (0.07 and
+// 0.05 m/s measured in this tank, 0.08 m/s in the full scene). ldc@1 and ldc@2 do not:
+// their free surface keeps jittering (0.3-0.5 m/s at the surface, 0.09 m/s in the bulk;
+// README "Physics at the real-time step", open): its bound is what it reaches (0.5 m/s
+// measured, chaotic from run to run), so that the
+// test still fails for a bouncing or energy-making solver (before the walls were mirrors
+// ldc@1 had a 0.3 m/s jet down every wall; before the relaxation, 7-9 m/s).
+constexpr double kMeanCompression = 0.2;
 
 class RestTest : public test::GpuTest, public ::testing::WithParamInterface<Setting> {};
 
@@ -32,6 +39,9 @@ TEST_P(RestTest, TankLosesEnergyAndSettles) {
   ASSERT_EQ(scene.particle_spacing, 0.02);
   Derived d = derive(scene);
   GpuSolver solver(test::gpu(), d, initial_particles(scene));
+  SettleReport settled = settle(solver, d);
+  ASSERT_TRUE(settled.converged) << settled.steps << " steps";
+  EXPECT_GT(settled.potential_drop, 0.0);
   FrameStats s = solver.advance(0);
   EnergyGain energy;
   energy.add(s);
@@ -41,10 +51,10 @@ TEST_P(RestTest, TankLosesEnergyAndSettles) {
     energy.add(s);
   }
   const double worst_gain = energy.largest();
-  std::printf("  %s@%d after 2 s: max speed %.3f m/s, mean compression %.4f, energy gain %+.4f\n", p.method,
-              p.iterations, s.max_speed, s.mean_compression, worst_gain);
+  std::printf("  %s@%d settled in %d steps; after 2 s: max speed %.3f m/s, mean compression %.4f, energy gain %+.4f\n",
+              p.method, p.iterations, settled.steps, s.max_speed, s.mean_compression, worst_gain);
   EXPECT_LE(worst_gain, 0.01);
-  EXPECT_LT(s.max_speed, kMaxSpeed);
+  EXPECT_LT(s.max_speed, p.max_speed);
   EXPECT_LT(s.mean_compression, kMeanCompression);
   for (const glm::dvec3& x : solver.download().x)
     ASSERT_TRUE(glm::all(glm::greaterThanEqual(x, d.wall_min - 1e-6)) && glm::all(glm::lessThanEqual(x, d.wall_max + 1e-6)))
@@ -52,7 +62,7 @@ TEST_P(RestTest, TankLosesEnergyAndSettles) {
 }
 
 INSTANTIATE_TEST_SUITE_P(RealStep, RestTest,
-                         ::testing::Values(Setting{"ldc", 1}, Setting{"pbf", 2}, Setting{"pbf", 3}),
+                         ::testing::Values(Setting{"ldc", 1, 0.7}, Setting{"pbf", 2, 0.1}, Setting{"pbf", 3, 0.1}),
                          [](const auto& info) {
                            return std::string(info.param.method) + std::to_string(info.param.iterations);
                          });
