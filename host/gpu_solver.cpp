@@ -41,7 +41,7 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
       vorticity_pass_(d.solver.vorticity > 0),
       correction_pass_(d.solver.method == Method::Ldc),
       density_(ctx, "density", 3, sizeof(SimConstants)),
-      correction_(ctx, "correction_force", 4, sizeof(SimConstants), 0,
+      correction_(ctx, "correction_force", 5, sizeof(SimConstants), 0,
                   std::array<uint32_t, 1>{d.solver.ldc_clamp ? 1u : 0u}),
       predict_(ctx, "predict", 4, sizeof(SimConstants)),
       lambda_(ctx, "constraint_lambda", 4, sizeof(SimConstants)),
@@ -174,7 +174,9 @@ void GpuSolver::correction() {
   cmd_.bind(1, at(X));
   cmd_.bind(2, rho_);
   cmd_.bind(3, at(V));
+  cmd_.bind(4, at(Spare0));
   cmd_.dispatch(n_);
+  swap_roles(V, Spare0);
 }
 
 void GpuSolver::predict() {

@@ -102,10 +102,21 @@ dvec3 ReferenceSolver::correction_force(size_t i) const {
   return -d_.ldc_k * f;
 }
 
+dvec3 ReferenceSolver::correction_damping(size_t i) const {
+  const dvec3 xi = state.x[i], vi = state.v[i];
+  dvec3 damp(0.0);
+  for_each_neighbour(xi, [&](size_t j) {
+    dvec3 d = state.x[j] - xi;
+    double r2 = glm::dot(d, d);
+    if (r2 > 0 && r2 < d_.h * d_.h) damp += (1 - std::sqrt(r2) / d_.h) * glm::dot(vi - state.v[j], d) / r2 * d;
+  });
+  return -kLdcDamping * damp;
+}
+
 void ReferenceSolver::correction() {
-  std::vector<dvec3> f(state.x.size());
-  for (size_t i = 0; i < f.size(); ++i) f[i] = correction_force(i);
-  for (size_t i = 0; i < f.size(); ++i) state.v[i] += f[i] * d_.dt;
+  std::vector<dvec3> dv(state.x.size());
+  for (size_t i = 0; i < dv.size(); ++i) dv[i] = correction_force(i) * d_.dt + correction_damping(i);
+  for (size_t i = 0; i < dv.size(); ++i) state.v[i] += dv[i];
 }
 
 // A particle this close to an obstacle (a fraction of h) touches it (obstacles.glsl too).

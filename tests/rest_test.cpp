@@ -3,6 +3,7 @@
 // keep CI short. Settled into the solver's equilibrium first (the scene's "settle", as
 // the hydrostatic scene does), it must lose energy, stay inside and stay at rest.
 // (Released from the lattice instead, it must not gain energy: energy_test.cpp.)
+#include <algorithm>
 #include <cmath>
 
 #include "gpu_solver.hpp"
@@ -15,17 +16,19 @@ namespace {
 struct Setting {
   const char* method;
   int iterations;
-  double max_speed;  // at 2 s, settled
 };
 void PrintTo(const Setting& s, std::ostream* os) { *os << s.method << "@" << s.iterations; }
 
-// DESIGN.md asks for max speed well under 0.1 m/s at 2 s. pbf@2 and pbf@3 hold it (0.07 and
-// 0.05 m/s measured in this tank, 0.08 m/s in the full scene). ldc@1 and ldc@2 do not:
-// their free surface keeps jittering (0.3-0.5 m/s at the surface, 0.09 m/s in the bulk;
-// README "Physics at the real-time step", open): its bound is what it reaches (0.5 m/s
-// measured, chaotic from run to run), so that the
-// test still fails for a bouncing or energy-making solver (before the walls were mirrors
-// ldc@1 had a 0.3 m/s jet down every wall; before the relaxation, 7-9 m/s).
+// DESIGN.md asks for max speed well under 0.1 m/s at 2 s. Measured in this tank: pbf@2
+// 0.07, pbf@3 0.05, ldc@1 0.05 m/s (in the full scene 0.08, 0.08 and 0.13 m/s: README
+// "Physics at the real-time step"). These bounds fail for the solver before the walls were
+// mirrors (ldc@1: a 0.3 m/s jet down every wall), before LDC's damping (its free surface
+// jittered at 0.5 m/s), before the settle (the column breathing at 0.1-0.2 m/s) and before
+// the relaxation (7-9 m/s). The max is one particle and varies from run to run (GPU
+// atomics order particles differently; pbf@2 gave 0.07 and 0.17 m/s in two runs), so the
+// test asserts the 99th percentile at 0.05 m/s and the max at 0.25 m/s: not DESIGN.md's
+// max under 0.1 m/s in every run (stated in the README).
+constexpr double kP99Speed = 0.05, kMaxSpeed = 0.25;
 constexpr double kMeanCompression = 0.2;
 
 class RestTest : public test::GpuTest, public ::testing::WithParamInterface<Setting> {};
@@ -54,15 +57,22 @@ TEST_P(RestTest, TankLosesEnergyAndSettles) {
   std::printf("  %s@%d settled in %d steps; after 2 s: max speed %.3f m/s, mean compression %.4f, energy gain %+.4f\n",
               p.method, p.iterations, settled.steps, s.max_speed, s.mean_compression, worst_gain);
   EXPECT_LE(worst_gain, 0.01);
-  EXPECT_LT(s.max_speed, p.max_speed);
+  EXPECT_LT(s.max_speed, kMaxSpeed);
+  ParticleState end = solver.download();
+  std::vector<double> speed;
+  for (const glm::dvec3& v : end.v) speed.push_back(glm::length(v));
+  std::nth_element(speed.begin(), speed.begin() + speed.size() * 99 / 100, speed.end());
+  const double p99 = speed[speed.size() * 99 / 100];
+  std::printf("  99th percentile speed %.3f m/s\n", p99);
+  EXPECT_LT(p99, kP99Speed);
   EXPECT_LT(s.mean_compression, kMeanCompression);
-  for (const glm::dvec3& x : solver.download().x)
+  for (const glm::dvec3& x : end.x)
     ASSERT_TRUE(glm::all(glm::greaterThanEqual(x, d.wall_min - 1e-6)) && glm::all(glm::lessThanEqual(x, d.wall_max + 1e-6)))
         << "a particle left the tank";
 }
 
 INSTANTIATE_TEST_SUITE_P(RealStep, RestTest,
-                         ::testing::Values(Setting{"ldc", 1, 0.7}, Setting{"pbf", 2, 0.1}, Setting{"pbf", 3, 0.1}),
+                         ::testing::Values(Setting{"ldc", 1}, Setting{"pbf", 2}, Setting{"pbf", 3}),
                          [](const auto& info) {
                            return std::string(info.param.method) + std::to_string(info.param.iterations);
                          });
