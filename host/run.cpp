@@ -16,9 +16,9 @@
 #include "interrupt.hpp"
 #include "memory_estimate.hpp"
 #include "reference_solver.hpp"
-#include "settle.hpp"
 #include "run_directory.hpp"
 #include "scene.hpp"
+#include "settle.hpp"
 #include "stats_csv.hpp"
 #include "vk/context.hpp"
 
@@ -141,7 +141,7 @@ int run(const RunOptions& o) {
         return !interrupt.signal();
       });
       progress.done();
-      if (!o.quiet || !r.converged)
+      if (!interrupt.signal() && (!o.quiet || !r.converged))
         std::cerr << "pbflow: settled into the solver's equilibrium in " << r.steps << " steps (potential energy -"
                   << r.potential_drop << " J)" << (r.converged ? "" : "; still moving at the step limit") << "\n";
     }
