@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "kernels.hpp"
+#include "stability.hpp"
 
 namespace pbflow {
 
@@ -159,7 +160,7 @@ void ReferenceSolver::constraint_lambda() {
     });
     double rho = d_.mass * w_sum;
     double c = std::max(rho / d_.rho0 - 1.0, 0.0);
-    state.lambda[i] = -c / ((grad_sq + glm::dot(own, own) + d_.epsilon) * (1.0 + c));  // constraint_lambda.comp
+    state.lambda[i] = -c / ((grad_sq + glm::dot(own, own) + d_.epsilon) * (1.0 + kCompressedGain * c));  // constraint_lambda.comp
     state.rho[i] = rho;  // kept for the adaptive iterations' check
   }
 }

@@ -14,16 +14,18 @@ namespace {
 
 using cvec3 = glm::tvec3<std::complex<double>>;
 
-// A lattice of spacing 1 and rest density 1: the neighbour offsets o = x_i - x_j inside h.
+// A lattice of rest spacing 1 and rest density 1, squeezed uniformly to (1 + compression)
+// rho0: the neighbour offsets o = x_i - x_j inside h.
 struct Lattice {
-  double h, mass;
+  double h, mass, spacing;
   std::vector<glm::dvec3> offsets;
-  explicit Lattice(double kernel_ratio) : h(kernel_ratio), mass(lattice_mass(1.0, kernel_ratio, 1.0)) {
-    int n = int(std::ceil(h));
+  explicit Lattice(double kernel_ratio, double compression = 0)
+      : h(kernel_ratio), mass(lattice_mass(1.0, kernel_ratio, 1.0)), spacing(std::cbrt(1.0 / (1.0 + compression))) {
+    int n = int(std::ceil(h / spacing));
     for (int i = -n; i <= n; ++i)
       for (int j = -n; j <= n; ++j)
         for (int k = -n; k <= n; ++k) {
-          glm::dvec3 o(i, j, k);
+          glm::dvec3 o = spacing * glm::dvec3(i, j, k);
           double r = glm::length(o);
           if (r > 0 && r < h) offsets.push_back(o);
         }
@@ -42,13 +44,13 @@ struct Lattice {
 
 // Every mode up to the lattice's Nyquist limit; the cubic lattice's symmetry leaves [0, pi]^3.
 template <class F>
-double max_over_modes(F&& eigenvalue) {
+double max_over_modes(double spacing, F&& eigenvalue) {
   constexpr int kSamples = 24;
   double worst = 0;
   for (int a = 0; a <= kSamples; ++a)
     for (int b = 0; b <= a; ++b)
       for (int c = 0; c <= b; ++c) {
-        glm::dvec3 k = std::numbers::pi / kSamples * glm::dvec3(a, b, c);
+        glm::dvec3 k = std::numbers::pi / (kSamples * spacing) * glm::dvec3(a, b, c);
         worst = std::max(worst, eigenvalue(k));
       }
   return worst;
@@ -58,17 +60,21 @@ std::complex<double> dot(const cvec3& a, const cvec3& b) { return a.x * b.x + a.
 
 }  // namespace
 
-double jacobi_gain_max(double kernel_ratio, double relaxation) {
-  const Lattice l(kernel_ratio);
-  double denominator = 0;  // sum_j |grad_j C_i|^2 (grad_i C_i vanishes on the lattice)
-  for (const glm::dvec3& o : l.offsets) {
-    glm::dvec3 g = l.mass * kernels::spiky_grad(o, l.h);
-    denominator += glm::dot(g, g);
-  }
-  denominator *= 1.0 + relaxation;
+double jacobi_gain_max(double kernel_ratio, double relaxation, double compression) {
+  const Lattice rest(kernel_ratio), l(kernel_ratio, compression);
+  // sum_j |grad_j C_i|^2 (grad_i C_i vanishes on a lattice); eps is sized at rest, as the solver's
+  auto gradient_sq = [](const Lattice& lattice) {
+    double sum = 0;
+    for (const glm::dvec3& o : lattice.offsets) {
+      glm::dvec3 g = lattice.mass * kernels::spiky_grad(o, lattice.h);
+      sum += glm::dot(g, g);
+    }
+    return sum;
+  };
+  const double denominator = gradient_sq(l) + relaxation * gradient_sq(rest);
   // lambda_i = -c.u / denominator; dx_i = m sum_j (lambda_i + lambda_j) grad W_spiky = -g (c.u) / denominator:
   // a rank-one map whose eigenvalue is (c.g) / denominator.
-  return max_over_modes([&](const glm::dvec3& k) {
+  return max_over_modes(l.spacing, [&](const glm::dvec3& k) {
     cvec3 g(0.0);
     for (const glm::dvec3& o : l.offsets)
       g += cvec3(l.mass * kernels::spiky_grad(o, l.h)) * (1.0 + Lattice::phase(k, o));
@@ -80,7 +86,7 @@ double ldc_stiffness_max(double kernel_ratio) {
   const Lattice l(kernel_ratio);
   // a_i = -K sum_j (drho_j - drho_i) (h - r) e_ij with e_ij = (x_j - x_i)/r = -o/r: again rank one,
   // a = K a_dir (c.u), and the stiffness is -(c . a_dir).
-  return max_over_modes([&](const glm::dvec3& k) {
+  return max_over_modes(l.spacing, [&](const glm::dvec3& k) {
     cvec3 a_dir(0.0);
     for (const glm::dvec3& o : l.offsets) {
       double r = glm::length(o);

@@ -15,8 +15,16 @@
 namespace pbflow {
 
 // Largest gain mu of one Jacobi pass of the density constraint (lambda_i + lambda_j form,
-// poly6 density, spiky gradients, eps = relaxation * denominator) over all lattice modes.
-double jacobi_gain_max(double kernel_ratio, double relaxation);
+// poly6 density, spiky gradients, eps = relaxation * denominator at rest) over all lattice
+// modes, on a lattice squeezed uniformly to (1 + compression) rho0 (same mass: more
+// neighbours inside h, so a larger gain).
+double jacobi_gain_max(double kernel_ratio, double relaxation, double compression = 0);
+
+// The gain's growth with compression: jacobi_gain_max at rho0 (1 + C) stays within 3 % of
+// (1 + kCompressedGain C) times its value at rho0 for C up to 1 (tests/energy_test.cpp);
+// lambda is divided by that factor so that compressed fluid is not over-corrected.
+// shaders/constraint_lambda.comp has the same constant.
+inline constexpr double kCompressedGain = 1.0 / 3.0;
 
 // Largest stiffness s of the LDC force per unit K (the acceleration of a mode of unit
 // amplitude is K s): dimensionless; K dt^2 s < 4 is the explicit force's stability limit.

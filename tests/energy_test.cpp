@@ -154,6 +154,21 @@ TEST(Stability, JacobiScheduleNeverOvercorrectsAMode) {
   }
 }
 
+// lambda's 1 / (1 + kCompressedGain C) holds a squeezed lattice's largest gain at its value
+// at rho0 (within 3 % up to C = 1), and is not much more than that: 1 / (1 + C) was, and the column
+// it could not hold collapsed (pbf@1).
+TEST(Stability, CompressedFluidIsNotOvercorrected) {
+  const double at_rest = jacobi_gain_max(2.0, 0.01);
+  for (double c : {0.05, 0.1, 0.2, 0.4, 0.8, 1.0}) {
+    const double squeezed = jacobi_gain_max(2.0, 0.01, c);
+    std::printf("  compression %.2f: largest gain %.3f (%.3f of rest), after the factor %.3f\n", c, squeezed,
+                squeezed / at_rest, squeezed / at_rest / (1 + kCompressedGain * c));
+    EXPECT_GT(squeezed, at_rest) << "compression " << c << ": more neighbours, more gain";
+    EXPECT_LE(squeezed / (1 + kCompressedGain * c), 1.03 * at_rest) << "compression " << c;
+    EXPECT_GE(squeezed / (1 + kCompressedGain * c), 0.85 * at_rest) << "compression " << c;
+  }
+}
+
 // LDC's K is a fraction of what the step carries: it scales as 1/dt^2, and a stated K
 // past the limit is refused with a message naming it.
 TEST(Stability, LdcStiffnessScalesWithTheStep) {
