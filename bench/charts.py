@@ -4,14 +4,15 @@
 Usage: charts.py DIR   (writes DIR/*.png; `pbflow bench` runs it and leaves a copy in DIR)
 
   accuracy_vs_cost.png   ms per step vs time-averaged mean compression, one line per
-                         method through its iteration counts (the Pareto front)
+                         method through its iteration counts (the Pareto front); below
+                         it the energy gain of the same runs (a sound run has none)
   time_per_step.png      ms per step vs iterations, per method (seed paper, Figure 7)
   compression_over_time.png, kinetic_energy.png
                          pbf@1,2,3 and ldc@1 on dam_break (seed paper, Figures 1/4 and 6)
   stability_pbf.png, stability_ldc.png
                          with --stability (several substeps): each run's class
-                         (stable / compressed / diverged) over substeps x iterations,
-                         a panel per scene (and per K for ldc); then only these
+                         (stable / compressed / gains energy / diverged) over substeps x
+                         iterations, a panel per scene (and per LDC strength); then only these
   adaptive.png           with --targets: iterations and ms per step each method needs to
                          reach each target mean compression
 Accuracy and time charts use the study's largest particle count, the over-time charts
@@ -53,20 +54,27 @@ def by_method(rows):
 
 
 def accuracy_vs_cost(runs, out_dir, device):
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
-    for ax, scene in zip(axes, ("dam_break", "hydrostatic")):
-        rows, n = largest(runs, scene)
-        for method, rs in by_method(rows).items():
-            x = [float(r["step_ms_mean"]) for r in rs]
-            y = [100 * float(r["mean_compression_avg"]) for r in rs]
-            ax.plot(x, y, label=method, **STYLE.get(method, {}))
-            for r, xi, yi in zip(rs, x, y):
-                ax.annotate(r["iterations"], (xi, yi), textcoords="offset points", xytext=(4, 4), fontsize=8)
-        ax.set_xlabel("ms per step")
-        ax.set_ylabel("mean compression, time average (%)")
-        ax.set_yscale("log")
-        ax.set_title(f"{scene}, {n} particles")
-        ax.legend(title="method (labels: iterations)")
+    # Runs from before energy was recorded have no energy_gain: then compression only.
+    measures = [("mean_compression_avg", "mean compression, time average (%)", "log")]
+    if all(r.get("energy_gain") for r in runs):
+        measures.append(("energy_gain", "energy gain, largest (% of PE0)", "linear"))
+    fig, axes = plt.subplots(len(measures), 2, figsize=(11, 4.2 * len(measures)), squeeze=False)
+    for row, (column, label, scale) in zip(axes, measures):
+        for ax, scene in zip(row, ("dam_break", "hydrostatic")):
+            rows, n = largest(runs, scene)
+            for method, rs in by_method(rows).items():
+                x = [float(r["step_ms_mean"]) for r in rs]
+                y = [100 * float(r[column]) for r in rs]
+                ax.plot(x, y, label=method, **STYLE.get(method, {}))
+                for r, xi, yi in zip(rs, x, y):
+                    ax.annotate(r["iterations"], (xi, yi), textcoords="offset points", xytext=(4, 4), fontsize=8)
+            if column == "energy_gain":
+                ax.axhline(1.0, color="grey", linestyle="--", linewidth=0.8)  # DESIGN.md's bound
+            ax.set_xlabel("ms per step")
+            ax.set_ylabel(label)
+            ax.set_yscale(scale)
+            ax.set_title(f"{scene}, {n} particles")
+            ax.legend(title="method (labels: iterations)")
     fig.suptitle(f"Accuracy against cost on {device}")
     fig.tight_layout()
     fig.savefig(os.path.join(out_dir, "accuracy_vs_cost.png"), dpi=110)
@@ -138,7 +146,12 @@ def adaptive(runs, out_dir, device):
     plt.close(fig)
 
 
-CLASS_COLOUR = {"stable": "#4caf50", "compressed": "#ffb300", "diverged": "#d32f2f"}
+CLASS_COLOUR = {"stable": "#4caf50", "compressed": "#ffb300", "gains energy": "#8e24aa", "diverged": "#d32f2f"}
+
+
+def strength(r):
+    """The LDC panel a run belongs to: its strength (older runs.csv: K in 1/s^2)."""
+    return ("strength", float(r["ldc_strength"])) if "ldc_strength" in r else ("K", float(r["ldc_k"]))
 
 
 def stability_maps(runs, out_dir, device):
@@ -147,11 +160,11 @@ def stability_maps(runs, out_dir, device):
         rows = [r for r in runs if r["method"] == method]
         if not rows:
             continue
-        ks = sorted({float(r["ldc_k"]) for r in rows})
+        ks = sorted({strength(r) for r in rows})
         panels = [(scene, k) for scene in scenes for k in ks]
         fig, axes = plt.subplots(1, len(panels), figsize=(3.4 * len(panels), 3.4), squeeze=False)
         for ax, (scene, k) in zip(axes[0], panels):
-            cells = [r for r in rows if r["scene"] == scene and float(r["ldc_k"]) == k]
+            cells = [r for r in rows if r["scene"] == scene and strength(r) == k]
             its = sorted({int(r["iterations"]) for r in cells})
             subs = sorted({int(r["substeps"]) for r in cells})
             for r in cells:
@@ -165,9 +178,9 @@ def stability_maps(runs, out_dir, device):
             ax.set_ylim(-0.5, len(subs) - 0.5)
             ax.set_xlabel("iterations")
             ax.set_ylabel("substeps per frame")
-            ax.set_title(scene + (f", K = {k:g}" if method == "ldc" else ""), fontsize=9)
+            ax.set_title(scene + (f", {k[0]} {k[1]:g}" if method == "ldc" else ""), fontsize=9)
         handles = [plt.Rectangle((0, 0), 1, 1, color=c) for c in CLASS_COLOUR.values()]
-        fig.legend(handles, list(CLASS_COLOUR), loc="lower center", ncol=3, fontsize=8)
+        fig.legend(handles, list(CLASS_COLOUR), loc="lower center", ncol=len(CLASS_COLOUR), fontsize=8)
         fig.suptitle(f"Where {method} breaks on {device} (cells: mean compression)", fontsize=10)
         fig.tight_layout(rect=(0, 0.08, 1, 1))
         fig.savefig(os.path.join(out_dir, f"stability_{method}.png"), dpi=110)

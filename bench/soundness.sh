@@ -7,13 +7,13 @@
 #
 #   bench/soundness.sh [-s "dam_break drop"] [-m "pbf@1 ldc@1"] [-t SECONDS] [-p PARAM]... > table.md
 #
-# Defaults: the five built-in scenes, pbf@1-4 and ldc@1-2, 1.5 s (hydrostatic 2 s).
+# Defaults: the five built-in scenes, pbf@1-4 and ldc@1-2, 1.5 s (hydrostatic 2 s, after its settle).
 # -p passes a --param to every run (e.g. -p solver.substeps=8, -p particle_spacing=0.01).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scenes="dam_break drop double_dam_break dam_obstacle hydrostatic"
 settings="pbf@1 pbf@2 pbf@3 pbf@4 ldc@1 ldc@2"
-seconds=1.5
+seconds=
 params=()
 while getopts "s:m:t:p:" opt; do
   case $opt in
@@ -30,8 +30,8 @@ trap 'rm -rf "$out"' EXIT
 echo "| scene | setting | particles | exit | energy gain | rise over running min | mean compression | max speed at end | wall s |"
 echo "|---|---|---|---|---|---|---|---|---|"
 for scene in $scenes; do
-  t=$seconds
-  [[ $scene == hydrostatic ]] && t=2
+  t=${seconds:-1.5}
+  [[ -z $seconds && $scene == hydrostatic ]] && t=2
   frames=$(awk -v t="$t" 'BEGIN { printf "%d", t * 60 + 1.5 }')  # every built-in scene runs at 60 fps
   for setting in $settings; do
     method=${setting%@*} iterations=${setting#*@}

@@ -14,6 +14,7 @@
 #include "gpu_solver.hpp"
 #include "run.hpp"
 #include "scene.hpp"
+#include "settle.hpp"
 #include "vk/context.hpp"
 
 namespace pbflow {
@@ -27,12 +28,12 @@ namespace fs = std::filesystem;
 const std::vector<std::string>& run_columns() {
   static const std::vector<std::string> columns = [] {
     std::vector<std::string> c = {"run",        "device",      "scene",        "particles",    "method",
-                                  "iterations", "target_compression", "ldc_k", "substeps", "simulated_s",
+                                  "iterations", "target_compression", "ldc_strength", "ldc_k", "substeps", "simulated_s",
                                   "step_ms_mean", "step_ms_max",  "iterations_used"};
     for (const char* pass : kPassGroupNames) c.push_back(std::string(pass) + "_ms");
     for (const char* k : {"particle_steps_per_s", "mean_compression_avg", "max_compression_avg",
                           "max_compression_peak", "final_mean_compression", "settle_mm", "kinetic_energy_final",
-                          "diverged", "class"})
+                          "energy_gain", "energy_rise", "diverged", "class"})
       c.push_back(k);
     return c;
   }();
@@ -44,7 +45,7 @@ namespace {
 struct Run {
   std::string scene, method;
   int particles_wanted, iterations;
-  double ldc_k;   // 0: the scene's
+  double ldc_strength;  // 0: the scene's
   double target;  // adaptive when > 0: iterations from `iterations` up to kMaxAdaptive
   int substeps;   // 0: the scene's
 };
@@ -52,6 +53,7 @@ struct Run {
 constexpr int kMaxAdaptive = 41;   // 1 + 20 pairs
 constexpr double kBlownUp = 9.0;   // max compression (rho = 10 rho0) at which a run counts as diverged
 constexpr double kCompressed = 0.02;  // time-averaged mean compression above which a run counts as compressed
+constexpr double kGainsEnergy = 0.01;  // energy gain (of PE_0) above which a run is unsound (DESIGN.md)
 
 struct Outcome {
   std::vector<std::string> cells;  // runs.csv row
@@ -78,7 +80,7 @@ Outcome simulate(const Run& r, int index, double seconds, const std::string& dev
   std::vector<std::string> overrides = {"particle_spacing=" + number(spacing), "solver.method=\"" + r.method + "\"",
                                         "solver.iterations=" + std::to_string(r.iterations),
                                         "frames=" + std::to_string(frames)};
-  if (r.ldc_k > 0) overrides.push_back("solver.ldc_k=" + number(r.ldc_k));
+  if (r.ldc_strength > 0) overrides.push_back("solver.ldc_strength=" + number(r.ldc_strength));
   if (r.substeps > 0) overrides.push_back("solver.substeps=" + std::to_string(r.substeps));
   if (r.target > 0) {
     overrides.push_back("solver.target_compression=" + number(r.target));
@@ -89,19 +91,28 @@ Outcome simulate(const Run& r, int index, double seconds, const std::string& dev
   auto x0 = initial_particles(scene);
   std::unique_ptr<vk::Context> ctx = make_context(device, false);
   std::unique_ptr<Solver> solver = make_solver(ctx.get(), d, x0);
+  if (scene.settle) settle(*solver, d);  // as `pbflow run` does: the tank starts in its equilibrium
   if (auto* gpu = dynamic_cast<GpuSolver*>(solver.get())) gpu->set_profiling(true);
 
   const double height0 = mean_height(solver->read_frame());
   std::ostringstream series;
-  double sum_mean = 0, sum_max = 0, peak = 0, step_sum = 0, step_max = 0, iteration_sum = 0;
+  double sum_mean = 0, sum_max = 0, peak = 0, step_sum = 0, step_max = 0, iteration_sum = 0, pe0 = 0;
   std::array<double, kPassGroups> pass_sum{};
+  EnergyGain gain;
+  double energy_min = 0, energy_rise = 0;  // E - its running minimum: compression stored and given back
   FrameStats s;
   bool diverged = false;
   int measured = 0;  // frames after frame 0
   for (int frame = 0; frame < frames; ++frame) {
     s = solver->advance(frame == 0 ? 0 : scene.solver.substeps);
     series << index << "," << frame << "," << number(frame / scene.fps) << "," << number(s.mean_compression) << ","
-           << number(s.max_compression) << "," << number(s.kinetic_energy) << "\n";
+           << number(s.max_compression) << "," << number(s.kinetic_energy) << "," << number(s.potential_energy)
+           << "\n";
+    gain.add(s);
+    const double energy = s.kinetic_energy + s.potential_energy;
+    energy_min = frame == 0 ? energy : std::min(energy_min, energy);
+    energy_rise = std::max(energy_rise, energy - energy_min);
+    if (frame == 0) pe0 = s.potential_energy;
     // A blown-up run (particles piled at 10x rest density, or NaN) only gets slower as
     // its neighbour lists grow: it is recorded as diverged and stopped.
     diverged = diverged || s.divergence.any() || !std::isfinite(s.kinetic_energy) || !(s.max_compression < kBlownUp);
@@ -124,7 +135,8 @@ Outcome simulate(const Run& r, int index, double seconds, const std::string& dev
                                   r.method,
                                   std::to_string(r.iterations),
                                   number(r.target),
-                                  number(r.method == "ldc" ? scene.solver.ldc_k : 0.0),
+                                  number(r.method == "ldc" ? scene.solver.ldc_strength : 0.0),
+                                  number(r.method == "ldc" ? d.ldc_k : 0.0),
                                   std::to_string(scene.solver.substeps),
                                   number(measured / scene.fps),
                                   number(step_mean),
@@ -138,8 +150,13 @@ Outcome simulate(const Run& r, int index, double seconds, const std::string& dev
   row.push_back(number(s.mean_compression));
   row.push_back(number(1000.0 * (height0 - mean_height(solver->read_frame()))));
   row.push_back(number(s.kinetic_energy));
+  row.push_back(number(gain.largest()));
+  row.push_back(number(pe0 > 0 ? energy_rise / pe0 : 0.0));
   row.push_back(diverged ? "1" : "0");
-  row.push_back(diverged ? "diverged" : sum_mean / measured > kCompressed ? "compressed" : "stable");
+  row.push_back(diverged                          ? "diverged"
+                : gain.largest() > kGainsEnergy    ? "gains energy"
+                : sum_mean / measured > kCompressed ? "compressed"
+                                                    : "stable");
   return {row, series.str()};
 }
 
@@ -153,7 +170,10 @@ std::string csv_cell(const std::string& cell) {
 
 std::string join(const std::vector<std::string>& cells) {
   std::string line;
-  for (size_t i = 0; i < cells.size(); ++i) line += (i ? "," : "") + csv_cell(cells[i]);
+  for (size_t i = 0; i < cells.size(); ++i) {
+    if (i) line += ',';
+    line += csv_cell(cells[i]);
+  }
   return line;
 }
 
@@ -173,7 +193,7 @@ int run_study(const StudyOptions& options) {
     if (o.counts.empty()) o.counts = {4000};
     if (o.iterations.empty()) o.iterations = {1, 2, 4};
     if (o.substeps.empty()) o.substeps = {1, 2, 4};
-    if (o.ldc_k.empty()) o.ldc_k = {3000, 10000, 30000};
+    if (o.ldc_strength.empty()) o.ldc_strength = {0.25, 0.5, 0.9};
     if (o.seconds <= 0) o.seconds = 1.0;
   }
   std::vector<int> counts = o.counts, iterations = o.iterations;
@@ -192,9 +212,9 @@ int run_study(const StudyOptions& options) {
 
   std::vector<std::string> scenes = o.scenes.empty() ? std::vector<std::string>{"dam_break", "hydrostatic"} : o.scenes;
   for (const std::string& s : scenes) load_scene(s);  // a wrong name fails before any run
-  for (double k : o.ldc_k)
-    if (!(k > 0)) throw InputError("--ldc-k values must be positive");
-  std::vector<double> ks = o.ldc_k.empty() ? std::vector<double>{0.0} : o.ldc_k;
+  for (double k : o.ldc_strength)
+    if (!(k > 0 && k < 1)) throw InputError("--ldc-strength: fractions of the step's stability limit, in (0, 1)");
+  std::vector<double> ks = o.ldc_strength.empty() ? std::vector<double>{0.0} : o.ldc_strength;
   std::vector<Run> runs;
   for (double t : o.targets)
     if (!(t > 0 && t < 1)) throw InputError("--targets: mean compressions in (0, 1), e.g. 0.01,0.001");
@@ -214,7 +234,7 @@ int run_study(const StudyOptions& options) {
   fs::create_directories(o.out);
   std::ofstream runs_csv(fs::path(o.out) / "runs.csv"), series_csv(fs::path(o.out) / "series.csv");
   runs_csv << join(run_columns()) << "\n";
-  series_csv << "run,frame,time,mean_compression,max_compression,kinetic_energy\n";
+  series_csv << "run,frame,time,mean_compression,max_compression,kinetic_energy,potential_energy\n";
   const bool tty = isatty(STDERR_FILENO);
   auto start = std::chrono::steady_clock::now();
   for (size_t i = 0; i < runs.size(); ++i) {

@@ -37,18 +37,19 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
       d_(d),
       sim_(d.to_gpu(checked_count(ctx, d, x0.size()))),
       n_(sim_.count),
-      viscosity_pass_(d.solver.xsph > 0 || d.solver.vorticity > 0),
+      viscosity_pass_(d.solver.viscosity_pass()),
       vorticity_pass_(d.solver.vorticity > 0),
       correction_pass_(d.solver.method == Method::Ldc),
       density_(ctx, "density", 3, sizeof(SimConstants)),
-      correction_(ctx, "correction_force", 5, sizeof(SimConstants), 0,
+      correction_(ctx, "correction_force", 4, sizeof(SimConstants), 0,
                   std::array<uint32_t, 1>{d.solver.ldc_clamp ? 1u : 0u}),
       predict_(ctx, "predict", 4, sizeof(SimConstants)),
       lambda_(ctx, "constraint_lambda", 4, sizeof(SimConstants)),
       apply_(ctx, "constraint_apply", 5, sizeof(SimConstants), 0,
              std::array<uint32_t, 1>{std::bit_cast<uint32_t>(float(d.solver.scorr_n))}),
       velocity_(ctx, "velocity_update", 3, sizeof(SimConstants)),
-      viscosity_(ctx, "viscosity_vorticity", 5, sizeof(SimConstants)),
+      viscosity_(ctx, "viscosity_vorticity", 5, sizeof(SimConstants), 0,
+                 std::array<uint32_t, 1>{std::bit_cast<uint32_t>(float(d.solver.damping))}),
       vorticity_(ctx, "vorticity_force", 4, sizeof(SimConstants)),
       reduce_(ctx, "reduce_stats", 4, sizeof(SimConstants), kReduceThreads),
       reduce_final_(ctx, "reduce_final", 2, sizeof(ReduceFinalPush), kReduceThreads),
@@ -174,9 +175,7 @@ void GpuSolver::correction() {
   cmd_.bind(1, at(X));
   cmd_.bind(2, rho_);
   cmd_.bind(3, at(V));
-  cmd_.bind(4, at(Spare0));
   cmd_.dispatch(n_);
-  swap_roles(V, Spare0);
 }
 
 void GpuSolver::predict() {

@@ -73,12 +73,14 @@ int main(int argc, char** argv) {
   bench_cmd->add_option("--counts", bench.counts, "particle counts, e.g. 10000,40000")->delimiter(',');
   bench_cmd->add_option("--iterations", bench.iterations, "iteration counts, e.g. 1,2,3")->delimiter(',');
   bench_cmd->add_option("--seconds", bench.seconds, "simulated seconds per run")->check(CLI::Range(0.001, 3600.0));
-  bench_cmd->add_option("--ldc-k", bench.ldc_k, "sweep the LDC strength K, e.g. 1000,3000,10000")->delimiter(',');
+  bench_cmd->add_option("--ldc-strength", bench.ldc_strength,
+                        "sweep the LDC strength (fraction of the step's limit), e.g. 0.25,0.5,0.9")
+      ->delimiter(',');
   bench_cmd->add_option("--targets", bench.targets, "adaptive runs to these mean compressions, e.g. 0.01,0.001")
       ->delimiter(',');
   bench_cmd->add_option("--substeps", bench.substeps, "steps per frame to try, e.g. 1,2,4")->delimiter(',');
   bench_cmd->add_flag("--stability", bench.stability,
-                      "the stability map: dam_break and drop, substeps x iterations x K, each run classified");
+                      "the stability map: dam_break and drop, substeps x iterations x LDC strength, each run classified");
   bench_cmd->add_option("--scenes", bench.scenes, "scenes, e.g. dam_break,drop (default dam_break,hydrostatic)")
       ->delimiter(',');
   bool no_charts = false;

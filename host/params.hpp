@@ -30,11 +30,14 @@ struct SolverParams {
   double scorr_dq;         // tensile term reference distance, as a fraction of h
   double xsph;             // XSPH viscosity c (fraction of the neighbour-averaged relative velocity)
   double vorticity;        // vorticity confinement epsilon, m/s (0: off)
+  double damping;          // pairwise dashpot on the relative normal velocity (viscosity_vorticity.comp)
   double ldc_strength;     // LDC's K as a fraction of the largest K the step carries (ldc_k_limit)
   double ldc_k;            // LDC strength K, 1/s^2, when a scene states it; < 0: from ldc_strength
   bool ldc_clamp;          // LDC reads densities below rho0 as rho0 (only compression pushes)
 
   static SolverParams defaults();
+  // XSPH, vorticity and the damping share one neighbour pass (viscosity_vorticity).
+  bool viscosity_pass() const { return xsph > 0 || vorticity > 0 || damping > 0; }
 };
 
 // Push-constant block shared by all particle passes; layout mirrors `Sim` in

@@ -103,21 +103,10 @@ dvec3 ReferenceSolver::correction_force(size_t i) const {
   return -d_.ldc_k * f;
 }
 
-dvec3 ReferenceSolver::correction_damping(size_t i) const {
-  const dvec3 xi = state.x[i], vi = state.v[i];
-  dvec3 damp(0.0);
-  for_each_neighbour(xi, [&](size_t j) {
-    dvec3 d = state.x[j] - xi;
-    double r2 = glm::dot(d, d);
-    if (r2 > 0 && r2 < d_.h * d_.h) damp += (1 - std::sqrt(r2) / d_.h) * glm::dot(vi - state.v[j], d) / r2 * d;
-  });
-  return -kLdcDamping * damp;
-}
-
 void ReferenceSolver::correction() {
-  std::vector<dvec3> dv(state.x.size());
-  for (size_t i = 0; i < dv.size(); ++i) dv[i] = correction_force(i) * d_.dt + correction_damping(i);
-  for (size_t i = 0; i < dv.size(); ++i) state.v[i] += dv[i];
+  std::vector<dvec3> f(state.x.size());
+  for (size_t i = 0; i < f.size(); ++i) f[i] = correction_force(i);
+  for (size_t i = 0; i < f.size(); ++i) state.v[i] += f[i] * d_.dt;
 }
 
 // A particle this close to an obstacle (a fraction of h) touches it (obstacles.glsl too).
@@ -196,14 +185,16 @@ void ReferenceSolver::viscosity_vorticity() {
   const double volume = d_.mass / d_.rho0;
   std::vector<dvec3> v_next(state.x.size());
   for (size_t i = 0; i < v_next.size(); ++i) {
-    dvec3 smooth(0.0), curl(0.0);
+    dvec3 smooth(0.0), curl(0.0), damp(0.0);  // viscosity_vorticity.comp says what each is
     for_each_neighbour(state.x[i], [&](size_t j) {
       dvec3 d = state.x[i] - state.x[j];
       dvec3 vij = state.v[j] - state.v[i];
-      smooth += vij * kernels::poly6(glm::dot(d, d), d_.h);
+      double r2 = glm::dot(d, d);
+      smooth += vij * kernels::poly6(r2, d_.h);
       curl += glm::cross(vij, kernels::spiky_grad(d, d_.h));
+      if (r2 > 0 && r2 < d_.h * d_.h) damp += (1 - std::sqrt(r2) / d_.h) * glm::dot(vij, d) / r2 * d;
     });
-    v_next[i] = state.v[i] + d_.solver.xsph * volume * smooth;
+    v_next[i] = state.v[i] + d_.solver.xsph * volume * smooth + d_.solver.damping * damp;
     state.omega[i] = volume * curl;
   }
   state.v = std::move(v_next);
@@ -245,7 +236,7 @@ void ReferenceSolver::step() {
   }
   iterations_run_ += run;
   velocity_update();
-  if (p.xsph > 0 || p.vorticity > 0) viscosity_vorticity();
+  if (p.viscosity_pass()) viscosity_vorticity();
   if (p.vorticity > 0) vorticity_force();
 }
 

@@ -37,10 +37,6 @@ class ReferenceSolver : public Solver {
 
   // The LDC acceleration on particle i (from rho and x); correction() applies it.
   glm::dvec3 correction_force(size_t i) const;
-  // The velocity change of the LDC pass's damping (correction_force.comp says why): a
-  // pairwise dashpot, dv_i = -kLdcDamping sum_j (1 - r/h) ((v_i - v_j).d) d / r^2.
-  glm::dvec3 correction_damping(size_t i) const;
-  static constexpr double kLdcDamping = 0.2;  // shaders/correction_force.comp: LDC_DAMPING
 
   // The walls are mirrors (shaders/common.glsl): behind each wall within h of a particle,
   // and behind each pair and the triple of them at edges and corners, lies the reflection

@@ -22,7 +22,7 @@ const json& schema() {
     "fluid_blocks": [], "fluid_spheres": [], "obstacles": [], "gravity": 0, "settle": 0, "fps": 0, "frames": 0,
     "solver": {"method": 0, "iterations": 0, "max_iterations": 0, "target_compression": 0, "substeps": 0, "kernel_ratio": 0, "rest_density": 0,
                "relaxation": 0, "jacobi_gain": 0, "scorr_k": 0, "scorr_n": 0, "scorr_dq": 0, "xsph": 0,
-               "vorticity": 0, "ldc_strength": 0, "ldc_k": 0, "ldc_clamp": 0},
+               "vorticity": 0, "damping": 0, "ldc_strength": 0, "ldc_k": 0, "ldc_clamp": 0},
     "camera": {"eye": 0, "target": 0, "fov": 0}
   })");
   return s;
@@ -245,6 +245,9 @@ Scene parse_scene(const std::string& json_text, const std::string& origin, const
   require(p.xsph >= 0 && p.xsph <= 1, "solver.xsph must be in [0, 1]");
   p.vorticity = number(solver, "vorticity", p.vorticity);
   require(p.vorticity >= 0 && p.vorticity <= 1e6, "solver.vorticity must be in [0, 1e6]");
+  p.damping = number(solver, "damping", p.damping);
+  require(p.damping >= 0 && p.damping <= 0.3,
+          "solver.damping must be in [0, 0.3]: past that the explicit dashpot reverses the fastest modes");
   p.ldc_strength = number(solver, "ldc_strength", p.ldc_strength);
   require(p.ldc_strength >= 0 && p.ldc_strength < 1,
           "solver.ldc_strength (a fraction of the stiffness the step carries) must be in [0, 1)");

@@ -1,7 +1,6 @@
 #version 450
 // Local density correction (LDC): f_i = -K sum_j ((rho_j - rho_i)/rho0) h (1 - r/h) (x_j - x_i)/r,
-// pushing each particle away from denser neighbours; applied at once as v_i += f_i dt, with
-// a damping (below). Reads v, writes the new velocities to a second array.
+// pushing each particle away from denser neighbours; applied at once as v_i += f_i dt.
 // With CLAMP_DENSITY (solver.ldc_clamp) densities below rho0 count as rho0, so that a
 // free surface (neighbours missing, density low) does not draw the fluid towards it.
 // Within h of a wall the sum also runs over the neighbours' mirror images behind it (the
@@ -14,17 +13,7 @@ layout(local_size_x_id = 0) in;
 layout(std430, binding = 0) readonly buffer CellStart { uint cell_start[]; };
 layout(std430, binding = 1) readonly buffer X { vec4 x[]; };
 layout(std430, binding = 2) readonly buffer Rho { float rho[]; };
-layout(std430, binding = 3) readonly buffer V { vec4 v[]; };
-layout(std430, binding = 4) writeonly buffer VOut { vec4 v_out[]; };
-// The force alone is an explicit stiffness: a density mode under it alone maps as
-// q' = 2q - q_prev - nu q, undamped for every nu < 4. Where the constraint is idle (C = 0:
-// the free surface's layers) nothing else damps it, and the tank's surface jittered at
-// 0.1-0.5 m/s. A pairwise dashpot on the relative normal velocity damps it:
-// dv_i = -LDC_DAMPING sum_j (1 - r/h) ((v_i - v_j).d) d / r^2, symmetric in i and j, so it
-// conserves momentum and only removes energy. Stable for LDC_DAMPING times the largest
-// eigenvalue of the sum (~5 at h = 2 spacings) below 2; 0.2 measured (README). Neighbours
-// only, no wall images: the walls do not move.
-const float LDC_DAMPING = 0.2;  // host/reference_solver.hpp: kLdcDamping
+layout(std430, binding = 3) buffer V { vec4 v[]; };
 layout(constant_id = 1) const bool CLAMP_DENSITY = true;
 
 float ldc_density(uint k) { return CLAMP_DENSITY ? max(rho[k], sim.rho0) : rho[k]; }
@@ -43,16 +32,12 @@ void main() {
   vec3 xi = x[i].xyz;
   float rho_i = ldc_density(i);
   WallImages walls = walls_near(xi);
-  vec3 f = vec3(0.0), damp = vec3(0.0);
-  vec3 vi = v[i].xyz;
+  vec3 f = vec3(0.0);
   FOR_EACH_NEIGHBOUR(xi, j) {
     vec3 xj = x[j].xyz;
     float difference = ldc_density(j) - rho_i;
     f += pair_term(xj - xi, difference);
-    vec3 d = xj - xi;
-    float r2 = dot(d, d);
-    if (r2 < sim.h * sim.h && r2 > 0.0) damp += (1.0 - sqrt(r2) / sim.h) * dot(vi - v[j].xyz, d) / r2 * d;
     for (int k = walls.axes; k != 0; k = next_image(walls, k)) f += pair_term(mirror(walls, k, xj) - xi, difference);
   }
-  v_out[i] = vec4(vi + (-sim.ldc_k / sim.rho0 * sim.dt) * f - LDC_DAMPING * damp, 0.0);
+  v[i].xyz += (-sim.ldc_k / sim.rho0 * sim.dt) * f;
 }

@@ -68,7 +68,12 @@ TEST(Bench, QuickStudyFinishesEveryRunWithItsColumnsAndCharts) {
     for (size_t c = 3; c < runs[r].size(); ++c) {
       if (c == column("method")) continue;
       if (c == column("class")) {
-        EXPECT_TRUE(runs[r][c] == "stable" || runs[r][c] == "compressed" || runs[r][c] == "diverged") << runs[r][c];
+        EXPECT_TRUE(runs[r][c] == "stable" || runs[r][c] == "compressed" || runs[r][c] == "gains energy" ||
+                    runs[r][c] == "diverged")
+            << runs[r][c];
+        EXPECT_EQ(runs[r][c] == "gains energy", runs[r][column("diverged")] == "0" &&
+                                                    std::stod(runs[r][column("energy_gain")]) > 0.01)
+            << "row " << r;
         EXPECT_EQ(runs[r][c] == "diverged", runs[r][column("diverged")] == "1") << "row " << r;
         continue;
       }
@@ -84,7 +89,7 @@ TEST(Bench, QuickStudyFinishesEveryRunWithItsColumnsAndCharts) {
   }
   auto series = read_csv(dir / "series.csv");
   EXPECT_EQ(series[0], (std::vector<std::string>{"run", "frame", "time", "mean_compression", "max_compression",
-                                                 "kinetic_energy"}));
+                                                 "kinetic_energy", "potential_energy"}));
   // 61 frames (1 s at 60 fps, frame 0 included) per run; a run stopped as diverged has
   // the frames up to its stop, as its simulated_s says.
   std::map<std::string, int> frames;
@@ -97,6 +102,7 @@ TEST(Bench, QuickStudyFinishesEveryRunWithItsColumnsAndCharts) {
     }
   }
   expect_charts(dir);
+  EXPECT_GT(capture::read_png(dir / "accuracy_vs_cost.png").height, 800) << "the energy gain's row of panels";
 }
 
 // Copies fixtures/<name>/ to a fresh directory and runs the chart script there.

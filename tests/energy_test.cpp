@@ -3,8 +3,10 @@
 // substeps): no method or iteration count makes energy, smaller steps are as sound,
 // walls read rho0, and the stability numbers behind the relaxation hold.
 #include <cmath>
+#include <random>
 
 #include "gpu_solver.hpp"
+#include "reference_solver.hpp"
 #include "stability.hpp"
 #include "support.hpp"
 
@@ -185,6 +187,49 @@ TEST(Stability, LdcStiffnessScalesWithTheStep) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("stability limit"), std::string::npos) << e.what();
   }
+}
+
+// The dashpot (viscosity_vorticity.comp) on the reference: a lattice block in the tank
+// with random velocities keeps its momentum and loses kinetic energy; a rigid rotation
+// passes untouched. XSPH off, so that only the dashpot acts.
+TEST(Damping, KeepsMomentumRemovesEnergyAndLeavesRigidMotion) {
+  const Scene scene = load_scene("hydrostatic", {"solver.xsph=0", "solver.damping=0.2"});
+  std::vector<glm::dvec3> x;
+  for (int i = 0; i < 8; ++i)
+    for (int j = 0; j < 8; ++j)
+      for (int k = 0; k < 8; ++k) x.push_back(glm::dvec3(0.2, 0.1, 0.2) + 0.02 * glm::dvec3(i + 0.5, j + 0.5, k + 0.5));
+  auto damped = [&](const std::vector<glm::dvec3>& v) {
+    ReferenceSolver ref(derive(scene), x);
+    ref.state.v = v;
+    ref.build_grid(ref.state.x);
+    ref.viscosity_vorticity();
+    return ref.state.v;
+  };
+  auto momentum = [](const std::vector<glm::dvec3>& v) {
+    glm::dvec3 p(0.0);
+    for (const glm::dvec3& vi : v) p += vi;
+    return p;
+  };
+  auto energy = [](const std::vector<glm::dvec3>& v) {
+    double e = 0;
+    for (const glm::dvec3& vi : v) e += glm::dot(vi, vi);
+    return e;
+  };
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<glm::dvec3> v(x.size());
+  for (glm::dvec3& vi : v) vi = glm::dvec3(u(rng), u(rng), u(rng));
+  std::vector<glm::dvec3> after = damped(v);
+  EXPECT_LT(glm::length(momentum(after) - momentum(v)), 1e-9 * glm::length(momentum(v)) + 1e-12);
+  EXPECT_LT(energy(after), 0.9 * energy(v)) << "random velocities lose kinetic energy";
+  EXPECT_GT(energy(after), 0.0) << "and are not reversed past zero";
+
+  const glm::dvec3 omega(0.3, -1.0, 0.5), centre(0.28, 0.18, 0.28);
+  for (size_t i = 0; i < x.size(); ++i) v[i] = glm::dvec3(0.1, 0.0, -0.2) + glm::cross(omega, x[i] - centre);
+  after = damped(v);
+  double change = 0;
+  for (size_t i = 0; i < v.size(); ++i) change = std::max(change, glm::length(after[i] - v[i]));
+  EXPECT_LT(change, 1e-12) << "a rigid motion has no relative normal velocity";
 }
 
 }  // namespace

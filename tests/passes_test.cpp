@@ -108,7 +108,7 @@ TEST_F(PassTest, ViscosityAndVorticity) {
   });
   ref.build_grid(ref.state.x);
   ref.viscosity_vorticity();
-  expect_close(test::compare(test::difference(g.v, input.v), test::difference(ref.state.v, input.v), "XSPH dv"));
+  expect_close(test::compare(test::difference(g.v, input.v), test::difference(ref.state.v, input.v), "XSPH and damping dv"));
   expect_close(test::compare(g.omega, ref.state.omega, "vorticity omega"));
 }
 
