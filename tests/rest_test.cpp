@@ -16,20 +16,16 @@ namespace {
 struct Setting {
   const char* method;
   int iterations;
+  double mean_compression;  // the most it may settle at (measured in this tank, README)
 };
 void PrintTo(const Setting& s, std::ostream* os) { *os << s.method << "@" << s.iterations; }
 
-// DESIGN.md asks for max speed well under 0.1 m/s at 2 s. Measured in this tank: pbf@2
-// 0.07, pbf@3 0.05, ldc@1 0.05 m/s (in the full scene 0.08, 0.08 and 0.13 m/s: README
-// "Physics at the real-time step"). These bounds fail for the solver before the walls were
-// mirrors (ldc@1: a 0.3 m/s jet down every wall), before LDC's damping (its free surface
-// jittered at 0.5 m/s), before the settle (the column breathing at 0.1-0.2 m/s) and before
-// the relaxation (7-9 m/s). The max is one particle and varies from run to run (GPU
-// atomics order particles differently; pbf@2 gave 0.07 and 0.17 m/s in two runs), so the
-// test asserts the 99th percentile at 0.05 m/s and the max at 0.25 m/s: not DESIGN.md's
-// max under 0.1 m/s in every run (stated in the README).
-constexpr double kP99Speed = 0.05, kMaxSpeed = 0.25;
-constexpr double kMeanCompression = 0.2;
+// DESIGN.md asks for max speed well under 0.1 m/s at 2 s. These bounds fail for the
+// solver before the dashpot (LDC's free surface jittered at 0.5 m/s, pbf@1's squeezed
+// fluid at 0.8 m/s), before the walls were mirrors (ldc@1: a 0.3 m/s jet down every wall),
+// before the settle (the column breathing at 0.1-0.2 m/s) and before the relaxation
+// (7-9 m/s). The 99th percentile is asserted too: the max is one particle.
+constexpr double kP99Speed = 0.05, kMaxSpeed = 0.1;
 
 class RestTest : public test::GpuTest, public ::testing::WithParamInterface<Setting> {};
 
@@ -65,14 +61,15 @@ TEST_P(RestTest, TankLosesEnergyAndSettles) {
   const double p99 = speed[speed.size() * 99 / 100];
   std::printf("  99th percentile speed %.3f m/s\n", p99);
   EXPECT_LT(p99, kP99Speed);
-  EXPECT_LT(s.mean_compression, kMeanCompression);
+  EXPECT_LT(s.mean_compression, p.mean_compression) << "a single pass holds the column only squeezed";
   for (const glm::dvec3& x : end.x)
     ASSERT_TRUE(glm::all(glm::greaterThanEqual(x, d.wall_min - 1e-6)) && glm::all(glm::lessThanEqual(x, d.wall_max + 1e-6)))
         << "a particle left the tank";
 }
 
 INSTANTIATE_TEST_SUITE_P(RealStep, RestTest,
-                         ::testing::Values(Setting{"ldc", 1}, Setting{"pbf", 2}, Setting{"pbf", 3}),
+                         ::testing::Values(Setting{"ldc", 1, 0.2}, Setting{"pbf", 1, 0.5}, Setting{"pbf", 2, 0.2},
+                                           Setting{"pbf", 3, 0.2}),
                          [](const auto& info) {
                            return std::string(info.param.method) + std::to_string(info.param.iterations);
                          });
