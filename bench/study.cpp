@@ -96,10 +96,9 @@ Outcome simulate(const Run& r, int index, double seconds, const std::string& dev
 
   const double height0 = mean_height(solver->read_frame());
   std::ostringstream series;
-  double sum_mean = 0, sum_max = 0, peak = 0, step_sum = 0, step_max = 0, iteration_sum = 0, pe0 = 0;
+  double sum_mean = 0, sum_max = 0, peak = 0, step_sum = 0, step_max = 0, iteration_sum = 0;
   std::array<double, kPassGroups> pass_sum{};
   EnergyGain gain;
-  double energy_min = 0, energy_rise = 0;  // E - its running minimum: compression stored and given back
   FrameStats s;
   bool diverged = false;
   int measured = 0;  // frames after frame 0
@@ -109,10 +108,6 @@ Outcome simulate(const Run& r, int index, double seconds, const std::string& dev
            << number(s.max_compression) << "," << number(s.kinetic_energy) << "," << number(s.potential_energy)
            << "\n";
     gain.add(s);
-    const double energy = s.kinetic_energy + s.potential_energy;
-    energy_min = frame == 0 ? energy : std::min(energy_min, energy);
-    energy_rise = std::max(energy_rise, energy - energy_min);
-    if (frame == 0) pe0 = s.potential_energy;
     // A blown-up run (particles piled at 10x rest density, or NaN) only gets slower as
     // its neighbour lists grow: it is recorded as diverged and stopped.
     diverged = diverged || s.divergence.any() || !std::isfinite(s.kinetic_energy) || !(s.max_compression < kBlownUp);
@@ -151,7 +146,7 @@ Outcome simulate(const Run& r, int index, double seconds, const std::string& dev
   row.push_back(number(1000.0 * (height0 - mean_height(solver->read_frame()))));
   row.push_back(number(s.kinetic_energy));
   row.push_back(number(gain.largest()));
-  row.push_back(number(pe0 > 0 ? energy_rise / pe0 : 0.0));
+  row.push_back(number(gain.largest_rise()));
   row.push_back(diverged ? "1" : "0");
   row.push_back(diverged                          ? "diverged"
                 : gain.largest() > kGainsEnergy    ? "gains energy"

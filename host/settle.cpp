@@ -18,7 +18,7 @@ SettleReport settle(Solver& solver, const Derived& d, const std::function<bool(i
   if (g == 0) return report;  // nothing pulls the fluid anywhere: the lattice is the equilibrium
   const glm::dvec3 down = d.gravity / g;
   auto along = [&](const glm::dvec3& a) { return glm::dot(a, down) * down; };
-  auto free = [](const glm::dvec3& a) { return a; };
+  auto whole = [](const glm::dvec3& a) { return a; };
 
   ParticleState state = solver.download();
   const double start = solver.advance(0).potential_energy;
@@ -51,7 +51,7 @@ SettleReport settle(Solver& solver, const Derived& d, const std::function<bool(i
   // sideways, the lattice keeps its columns); then free, so that a lattice squeezed past
   // what it holds in 3-D rearranges here, damped, and not after frame 0 (pbf@1 at 40 %
   // compression released 1-1.5 % of the potential energy in its first frames).
-  report.converged = phase(along) && phase(free);
+  report.converged = phase(along) && phase(whole);
   for (glm::dvec3& v : state.v) v = glm::dvec3(0.0);
   solver.upload(state);
   report.potential_drop = start - potential;

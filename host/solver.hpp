@@ -42,21 +42,27 @@ struct FrameStats {
 
 // DESIGN.md's energy gain of a run: the largest (E_k - E_0) / PE_0 over its frames, with
 // E = kinetic + potential energy and frame 0 (the first added) giving E_0 and PE_0. A
-// sound run stays at or below 0.01.
+// sound run stays at or below 0.01. Also the largest rise of E over its running minimum
+// (energy stored in compression and given back), in the same unit.
 class EnergyGain {
  public:
   void add(const FrameStats& s) {
     const double energy = s.kinetic_energy + s.potential_energy;
-    if (!started_) std::tie(started_, e0_, pe0_) = std::tuple(true, energy, s.potential_energy);
-    if (pe0_ > 0) last_ = (energy - e0_) / pe0_;
+    if (!started_) std::tie(started_, e0_, pe0_, lowest_) = std::tuple(true, energy, s.potential_energy, energy);
+    lowest_ = std::min(lowest_, energy);
+    if (pe0_ > 0) {
+      last_ = (energy - e0_) / pe0_;
+      largest_rise_ = std::max(largest_rise_, (energy - lowest_) / pe0_);
+    }
     largest_ = std::max(largest_, last_);
   }
   double largest() const { return largest_; }
   double last() const { return last_; }  // the latest frame's change
+  double largest_rise() const { return largest_rise_; }
 
  private:
   bool started_ = false;
-  double e0_ = 0, pe0_ = 0, largest_ = 0, last_ = 0;
+  double e0_ = 0, pe0_ = 0, largest_ = 0, last_ = 0, lowest_ = 0, largest_rise_ = 0;
 };
 
 // Host copy of the per-particle state, indexed by particle id (the order of initial_particles).
