@@ -42,14 +42,15 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
       correction_pass_(d.solver.method == Method::Ldc),
       density_(ctx, "density", 3, sizeof(SimConstants)),
       correction_(ctx, "correction_force", 4, sizeof(SimConstants), 0,
-                  std::array<uint32_t, 1>{d.solver.ldc_clamp ? 1u : 0u}),
+                  std::array<uint32_t, 2>{d.solver.ldc_clamp ? 1u : 0u, std::bit_cast<uint32_t>(float(d.ldc_room))}),
       predict_(ctx, "predict", 4, sizeof(SimConstants)),
       lambda_(ctx, "constraint_lambda", 4, sizeof(SimConstants)),
       apply_(ctx, "constraint_apply", 5, sizeof(SimConstants), 0,
              std::array<uint32_t, 1>{std::bit_cast<uint32_t>(float(d.solver.scorr_n))}),
       velocity_(ctx, "velocity_update", 3, sizeof(SimConstants)),
-      viscosity_(ctx, "viscosity_vorticity", 5, sizeof(SimConstants), 0,
-                 std::array<uint32_t, 1>{std::bit_cast<uint32_t>(float(d.solver.damping))}),
+      viscosity_(ctx, "viscosity_vorticity", 6, sizeof(SimConstants), 0,
+                 std::array<uint32_t, 2>{std::bit_cast<uint32_t>(float(d.solver.damping)),
+                                         std::bit_cast<uint32_t>(float(d.damping_limit))}),
       vorticity_(ctx, "vorticity_force", 4, sizeof(SimConstants)),
       reduce_(ctx, "reduce_stats", 4, sizeof(SimConstants), kReduceThreads),
       reduce_final_(ctx, "reduce_final", 2, sizeof(ReduceFinalPush), kReduceThreads),
@@ -270,6 +271,7 @@ void GpuSolver::viscosity_vorticity() {
   cmd_.bind(2, at(V));
   cmd_.bind(3, at(Spare0));
   cmd_.bind(4, omega_);
+  cmd_.bind(5, rho_);
   cmd_.dispatch(n_);
   swap_roles(V, Spare0);
 }

@@ -131,6 +131,8 @@ Derived derive(const Scene& scene) {
       << " s (" << d.ldc_k_limit << "); leave it out and set solver.ldc_strength (a fraction of that limit) instead";
     throw InputError(m.str());
   }
+  d.ldc_room = d.ldc_k > 0 ? kLdcCap * d.ldc_k_limit / d.ldc_k : 1.0;
+  d.damping_limit = 1.5 / damping_gain_max(scene.solver.kernel_ratio);
   d.gravity = scene.gravity;
   d.domain_min = scene.domain.min;
   d.domain_max = scene.domain.max;

@@ -72,6 +72,11 @@ struct Derived {
   // LDC: the K the force uses (1/s^2; 0 for pbf) and the K at which the explicit force
   // alone goes unstable at this dt and h / spacing (K dt^2 s = 4).
   double ldc_k, ldc_k_limit;
+  // The explicit terms' caps in squeezed fluid, where their stiffness grows with the
+  // neighbours inside h (stability.hpp): a particle's K is min(K, ldc_room K (rho0/rho)^2),
+  // i.e. at most kLdcCap of the limit; a pair's dashpot is min(damping, damping_limit rho0/rho),
+  // damping_limit keeping the fastest mode at rest at 1.5 (it is driven past 2).
+  double ldc_room, damping_limit;
   SolverParams solver;
   std::vector<Obstacle> obstacles;  // grown by half a spacing: where particle centres may not be
   double speed_limit;  // m/s: the divergence watch stops a run with a particle faster than this

@@ -100,7 +100,9 @@ dvec3 ReferenceSolver::correction_force(size_t i) const {
       if (r > 0 && r < d_.h) f += difference * d_.h * (1 - r / d_.h) * (d / r);
     }
   });
-  return -d_.ldc_k * f;
+  // correction_force.comp says why K is capped in squeezed fluid.
+  const double squeeze = std::max(state.rho[i], d_.rho0) / d_.rho0;
+  return -d_.ldc_k * std::min(1.0, d_.ldc_room / (squeeze * squeeze)) * f;
 }
 
 void ReferenceSolver::correction() {
@@ -186,15 +188,17 @@ void ReferenceSolver::viscosity_vorticity() {
   std::vector<dvec3> v_next(state.x.size());
   for (size_t i = 0; i < v_next.size(); ++i) {
     dvec3 smooth(0.0), curl(0.0), damp(0.0);  // viscosity_vorticity.comp says what each is
+    const double rho_i = std::max(state.rho[i], d_.rho0);
     for_each_neighbour(state.x[i], [&](size_t j) {
       dvec3 d = state.x[i] - state.x[j];
       dvec3 vij = state.v[j] - state.v[i];
       double r2 = glm::dot(d, d);
       smooth += vij * kernels::poly6(r2, d_.h);
       curl += glm::cross(vij, kernels::spiky_grad(d, d_.h));
-      if (r2 > 0 && r2 < d_.h * d_.h) damp += (1 - std::sqrt(r2) / d_.h) * glm::dot(vij, d) / r2 * d;
+      const double c = std::min(d_.solver.damping, d_.damping_limit * d_.rho0 / std::max(rho_i, state.rho[j]));
+      if (r2 > 0 && r2 < d_.h * d_.h) damp += c * (1 - std::sqrt(r2) / d_.h) * glm::dot(vij, d) / r2 * d;
     });
-    v_next[i] = state.v[i] + d_.solver.xsph * volume * smooth + d_.solver.damping * damp;
+    v_next[i] = state.v[i] + d_.solver.xsph * volume * smooth + damp;
     state.omega[i] = volume * curl;
   }
   state.v = std::move(v_next);

@@ -36,6 +36,12 @@ struct Lattice {
     for (const glm::dvec3& o : offsets) c += cvec3(mass * kernels::poly6_grad(o, h)) * (1.0 - phase(k, o));
     return c;
   }
+  // rho / rho0 as the solver reads it (poly6 sum): a little under 1 + compression.
+  double density() const {
+    double sum = kernels::poly6(0.0, h);
+    for (const glm::dvec3& o : offsets) sum += kernels::poly6(glm::dot(o, o), h);
+    return mass * sum;
+  }
   // e^{-ik.o}: the mode at x_j = x_i - o relative to x_i.
   static std::complex<double> phase(const glm::dvec3& k, const glm::dvec3& o) {
     return std::polar(1.0, -glm::dot(k, o));
@@ -54,6 +60,21 @@ double max_over_modes(double spacing, F&& eigenvalue) {
         worst = std::max(worst, eigenvalue(k));
       }
   return worst;
+}
+
+// Of a symmetric positive semi-definite 3x3 matrix, by power iteration (converges fast
+// enough for the few hundred matrices a scene needs; exactness to 1e-9 is not needed).
+double largest_eigenvalue(const glm::dmat3& m) {
+  glm::dvec3 v(1.0, 0.7, 0.3);
+  double eigenvalue = 0;
+  for (int it = 0; it < 200; ++it) {
+    const glm::dvec3 w = m * v;
+    const double len = glm::length(w);
+    if (len == 0) return 0;
+    eigenvalue = glm::dot(v, w) / glm::dot(v, v);
+    v = w / len;
+  }
+  return eigenvalue;
 }
 
 std::complex<double> dot(const cvec3& a, const cvec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
@@ -82,8 +103,12 @@ double jacobi_gain_max(double kernel_ratio, double relaxation, double compressio
   });
 }
 
-double ldc_stiffness_max(double kernel_ratio) {
-  const Lattice l(kernel_ratio);
+double lattice_density(double kernel_ratio, double compression) {
+  return Lattice(kernel_ratio, compression).density();
+}
+
+double ldc_stiffness_max(double kernel_ratio, double compression) {
+  const Lattice l(kernel_ratio, compression);
   // a_i = -K sum_j (drho_j - drho_i) (h - r) e_ij with e_ij = (x_j - x_i)/r = -o/r: again rank one,
   // a = K a_dir (c.u), and the stiffness is -(c . a_dir).
   return max_over_modes(l.spacing, [&](const glm::dvec3& k) {
@@ -93,6 +118,21 @@ double ldc_stiffness_max(double kernel_ratio) {
       a_dir -= cvec3(-o / r * (l.h - r)) * (Lattice::phase(k, o) - 1.0);
     }
     return -dot(l.density_change(k), a_dir).real();
+  });
+}
+
+double damping_gain_max(double kernel_ratio, double compression) {
+  const Lattice l(kernel_ratio, compression);
+  // dv_i = -c sum_j (1 - r/h) e e^T (v_i - v_j), e = o/r: the mode v = u e^{ik.x} sees the
+  // real symmetric matrix sum_j (1 - r/h)(1 - cos k.o) e e^T (the sine parts cancel in +-o).
+  return max_over_modes(l.spacing, [&](const glm::dvec3& k) {
+    glm::dmat3 m(0.0);
+    for (const glm::dvec3& o : l.offsets) {
+      const double r = glm::length(o);
+      const glm::dvec3 e = o / r;
+      m += (1.0 - r / l.h) * (1.0 - std::cos(glm::dot(k, o))) * glm::outerProduct(e, e);
+    }
+    return largest_eigenvalue(m);
   });
 }
 

@@ -28,8 +28,23 @@ inline constexpr double kCompressedGain = 1.0 / 3.0;
 
 // Largest stiffness s of the LDC force per unit K (the acceleration of a mode of unit
 // amplitude is K s): dimensionless; K dt^2 s < 4 is the explicit force's stability limit.
-// Without the density clamp, as the linearisation at rho0 sees both sides.
-double ldc_stiffness_max(double kernel_ratio);
+// Without the density clamp, as the linearisation at rho0 sees both sides. It grows with
+// compression a little under (rho/rho0)^2 (8x at C = 2): correction_force.comp caps K by
+// that (Derived::ldc_room), so the step's limit holds in squeezed fluid too.
+double ldc_stiffness_max(double kernel_ratio, double compression = 0);
+
+// The most of the LDC force's limit that a squeezed particle's K may reach (ldc_strength
+// is the fraction at rho0; the force scales K down where (rho/rho0)^2 would pass this).
+inline constexpr double kLdcCap = 0.9;
+
+// Largest eigenvalue of the dashpot (viscosity_vorticity.comp) per unit damping: a mode
+// loses the fraction damping * eigenvalue of its velocity per step and is reversed past
+// 1, driven past 2. ~5 at rho0; it grows with compression more slowly than rho/rho0, by
+// which the pass caps each pair (Derived::damping_limit).
+double damping_gain_max(double kernel_ratio, double compression = 0);
+
+// rho / rho0 that the solver reads (poly6 sum) on a lattice squeezed to (1 + compression) rho0.
+double lattice_density(double kernel_ratio, double compression);
 
 // Relaxation factors for `passes` Jacobi passes such that their combined gain on any mode,
 // 1 - prod(1 - w_k lambda), lies in [0, gain] for every lambda up to gain_max (gain <= 1).

@@ -15,13 +15,15 @@
 layout(local_size_x_id = 0) in;
 #include "common.glsl"
 
-layout(constant_id = 1) const float DAMPING = 0.2;  // solver.damping
+layout(constant_id = 1) const float DAMPING = 0.2;         // solver.damping
+layout(constant_id = 2) const float DAMPING_LIMIT = 0.3;   // Derived::damping_limit
 
 layout(std430, binding = 0) readonly buffer CellStart { uint cell_start[]; };
 layout(std430, binding = 1) readonly buffer X { vec4 x[]; };
 layout(std430, binding = 2) readonly buffer V { vec4 v[]; };
 layout(std430, binding = 3) writeonly buffer VOut { vec4 v_out[]; };
 layout(std430, binding = 4) writeonly buffer Omega { vec4 omega[]; };
+layout(std430, binding = 5) readonly buffer Rho { float rho[]; };  // the last lambda pass's
 
 void main() {
   uint i = thread_index();
@@ -31,6 +33,7 @@ void main() {
   vec3 smooth_v = vec3(0.0);
   vec3 curl = vec3(0.0);
   vec3 damp = vec3(0.0);
+  float rho_i = max(rho[i], sim.rho0);
   FOR_EACH_NEIGHBOUR(xi, j) {
     vec3 d = xi - x[j].xyz;
     float r2 = dot(d, d);
@@ -39,9 +42,13 @@ void main() {
     smooth_v += vij * poly6(r2);
     float r = sqrt(r2);
     curl += cross(vij, spiky_grad(d, r));
-    if (r2 > 0.0) damp += ((1.0 - r / sim.h) * dot(vij, d) / r2) * d;
+    // The dashpot's largest eigenvalue grows with the neighbours inside h (by less than
+    // rho/rho0 on a squeezed lattice): a pair is damped by at most DAMPING_LIMIT times the
+    // denser one's rho0/rho, so no mode is driven (2.4x at 3x rho0 drove them: blow-up).
+    float c = min(DAMPING, DAMPING_LIMIT * sim.rho0 / max(rho_i, rho[j]));
+    if (r2 > 0.0) damp += (c * (1.0 - r / sim.h) * dot(vij, d) / r2) * d;
   }
   float volume = sim.mass / sim.rho0;
-  v_out[i] = vec4(vi + (sim.xsph_c * volume) * smooth_v + DAMPING * damp, 0.0);
+  v_out[i] = vec4(vi + (sim.xsph_c * volume) * smooth_v + damp, 0.0);
   omega[i] = vec4(volume * curl, 0.0);
 }

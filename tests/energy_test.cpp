@@ -172,6 +172,64 @@ TEST(Stability, CompressedFluidIsNotOvercorrected) {
   }
 }
 
+// The explicit terms' stiffness grows with the neighbours inside h: on a lattice squeezed
+// to 3x rho0 the LDC force is 8x as stiff as at rest and the dashpot 2.4x, far past their
+// limits (dam break at 0.01 m: the bottom of the column reached 2-5x rho0 and both blew
+// up). Capped as the passes cap them (Derived::ldc_room, damping_limit), the LDC force at
+// its default strength stays within kLdcCap of its limit, and the dashpot, at the default
+// and at the largest accepted damping, leaves its fastest mode within 1.5 (driven past 2).
+TEST(Stability, ExplicitTermsKeepTheirLimitsInSqueezedFluid) {
+  const Derived d = derive(load_scene("dam_break"));
+  const double ldc_rest = ldc_stiffness_max(2.0), damping_rest = damping_gain_max(2.0);
+  const double strength = d.ldc_k / d.ldc_k_limit;
+  std::printf("  at rest: LDC stiffness %.3f, dashpot eigenvalue %.3f; ldc_room %.3f, damping_limit %.3f\n", ldc_rest,
+              damping_rest, d.ldc_room, d.damping_limit);
+  EXPECT_LT(0.3 * damping_rest, 2.0) << "solver.damping's upper bound must not drive a mode at rest";
+  for (double c : {0.25, 0.5, 1.0, 2.0, 3.0, 4.0}) {
+    const double rho = lattice_density(2.0, c);
+    const double ldc = strength * ldc_stiffness_max(2.0, c) / ldc_rest;  // fraction of the limit
+    const double ldc_capped = ldc * std::min(1.0, d.ldc_room / (rho * rho));
+    const double eigenvalue = damping_gain_max(2.0, c);
+    std::printf("  compression %.2f (rho/rho0 %.3f): LDC %.2f of its limit, capped %.2f; dashpot 0.3: %.2f, capped %.2f\n",
+                c, rho, ldc, ldc_capped, 0.3 * eigenvalue, std::min(0.3, d.damping_limit / rho) * eigenvalue);
+    EXPECT_LE(ldc_capped, kLdcCap + 1e-9) << "compression " << c;
+    for (double damping : {0.2, 0.3}) EXPECT_LE(std::min(damping, d.damping_limit / rho) * eigenvalue, 1.5 + 1e-9) << "compression " << c;
+  }
+  // Uncapped, both pass their limits in the squeeze the dam break at 0.01 m reached.
+  EXPECT_GT(strength * ldc_stiffness_max(2.0, 1.0) / ldc_rest, 1.0);
+  EXPECT_GT(0.3 * damping_gain_max(2.0, 2.0), 2.0);
+}
+
+// The same on particles: a block squeezed to 3x rho0 with random velocities, damped over
+// and over at the largest accepted damping, loses kinetic energy every time (the
+// uncapped dashpot, 0.3 x 5.06 x 2.4 = 3.6 on its fastest mode, multiplied its energy by
+// ~7 per pass).
+TEST(Damping, SqueezedFluidIsNeverDriven) {
+  const Scene scene = load_scene("hydrostatic", {"solver.xsph=0", "solver.damping=0.3"});
+  const double spacing = 0.02 / std::cbrt(3.0);
+  std::vector<glm::dvec3> x;
+  for (int i = 0; i < 12; ++i)
+    for (int j = 0; j < 12; ++j)
+      for (int k = 0; k < 12; ++k) x.push_back(glm::dvec3(0.2, 0.1, 0.2) + spacing * glm::dvec3(i, j, k));
+  ReferenceSolver ref(derive(scene), x);
+  ref.build_grid(ref.state.x);
+  ref.density();
+  EXPECT_GT(*std::max_element(ref.state.rho.begin(), ref.state.rho.end()), 2.5 * ref.derived().rho0);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (glm::dvec3& vi : ref.state.v) vi = glm::dvec3(u(rng), u(rng), u(rng));
+  auto energy = [&] {
+    double e = 0;
+    for (const glm::dvec3& vi : ref.state.v) e += glm::dot(vi, vi);
+    return e;
+  };
+  for (int pass = 0; pass < 12; ++pass) {
+    const double before = energy();
+    ref.viscosity_vorticity();
+    EXPECT_LT(energy(), before) << "pass " << pass;
+  }
+}
+
 // LDC's K is a fraction of what the step carries: it scales as 1/dt^2, and a stated K
 // past the limit is refused with a message naming it.
 TEST(Stability, LdcStiffnessScalesWithTheStep) {
