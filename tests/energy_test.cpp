@@ -202,7 +202,7 @@ TEST(Stability, ExplicitTermsKeepTheirLimitsInSqueezedFluid) {
 
 // The same on particles: a block squeezed to 3x rho0 with random velocities, damped over
 // and over at the largest accepted damping, loses kinetic energy every time (the
-// uncapped dashpot, 0.3 x 5.06 x 2.4 = 3.6 on its fastest mode, multiplied its energy by
+// uncapped dashpot, 0.3 x 5.06 x 2.4 = 3.6 on its fastest mode, multiplies that mode's energy by
 // ~7 per pass).
 TEST(Damping, SqueezedFluidIsNeverDriven) {
   const Scene scene = load_scene("hydrostatic", {"solver.xsph=0", "solver.damping=0.3"});
