@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Charts of pbflow's speed-accuracy study from DIR/runs.csv and DIR/series.csv.
+"""Charts of pbflow's speed-accuracy study from DIR/runs.csv and DIR/series.csv, or of
+its scaling bench from DIR/scaling.csv.
 
 Usage: charts.py DIR   (writes DIR/*.png; `pbflow bench` runs it and leaves a copy in DIR)
 
@@ -15,6 +16,8 @@ Usage: charts.py DIR   (writes DIR/*.png; `pbflow bench` runs it and leaves a co
                          iterations, a panel per scene (and per LDC strength); then only these
   adaptive.png           with --targets: iterations and ms per step each method needs to
                          reach each target mean compression
+  scaling.png            with --scaling (DIR/scaling.csv): ms per step and each pass group's
+                         share against particles, log-log, with the fitted line
 Accuracy and time charts use the study's largest particle count, the over-time charts
 its smallest (where plain PBF at few iterations still survives); one device only.
 """
@@ -187,10 +190,37 @@ def stability_maps(runs, out_dir, device):
         plt.close(fig)
 
 
+def scaling(rows, out_dir):
+    """ms per step against particles (log-log) with the fit a + b N, and each pass group's ms."""
+    n = [float(r["particles"]) for r in rows]
+    ms = [float(r["step_ms"]) for r in rows]
+    a, b = float(rows[0]["fit_intercept_ms"]), float(rows[0]["fit_ms_per_particle"])
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    ax.loglog(n, ms, "o-", color="black", label="step (GPU time)")
+    ax.loglog(n, [a + b * x for x in n], "--", color="grey",
+              label=f"fit {a:.3g} ms + {b * 1e6:.3g} ms per M particles")
+    passes = [c[:-3] for c in rows[0] if c.endswith("_ms") and c not in ("step_ms", "wall_step_ms", "fit_intercept_ms")]
+    for p in passes:
+        t = [float(r[p + "_ms"]) for r in rows]
+        if max(t) > 0:
+            ax.loglog(n, t, ".-", lw=0.8, label=p)
+    ax.set_xlabel("particles")
+    ax.set_ylabel("ms per step")
+    ax.set_title(f"{rows[0]['scene']} {rows[0]['method']}@{rows[0]['iterations']} on {rows[0]['device']}", fontsize=9)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out_dir, "scaling.png"), dpi=110)
+    plt.close(fig)
+
+
 def main():
     if len(sys.argv) != 2:
         sys.exit(__doc__)
     out_dir = sys.argv[1]
+    if os.path.exists(os.path.join(out_dir, "scaling.csv")) and not os.path.exists(os.path.join(out_dir, "runs.csv")):
+        scaling(read(os.path.join(out_dir, "scaling.csv")), out_dir)
+        return
     runs = read(os.path.join(out_dir, "runs.csv"))
     series = read(os.path.join(out_dir, "series.csv"))
     devices = sorted({r["device"] for r in runs})

@@ -11,15 +11,12 @@
 #include <memory>
 #include <sstream>
 
+#include "common.hpp"
 #include "gpu_solver.hpp"
 #include "run.hpp"
 #include "scene.hpp"
 #include "settle.hpp"
 #include "vk/context.hpp"
-
-namespace pbflow {
-const std::vector<std::pair<std::string_view, std::string_view>>& bench_scripts_text();  // generated
-}
 
 namespace pbflow::bench {
 
@@ -66,16 +63,9 @@ double mean_height(const ParticleFrame& f) {
   return f.x.empty() ? 0 : sum / double(f.x.size());
 }
 
-std::string number(double v) {
-  std::ostringstream s;
-  s.precision(6);
-  s << v;
-  return s.str();
-}
-
 Outcome simulate(const Run& r, int index, double seconds, const std::string& device) {
   Scene base = load_scene(r.scene);
-  const double spacing = std::cbrt(fluid_volume(base) / r.particles_wanted);
+  const double spacing = spacing_for(base, r.particles_wanted);
   const int frames = std::max(2, int(std::lround(seconds * base.fps)) + 1);
   std::vector<std::string> overrides = {"particle_spacing=" + number(spacing), "solver.method=\"" + r.method + "\"",
                                         "solver.iterations=" + std::to_string(r.iterations),
@@ -155,30 +145,6 @@ Outcome simulate(const Run& r, int index, double seconds, const std::string& dev
   return {row, series.str()};
 }
 
-// RFC 4180: a cell with a comma or a quote is quoted (device names have commas).
-std::string csv_cell(const std::string& cell) {
-  if (cell.find_first_of(",\"\n") == std::string::npos) return cell;
-  std::string quoted = "\"";
-  for (char c : cell) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return quoted + "\"";
-}
-
-std::string join(const std::vector<std::string>& cells) {
-  std::string line;
-  for (size_t i = 0; i < cells.size(); ++i) {
-    if (i) line += ',';
-    line += csv_cell(cells[i]);
-  }
-  return line;
-}
-
-// Debian's python3 with matplotlib (pyenv or venv interpreters on PATH may lack it).
-std::string python_with_matplotlib() {
-  for (const char* py : {"/usr/bin/python3", "python3"})
-    if (std::system((std::string(py) + " -c 'import matplotlib' > /dev/null 2>&1").c_str()) == 0) return py;
-  return "";
-}
-
 }  // namespace
 
 int run_study(const StudyOptions& options) {
@@ -246,23 +212,7 @@ int run_study(const StudyOptions& options) {
   if (tty) std::fprintf(stderr, "\n");
   std::cout << "runs: " << (fs::path(o.out) / "runs.csv").string()
             << "\nseries: " << (fs::path(o.out) / "series.csv").string() << "\n";
-  if (!o.charts) return 0;
-
-  std::string python = python_with_matplotlib();
-  if (python.empty()) {
-    std::cerr << "pbflow: no charts: python3 with matplotlib is missing (apt-get install python3-matplotlib)\n";
-    return 1;
-  }
-  // The embedded script goes beside its charts, so that they can be remade from the CSVs.
-  fs::path script = fs::path(o.out) / "charts.py";
-  for (const auto& [name, text] : bench_scripts_text())
-    if (name == "charts") std::ofstream(script) << text;
-  std::string cmd = python + " '" + script.string() + "' '" + o.out + "'";
-  if (std::system(cmd.c_str()) != 0) {
-    std::cerr << "pbflow: the chart script failed: " << cmd << "\n";
-    return 1;
-  }
-  return 0;
+  return o.charts ? draw_charts(o.out) : 0;
 }
 
 }  // namespace pbflow::bench

@@ -6,6 +6,7 @@
 
 #include "gl_context.hpp"
 #include "run.hpp"
+#include "scaling.hpp"
 #include "study.hpp"
 #include "scene.hpp"
 #include "vk/check.hpp"
@@ -28,6 +29,24 @@ int list_devices() {
 int list_scenes() {
   for (const auto& s : pbflow::builtin_scenes()) std::printf("%-18s %s\n", s.name.c_str(), s.description.c_str());
   return 0;
+}
+
+// --scaling takes the study's options that make sense for one scene and one setting.
+pbflow::bench::ScalingOptions scaling_options(const pbflow::bench::StudyOptions& b, double budget_minutes) {
+  if (b.scenes.size() > 1 || b.iterations.size() > 1)
+    throw pbflow::InputError("--scaling runs one scene at one iteration count: give at most one of each");
+  if (b.stability || b.quick || !b.targets.empty() || !b.substeps.empty() || !b.ldc_strength.empty())
+    throw pbflow::InputError("--scaling takes --counts, --scenes, --iterations, --seconds and --budget-minutes only");
+  pbflow::bench::ScalingOptions o;
+  o.out = b.out;
+  o.device = b.device;
+  if (!b.scenes.empty()) o.scene = b.scenes[0];
+  o.counts = b.counts;
+  if (!b.iterations.empty()) o.iterations = b.iterations[0];
+  if (b.seconds > 0) o.seconds = b.seconds;
+  o.budget_minutes = budget_minutes;
+  o.charts = b.charts;
+  return o;
 }
 
 }  // namespace
@@ -83,6 +102,14 @@ int main(int argc, char** argv) {
                       "the stability map: dam_break and drop, substeps x iterations x LDC strength, each run classified");
   bench_cmd->add_option("--scenes", bench.scenes, "scenes, e.g. dam_break,drop (default dam_break,hydrostatic)")
       ->delimiter(',');
+  bool scaling = false;
+  double budget_minutes = pbflow::bench::ScalingOptions{}.budget_minutes;
+  bench_cmd->add_flag("--scaling", scaling,
+                      "the cost model: one scene (--scenes, default dam_break) at doubling particle counts from 10 000 "
+                      "to 4 000 000, ms per step, bytes per particle, per-pass split, the fit");
+  bench_cmd->add_option("--budget-minutes", budget_minutes, "with --scaling: start no count that would end past this")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   bool no_charts = false;
   bench_cmd->add_flag("--no-charts", no_charts, "CSV only");
 
@@ -103,6 +130,7 @@ int main(int argc, char** argv) {
   try {
     if (*scenes_cmd) return list_scenes();
     if (*devices_cmd) return list_devices();
+    if (*bench_cmd && scaling) return pbflow::bench::run_scaling(scaling_options(bench, budget_minutes));
     if (*bench_cmd) return pbflow::bench::run_study(bench);
     return pbflow::run(run);  // `pbflow` alone runs the default scene
   } catch (const pbflow::InputError& e) {

@@ -1,6 +1,8 @@
 // `pbflow bench`: the quick study finishes every run with the promised columns and
-// charts; the chart script draws its PNGs from a small CSV fixture. No timing asserted.
+// charts; the chart script draws its PNGs from a small CSV fixture; the scaling bench
+// measures each count with its pass split and fit. No timing asserted.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -10,6 +12,8 @@
 #include <sstream>
 
 #include "png.hpp"
+#include "scaling.hpp"
+#include "solver.hpp"
 #include "study.hpp"
 
 namespace pbflow {
@@ -127,6 +131,58 @@ TEST(Bench, ChartScriptDrawsStabilityMapsFromAFixture) {
     EXPECT_GT(image.width, 300) << map;
   }
   EXPECT_FALSE(fs::exists(dir / "accuracy_vs_cost.png")) << "a stability study draws only its maps";
+}
+
+// --scaling at three small counts: a row per count with the promised columns, per-pass
+// times that make up the step, device memory per particle that does not depend on the
+// count, one fit shared by every row, the printed table and the chart. Nothing about speed.
+TEST(Bench, ScalingMeasuresEveryCountWithItsSplitAndFit) {
+  fs::path dir = fs::temp_directory_path() / "pbflow_test_scaling";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::string cmd = std::string(PBFLOW_BINARY) + " bench --scaling --counts 2000,4000,8000 --seconds 0.02 --out " +
+                    dir.string() + " > " + (dir / "stdout.txt").string() + " 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  std::stringstream printed;
+  printed << std::ifstream(dir / "stdout.txt").rdbuf();
+  EXPECT_NE(printed.str().find("fit: "), std::string::npos) << printed.str();
+
+  auto rows = read_csv(dir / "scaling.csv");
+  ASSERT_EQ(rows.size(), 4u);
+  EXPECT_EQ(rows[0], bench::scaling_columns());
+  auto at = [&](size_t r, const std::string& name) {
+    return std::stod(rows[r][size_t(std::find(rows[0].begin(), rows[0].end(), name) - rows[0].begin())]);
+  };
+  const double wanted[] = {2000, 4000, 8000};
+  for (size_t r = 1; r < rows.size(); ++r) {
+    ASSERT_EQ(rows[r].size(), rows[0].size());
+    EXPECT_NEAR(at(r, "particles") / wanted[r - 1], 1.0, 0.2) << "row " << r;
+    EXPECT_GT(at(r, "step_ms"), 0.0);
+    double passes = 0;
+    for (const char* p : kPassGroupNames) passes += at(r, std::string(p) + "_ms");
+    EXPECT_NEAR(passes / at(r, "step_ms"), 1.0, 0.1) << "the pass groups make up the step, row " << r;
+    EXPECT_GT(at(r, "correction_ms"), 0.0) << "dam_break runs ldc";
+    EXPECT_NEAR(at(r, "particle_steps_per_s"), at(r, "particles") / (at(r, "step_ms") * 1e-3),
+                1e-4 * at(r, "particle_steps_per_s"));
+    EXPECT_NEAR(at(r, "device_bytes_per_particle") / at(1, "device_bytes_per_particle"), 1.0, 0.25) << "row " << r;
+    for (const char* fit : {"fit_intercept_ms", "fit_ms_per_particle", "loglog_slope"}) {
+      EXPECT_EQ(at(r, fit), at(1, fit)) << fit;
+      EXPECT_TRUE(std::isfinite(at(r, fit))) << fit;
+    }
+  }
+  EXPECT_GT(at(1, "device_bytes_per_particle"), 100.0);
+  EXPECT_GT(capture::read_png(dir / "scaling.png").width, 300);
+}
+
+TEST(Bench, ScalingRefusesWhatItCannotMeasure) {
+  for (const char* args : {"--counts 4000,2000", "--scenes dam_break,drop", "--iterations 1,2", "--stability"}) {
+    fs::path dir = fs::temp_directory_path() / "pbflow_test_scaling_bad";
+    fs::remove_all(dir);
+    std::string cmd = std::string(PBFLOW_BINARY) + " bench --scaling " + args + " --out " + dir.string() + " > /dev/null 2>&1";
+    int status = std::system(cmd.c_str());
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 2) << cmd;
+    EXPECT_FALSE(fs::exists(dir / "scaling.csv")) << cmd;
+  }
 }
 
 }  // namespace

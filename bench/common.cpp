@@ -1,0 +1,71 @@
+#include "common.hpp"
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string_view>
+#include <utility>
+
+namespace pbflow {
+const std::vector<std::pair<std::string_view, std::string_view>>& bench_scripts_text();  // generated
+}
+
+namespace pbflow::bench {
+
+std::string number(double v) {
+  std::ostringstream s;
+  s.precision(6);
+  s << v;
+  return s.str();
+}
+
+namespace {
+// Debian's python3 with matplotlib (pyenv or venv interpreters on PATH may lack it).
+std::string python_with_matplotlib() {
+  for (const char* py : {"/usr/bin/python3", "python3"})
+    if (std::system((std::string(py) + " -c 'import matplotlib' > /dev/null 2>&1").c_str()) == 0) return py;
+  return "";
+}
+
+// RFC 4180: a cell with a comma or a quote is quoted (device names have commas).
+std::string csv_cell(const std::string& cell) {
+  if (cell.find_first_of(",\"\n") == std::string::npos) return cell;
+  std::string quoted = "\"";
+  for (char c : cell) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return quoted + "\"";
+}
+}  // namespace
+
+std::string join(const std::vector<std::string>& cells) {
+  std::string line;
+  for (size_t i = 0; i < cells.size(); ++i) {
+    if (i) line += ',';
+    line += csv_cell(cells[i]);
+  }
+  return line;
+}
+
+double spacing_for(const Scene& scene, int particles) { return std::cbrt(fluid_volume(scene) / particles); }
+
+int draw_charts(const std::string& out) {
+  const std::string python = python_with_matplotlib();
+  if (python.empty()) {
+    std::cerr << "pbflow: no charts: python3 with matplotlib is missing (apt-get install python3-matplotlib)\n";
+    return 1;
+  }
+  // The embedded script goes beside its charts, so that they can be remade from the CSVs.
+  const std::filesystem::path script = std::filesystem::path(out) / "charts.py";
+  for (const auto& [name, text] : bench_scripts_text())
+    if (name == "charts") std::ofstream(script) << text;
+  const std::string cmd = python + " '" + script.string() + "' '" + out + "'";
+  if (std::system(cmd.c_str()) != 0) {
+    std::cerr << "pbflow: the chart script failed: " << cmd << "\n";
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace pbflow::bench
