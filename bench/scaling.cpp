@@ -41,18 +41,18 @@ struct Measured {
   double particles = 0, step_ms = 0, wall_s = 0;
 };
 
-// Least squares y = a + b x; the log-log slope is the same on log x, log y.
+// Weighted least squares y = a + b x; the log-log slope is the same on log x, log y.
 struct Line {
   double a = 0, b = 0;
 };
-Line fit(const std::vector<double>& x, const std::vector<double>& y) {
-  const double n = double(x.size());
-  double sx = 0, sy = 0, sxx = 0, sxy = 0;
-  for (size_t i = 0; i < x.size(); ++i) sx += x[i], sy += y[i], sxx += x[i] * x[i], sxy += x[i] * y[i];
-  const double det = n * sxx - sx * sx;
-  if (x.size() < 2 || det == 0) return {x.empty() ? 0 : sy / n, 0};
-  const double b = (n * sxy - sx * sy) / det;
-  return {(sy - b * sx) / n, b};
+Line fit(const std::vector<double>& x, const std::vector<double>& y, const std::vector<double>& w) {
+  double sw = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
+  for (size_t i = 0; i < x.size(); ++i)
+    sw += w[i], sx += w[i] * x[i], sy += w[i] * y[i], sxx += w[i] * x[i] * x[i], sxy += w[i] * x[i] * y[i];
+  const double det = sw * sxx - sx * sx;
+  if (x.size() < 2 || det == 0) return {sw > 0 ? sy / sw : 0, 0};
+  const double b = (sw * sxy - sx * sy) / det;
+  return {(sy - b * sx) / sw, b};
 }
 
 Measured measure(const ScalingOptions& o, const vk::Context* ctx, int count) {
@@ -145,14 +145,17 @@ int run_scaling(const ScalingOptions& o) {
   if (tty) std::fprintf(stderr, "\n");
   if (rows.empty()) throw InputError("--scaling: no particle count could run (see above)");
 
-  // Cost against particles: the straight line, and the log-log slope over the larger half
+  // Cost against particles: the straight line, weighted by 1/ms^2 so that every count's
+  // relative error counts alike over three decades (unweighted, the largest counts alone
+  // set it and its intercept went negative), and the log-log slope over the larger half
   // of the counts (the small ones carry the fixed cost of a step's dispatches).
-  std::vector<double> n, ms, log_n, log_ms;
-  for (const Measured& m : rows) n.push_back(m.particles), ms.push_back(m.step_ms);
-  const Line line = fit(n, ms);
+  std::vector<double> n, ms, relative, log_n, log_ms;
+  for (const Measured& m : rows)
+    n.push_back(m.particles), ms.push_back(m.step_ms), relative.push_back(1.0 / std::max(m.step_ms * m.step_ms, 1e-12));
+  const Line line = fit(n, ms, relative);
   for (size_t i = rows.size() / 2; i < rows.size(); ++i)
     log_n.push_back(std::log(n[i])), log_ms.push_back(std::log(std::max(ms[i], 1e-9)));
-  const double slope = log_n.size() >= 2 ? fit(log_n, log_ms).b : NAN;
+  const double slope = log_n.size() >= 2 ? fit(log_n, log_ms, std::vector<double>(log_n.size(), 1.0)).b : NAN;
 
   std::ofstream csv(fs::path(o.out) / "scaling.csv");
   csv << join(scaling_columns()) << "\n";
