@@ -38,7 +38,8 @@ namespace {
 
 struct Measured {
   std::vector<std::string> cells;  // up to the pass groups; the fit is appended at the end
-  double particles = 0, step_ms = 0, wall_s = 0;
+  std::string device, setting;     // for the printed table: "llvmpipe ...", "ldc@1"
+  double particles = 0, step_ms = 0, wall_s = 0, bytes_per_particle = 0;
 };
 
 // Weighted least squares y = a + b x; the log-log slope is the same on log x, log y.
@@ -55,8 +56,7 @@ Line fit(const std::vector<double>& x, const std::vector<double>& y, const std::
   return {(sy - b * sx) / sw, b};
 }
 
-Measured measure(const ScalingOptions& o, const vk::Context* ctx, int count) {
-  const Scene base = load_scene(o.scene);
+Measured measure(const ScalingOptions& o, const Scene& base, const vk::Context* ctx, int count) {
   std::vector<std::string> overrides = {"particle_spacing=" + number(spacing_for(base, count))};
   if (o.iterations > 0) overrides.push_back("solver.iterations=" + std::to_string(o.iterations));
   const Scene scene = load_scene(o.scene, overrides);
@@ -86,9 +86,12 @@ Measured measure(const ScalingOptions& o, const vk::Context* ctx, int count) {
   m.particles = n;
   m.step_ms = step_ms;
   m.wall_s = wall_s;
-  m.cells = {solver->device_name(),
+  m.bytes_per_particle = double(ctx ? need.device : need.host) / n;
+  m.device = solver->device_name();
+  m.setting = std::string(method_name(scene.solver.method)) + "@" + std::to_string(scene.solver.iterations);
+  m.cells = {m.device,
              o.scene,
-             scene.solver.method == Method::Ldc ? "ldc" : "pbf",
+             method_name(scene.solver.method),
              std::to_string(scene.solver.iterations),
              std::to_string(x0.size()),
              number(scene.particle_spacing),
@@ -96,7 +99,7 @@ Measured measure(const ScalingOptions& o, const vk::Context* ctx, int count) {
              number(step_ms),
              number(1e3 * wall_s / steps),
              number(n / (step_ms * 1e-3)),
-             number(double(ctx ? need.device : need.host) / n)};
+             number(m.bytes_per_particle)};
   for (double p : pass_ms) m.cells.push_back(number(p));
   return m;
 }
@@ -115,7 +118,7 @@ int run_scaling(const ScalingOptions& o) {
   }
   if (!(o.seconds > 0 && o.seconds <= 60)) throw InputError("--seconds: simulated seconds per count, in (0, 60]");
   if (!(o.budget_minutes > 0)) throw InputError("--budget-minutes must be positive");
-  load_scene(o.scene);  // a wrong name fails before any run
+  const Scene base = load_scene(o.scene);  // a wrong name fails before any run
 
   std::unique_ptr<vk::Context> ctx = make_context(o.device, false);
   fs::create_directories(o.out);
@@ -133,7 +136,7 @@ int run_scaling(const ScalingOptions& o) {
       }
     }
     try {
-      rows.push_back(measure(o, ctx.get(), count));
+      rows.push_back(measure(o, base, ctx.get(), count));
     } catch (const InputError& e) {  // the device (or host) cannot hold this count: the model ends here
       std::fprintf(stderr, "%sstopped at %d particles: %s\n", tty ? "\n" : "", count, e.what());
       break;
@@ -159,13 +162,13 @@ int run_scaling(const ScalingOptions& o) {
 
   std::ofstream csv(fs::path(o.out) / "scaling.csv");
   csv << join(scaling_columns()) << "\n";
-  std::printf("%s, %s %s@%s\n%12s %12s %14s %14s\n", rows[0].cells[0].c_str(), o.scene.c_str(),
-              rows[0].cells[2].c_str(), rows[0].cells[3].c_str(), "particles", "ms/step", "M p-steps/s", "bytes/particle");
+  std::printf("%s, %s %s\n%12s %12s %14s %14s\n", rows[0].device.c_str(), o.scene.c_str(), rows[0].setting.c_str(),
+              "particles", "ms/step", "M p-steps/s", "bytes/particle");
   for (Measured& m : rows) {
     for (double v : {line.a, line.b, slope}) m.cells.push_back(number(v));
     csv << join(m.cells) << "\n";
-    std::printf("%12.0f %12.3f %14.3f %14s\n", m.particles, m.step_ms, m.particles / (m.step_ms * 1e-3) * 1e-6,
-                m.cells[10].c_str());
+    std::printf("%12.0f %12.3f %14.3f %14.1f\n", m.particles, m.step_ms, m.particles / (m.step_ms * 1e-3) * 1e-6,
+                m.bytes_per_particle);
   }
   csv.close();  // complete before the chart script reads it
   std::printf("fit: %.4g ms + %.4g ms per million particles; log-log slope over the larger half %.3f (1: linear)\n",

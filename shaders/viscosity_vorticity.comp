@@ -2,7 +2,8 @@
 // From the same velocities (V_j = m/rho0):
 // - XSPH viscosity, v_i += c sum_j V_j (v_j - v_i) W_ij;
 // - a pairwise dashpot on the relative normal velocity,
-//   v_i -= DAMPING sum_j (1 - r/h) ((v_i - v_j).d) d / r^2 (d = x_j - x_i);
+//   v_i -= sum_j c_ij (1 - r/h) ((v_i - v_j).d) d / r^2 (d = x_j - x_i), c_ij = DAMPING
+//   unless the pair is squeezed (below);
 // - the vorticity omega_i = sum_j V_j (v_j - v_i) x grad W_ij.
 // Why the dashpot: an explicit stiffness maps a density mode as q' = 2q - q_prev - nu q,
 // undamped for every nu < 4, and both the LDC force at the free surface (where the
