@@ -3,6 +3,7 @@
 #include <bit>
 #include <chrono>
 #include <numeric>
+#include <stdexcept>
 
 #include "memory_estimate.hpp"
 #include "scene.hpp"
@@ -40,18 +41,21 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
       viscosity_pass_(d.solver.viscosity_pass()),
       vorticity_pass_(d.solver.vorticity > 0),
       correction_pass_(d.solver.method == Method::Ldc),
-      density_(ctx, "density", 3, sizeof(SimConstants)),
-      correction_(ctx, "correction_force", 4, sizeof(SimConstants), 0,
-                  std::array<uint32_t, 2>{d.solver.ldc_clamp ? 1u : 0u, std::bit_cast<uint32_t>(float(d.ldc_room))}),
+      density_(ctx, "density", 5, sizeof(SimConstants), 0, std::array<uint32_t, 1>{d.neighbour_capacity}),
+      correction_(ctx, "correction_force", 6, sizeof(SimConstants), 0,
+                  std::array<uint32_t, 3>{d.solver.ldc_clamp ? 1u : 0u, std::bit_cast<uint32_t>(float(d.ldc_room)),
+                                          d.neighbour_capacity}),
       predict_(ctx, "predict", 4, sizeof(SimConstants)),
-      lambda_(ctx, "constraint_lambda", 4, sizeof(SimConstants)),
-      apply_(ctx, "constraint_apply", 5, sizeof(SimConstants), 0,
-             std::array<uint32_t, 1>{std::bit_cast<uint32_t>(float(d.solver.scorr_n))}),
+      lambda_building_(ctx, "constraint_lambda", 6, sizeof(SimConstants), 0,
+                       std::array<uint32_t, 2>{1u, d.neighbour_capacity}),
+      lambda_(ctx, "constraint_lambda", 6, sizeof(SimConstants), 0, std::array<uint32_t, 2>{0u, d.neighbour_capacity}),
+      apply_(ctx, "constraint_apply", 7, sizeof(SimConstants), 0,
+             std::array<uint32_t, 2>{std::bit_cast<uint32_t>(float(d.solver.scorr_n)), d.neighbour_capacity}),
       velocity_(ctx, "velocity_update", 3, sizeof(SimConstants)),
-      viscosity_(ctx, "viscosity_vorticity", 6, sizeof(SimConstants), 0,
-                 std::array<uint32_t, 2>{std::bit_cast<uint32_t>(float(d.solver.damping)),
-                                         std::bit_cast<uint32_t>(float(d.damping_limit))}),
-      vorticity_(ctx, "vorticity_force", 4, sizeof(SimConstants)),
+      viscosity_(ctx, "viscosity_vorticity", 8, sizeof(SimConstants), 0,
+                 std::array<uint32_t, 3>{std::bit_cast<uint32_t>(float(d.solver.damping)),
+                                         std::bit_cast<uint32_t>(float(d.damping_limit)), d.neighbour_capacity}),
+      vorticity_(ctx, "vorticity_force", 6, sizeof(SimConstants), 0, std::array<uint32_t, 1>{d.neighbour_capacity}),
       reduce_(ctx, "reduce_stats", 4, sizeof(SimConstants), kReduceThreads),
       reduce_final_(ctx, "reduce_final", 2, sizeof(ReduceFinalPush), kReduceThreads),
       check_converged_(ctx, "check_converged", 2, sizeof(CheckPush), 1),
@@ -59,6 +63,8 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
              std::array<uint32_t, 1>{std::bit_cast<uint32_t>(float(d.speed_limit))}),
       grid_(ctx, sim_),
       rho_(ctx, n_ * sizeof(float)),
+      neighbour_count_(ctx, n_ * sizeof(uint32_t)),
+      neighbour_list_(ctx, size_t(n_) * d.neighbour_capacity * sizeof(uint32_t)),
       lambda_buf_(ctx, n_ * sizeof(float)),
       partials_(ctx, 2 * partial_count(n_) * sizeof(glm::vec4)),
       result_(ctx, 5 * sizeof(glm::vec4), vk::Memory::Host),  // measures (2 vec4), adaptive count, watch (2 vec4)
@@ -146,11 +152,23 @@ void GpuSolver::bind_particle_pass(const vk::Program& p) {
   cmd_.push(sim_);
 }
 
+// Every neighbour pass: the grid at binding 0, the lists' counts and entries at `lists`
+// and lists + 1 (shaders/neighbours.glsl).
+void GpuSolver::bind_neighbours(uint32_t lists, bool building) {
+  if (!building && !lists_current_)
+    throw std::logic_error("a neighbour pass ran before density or constraint_lambda built the lists");
+  cmd_.bind(0, grid_.cell_start());
+  cmd_.bind(lists, neighbour_count_);
+  cmd_.bind(lists + 1, neighbour_list_);
+  lists_current_ = true;
+}
+
 void GpuSolver::grid_at_positions() {
   grid_.build(cmd_, sim_, {&at(X), &at(V), &id_[id_current_]}, {&at(Spare0), &at(Spare1), &id_[1 - id_current_]});
   swap_roles(X, Spare0);
   swap_roles(V, Spare1);
   id_current_ = 1 - id_current_;
+  lists_current_ = false;
 }
 
 void GpuSolver::grid_at_predictions() {
@@ -160,11 +178,12 @@ void GpuSolver::grid_at_predictions() {
   swap_roles(XPred, Spare0);
   swap_roles(X, Spare1);
   id_current_ = 1 - id_current_;
+  lists_current_ = false;
 }
 
 void GpuSolver::density() {
   bind_particle_pass(density_);
-  cmd_.bind(0, grid_.cell_start());
+  bind_neighbours(3, true);
   cmd_.bind(1, at(X));
   cmd_.bind(2, rho_);
   cmd_.dispatch(n_);
@@ -172,7 +191,7 @@ void GpuSolver::density() {
 
 void GpuSolver::correction() {
   bind_particle_pass(correction_);
-  cmd_.bind(0, grid_.cell_start());
+  bind_neighbours(4, false);
   cmd_.bind(1, at(X));
   cmd_.bind(2, rho_);
   cmd_.bind(3, at(V));
@@ -196,8 +215,10 @@ void GpuSolver::run_particle_pass(const vk::Buffer* indirect) {
 }
 
 void GpuSolver::constraint_lambda(const vk::Buffer* indirect) {
-  bind_particle_pass(lambda_);
-  cmd_.bind(0, grid_.cell_start());
+  // The first pass after the grid build at x* builds the step's lists.
+  const bool building = !lists_current_;
+  bind_particle_pass(building ? lambda_building_ : lambda_);
+  bind_neighbours(4, building);
   cmd_.bind(1, at(XPred));
   cmd_.bind(2, lambda_buf_);
   cmd_.bind(3, rho_);
@@ -208,7 +229,7 @@ void GpuSolver::constraint_apply(double relax, const vk::Buffer* indirect) {
   // Jacobi: every particle reads the same x_pred, so the result goes to a spare array.
   sim_.relax = float(relax);
   bind_particle_pass(apply_);
-  cmd_.bind(0, grid_.cell_start());
+  bind_neighbours(5, false);
   cmd_.bind(1, at(XPred));
   cmd_.bind(2, lambda_buf_);
   cmd_.bind(3, at(Spare0));
@@ -266,7 +287,7 @@ void GpuSolver::velocity_update() {
 
 void GpuSolver::viscosity_vorticity() {
   bind_particle_pass(viscosity_);
-  cmd_.bind(0, grid_.cell_start());
+  bind_neighbours(6, false);
   cmd_.bind(1, at(X));
   cmd_.bind(2, at(V));
   cmd_.bind(3, at(Spare0));
@@ -278,7 +299,7 @@ void GpuSolver::viscosity_vorticity() {
 
 void GpuSolver::vorticity_force() {
   bind_particle_pass(vorticity_);
-  cmd_.bind(0, grid_.cell_start());
+  bind_neighbours(4, false);
   cmd_.bind(1, at(X));
   cmd_.bind(2, omega_);
   cmd_.bind(3, at(V));

@@ -54,6 +54,7 @@ class GpuSolver : public Solver {
   const vk::Buffer& at(Slot s) const { return vec4_[role_[s]]; }
   void swap_roles(Slot a, Slot b) { std::swap(role_[a], role_[b]); }
   void bind_particle_pass(const vk::Program& p);
+  void bind_neighbours(uint32_t lists, bool building);
   FrameStats read_measures() const;
   void end_of(PassGroup group);  // closes a timed segment while profiling
   void run_particle_pass(const vk::Buffer* indirect);
@@ -68,14 +69,17 @@ class GpuSolver : public Solver {
   bool viscosity_pass_, vorticity_pass_, correction_pass_;
   bool density_current_ = false;  // rho and the grid already match x (measures were just taken)
 
-  vk::Program density_, correction_, predict_, lambda_, apply_, velocity_, viscosity_, vorticity_;
+  vk::Program density_, correction_, predict_, lambda_building_, lambda_, apply_, velocity_, viscosity_, vorticity_;
   vk::Program reduce_, reduce_final_, check_converged_, watch_;
   GpuGrid grid_;
   std::array<vk::Buffer, kSlots> vec4_;
   std::array<int, kSlots> role_{X, V, XPred, Spare0, Spare1};
   std::array<vk::Buffer, 2> id_;
   int id_current_ = 0;
-  vk::Buffer rho_, lambda_buf_, omega_, partials_, result_, obstacles_;
+  vk::Buffer rho_, neighbour_count_, neighbour_list_;
+  // The lists match the last grid build: density or the first lambda pass since built them.
+  bool lists_current_ = false;
+  vk::Buffer lambda_buf_, omega_, partials_, result_, obstacles_;
   vk::Buffer check_, indirect_;
   vk::Buffer watch_buf_;  // watch.comp: flags, first step, counts, the step being watched
   uint32_t step_in_frame_ = 0;  // adaptive iterations: the last check's measures, dispatch arguments + count

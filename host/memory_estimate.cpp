@@ -16,13 +16,14 @@ namespace {
 
 // Bytes per particle, counted from the arrays each solver allocates (rounded up):
 // GPU: five vec4 arrays, two id arrays, rho, lambda, the vorticity vec4 and the grid's cell
-// and rank; host: the initial lattice (dvec3), the state uploaded once (x, v, x_pred) and a
-// frame read back for rendering or export (x, v, rho, id).
+// and rank, then the neighbour lists and counts (4 bytes an entry); host: the initial
+// lattice (dvec3), the state uploaded once (x, v, x_pred) and a frame read back for
+// rendering or export (x, v, rho, id).
 constexpr double kGpuPerParticle = 128, kGpuPerCell = 4.5;
 constexpr double kHostPerParticleGpuRun = 24 + 72 + 48 + 40;
 // Reference: x, v, x_pred, omega (dvec3), rho, lambda, its cell lists, two scratch dvec3
-// arrays, the initial lattice and a frame read back.
-constexpr double kHostPerParticleCpuRun = 96 + 16 + 8 + 48 + 24 + 40, kHostPerCellCpuRun = 24;
+// arrays, the initial lattice, a frame read back, and its neighbour lists (~40 entries of 8 bytes).
+constexpr double kHostPerParticleCpuRun = 96 + 16 + 8 + 48 + 24 + 40 + 24 + 320, kHostPerCellCpuRun = 24;
 // Framebuffers and the image read back: colour, depth, two smoothing targets, RGB copies.
 constexpr double kBytesPerPixel = 48;
 
@@ -58,12 +59,13 @@ MemoryNeed memory_need(const Derived& d, double particles, const vk::DeviceInfo*
   const double cells = double(d.grid.x) * d.grid.y * d.grid.z;
   double gpu = 0, host = kBytesPerPixel * pixels;
   if (device) {
-    gpu = kGpuPerParticle * particles + kGpuPerCell * cells;
+    gpu = (kGpuPerParticle + 4.0 * (d.neighbour_capacity + 1)) * particles + kGpuPerCell * cells;
     host += kHostPerParticleGpuRun * particles;
   } else {
     host += kHostPerParticleCpuRun * particles + kHostPerCellCpuRun * cells;
   }
-  return {uint64_t(gpu), uint64_t(host), device ? uint64_t(sizeof(glm::vec4) * particles) : 0};
+  const double largest = std::max<double>(sizeof(glm::vec4), sizeof(uint32_t) * d.neighbour_capacity) * particles;
+  return {uint64_t(gpu), uint64_t(host), device ? uint64_t(largest) : 0};
 }
 
 uint64_t host_memory_available() {

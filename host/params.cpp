@@ -1,6 +1,7 @@
 #include "params.hpp"
 
 #include <cmath>
+#include <numbers>
 #include <sstream>
 
 #include "kernels.hpp"
@@ -133,6 +134,9 @@ Derived derive(const Scene& scene) {
   }
   d.ldc_room = d.ldc_k > 0 ? kLdcCap * d.ldc_k_limit / d.ldc_k : 1.0;
   d.damping_limit = 1.5 / damping_gain_max(scene.solver.kernel_ratio);
+  // 4/3 pi (h / spacing)^3 neighbours inside h at rho0 (33.5 at 2), rounded up to 8.
+  const double at_rest = 4.0 / 3.0 * std::numbers::pi * std::pow(scene.solver.kernel_ratio, 3);
+  d.neighbour_capacity = 8 * uint32_t(std::ceil(kNeighbourHeadroom * at_rest / 8));
   d.gravity = scene.gravity;
   d.domain_min = scene.domain.min;
   d.domain_max = scene.domain.max;

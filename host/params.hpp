@@ -77,6 +77,10 @@ struct Derived {
   // i.e. at most kLdcCap of the limit; a pair's dashpot is min(damping, damping_limit rho0/rho),
   // damping_limit keeping the fastest mode at rest at 1.5 (it is driven past 2).
   double ldc_room, damping_limit;
+  // Entries per particle in the GPU's neighbour lists (shaders/neighbours.glsl): room for
+  // the neighbours inside h at kNeighbourHeadroom times rho0; a particle with more walks
+  // its cells instead.
+  uint32_t neighbour_capacity;
   SolverParams solver;
   std::vector<Obstacle> obstacles;  // grown by half a spacing: where particle centres may not be
   double speed_limit;  // m/s: the divergence watch stops a run with a particle faster than this
@@ -89,6 +93,10 @@ Derived derive(const Scene& scene);
 // moves at most one kernel radius h per step (beyond that it passes neighbours it never
 // saw); else a warning naming the substeps that would keep it within h.
 std::string time_step_warning(const Scene& scene, const Derived& d);
+
+// A list holds the neighbours of fluid squeezed to this multiple of rho0. The default scenes
+// stay under 1.3x at the real-time step; only a collapsing column (README) passes 2x.
+constexpr double kNeighbourHeadroom = 2.0;
 
 // Particle mass that gives an interior particle of a cubic lattice of `spacing` exactly rho0.
 double lattice_mass(double spacing, double h, double rho0);

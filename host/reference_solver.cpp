@@ -39,12 +39,34 @@ glm::ivec3 ReferenceSolver::cell_of(const dvec3& x) const {
 
 // Visits j for every particle binned in the 27 cells around xi (distance not tested).
 template <class F>
-void ReferenceSolver::for_each_neighbour(const dvec3& xi, F&& visit) const {
+void ReferenceSolver::for_each_candidate(const dvec3& xi, F&& visit) const {
   glm::ivec3 c = cell_of(xi);
   for (int z = std::max(c.z - 1, 0); z <= std::min(c.z + 1, d_.grid.z - 1); ++z)
     for (int y = std::max(c.y - 1, 0); y <= std::min(c.y + 1, d_.grid.y - 1); ++y)
       for (int x = std::max(c.x - 1, 0); x <= std::min(c.x + 1, d_.grid.x - 1); ++x)
         for (size_t j : cells_[cell_id({x, y, z})]) visit(j);
+}
+
+void ReferenceSolver::build_neighbours(const std::vector<dvec3>& at) {
+  neighbours_.resize(at.size());
+  for (size_t i = 0; i < at.size(); ++i) {
+    neighbours_[i].clear();
+    for_each_candidate(at[i], [&](size_t j) {
+      dvec3 d = at[i] - at[j];
+      if (glm::dot(d, d) < d_.h * d_.h) neighbours_[i].push_back(j);
+    });
+  }
+  neighbours_current_ = true;
+}
+
+// As neighbours.glsl: i's list, or, where it holds more than the GPU's capacity, every
+// particle in the cells around i's position now (xi).
+template <class F>
+void ReferenceSolver::for_each_neighbour(size_t i, const dvec3& xi, F&& visit) const {
+  if (neighbours_.at(i).size() > d_.neighbour_capacity)
+    for_each_candidate(xi, visit);
+  else
+    for (size_t j : neighbours_[i]) visit(j);
 }
 
 ReferenceSolver::WallImages ReferenceSolver::walls_near(const dvec3& x) const {
@@ -71,13 +93,15 @@ ReferenceSolver::WallImages ReferenceSolver::walls_near(const dvec3& x) const {
 void ReferenceSolver::build_grid(const std::vector<dvec3>& at) {
   for (auto& cell : cells_) cell.clear();
   for (size_t i = 0; i < at.size(); ++i) cells_[cell_id(cell_of(at[i]))].push_back(i);
+  neighbours_current_ = false;
 }
 
 void ReferenceSolver::density() {
+  build_neighbours(state.x);
   for (size_t i = 0; i < state.x.size(); ++i) {
     const WallImages walls = walls_near(state.x[i]);
     double sum = 0;
-    for_each_neighbour(state.x[i], [&](size_t j) {
+    for_each_neighbour(i, state.x[i], [&](size_t j) {
       for (const WallImage& m : walls) {
         dvec3 d = state.x[i] - m.of(state.x[j]);
         sum += kernels::poly6(glm::dot(d, d), d_.h);
@@ -92,7 +116,7 @@ dvec3 ReferenceSolver::correction_force(size_t i) const {
   const dvec3 xi = state.x[i];
   const WallImages walls = walls_near(xi);
   dvec3 f(0.0);
-  for_each_neighbour(xi, [&](size_t j) {
+  for_each_neighbour(i, xi, [&](size_t j) {
     const double difference = (rho(j) - rho(i)) / d_.rho0;
     for (const WallImage& m : walls) {
       dvec3 d = m.of(state.x[j]) - xi;
@@ -125,13 +149,14 @@ void ReferenceSolver::predict() {
 }
 
 void ReferenceSolver::constraint_lambda() {
+  if (!neighbours_current_) build_neighbours(state.x_pred);  // the first pass after the grid build
   const double s = d_.mass / d_.rho0;
   for (size_t i = 0; i < state.x.size(); ++i) {
     const dvec3 xi = state.x_pred[i];
     const WallImages walls = walls_near(xi);
     double w_sum = 0, grad_sq = 0;
     dvec3 own(0.0);  // grad_i C_i
-    for_each_neighbour(xi, [&](size_t j) {
+    for_each_neighbour(i, xi, [&](size_t j) {
       // grad_i C_i gains grad W for j and each of its images; grad_j C_i = -sum over them
       // of the image's reflection times grad W (j moves its images, mirrored).
       dvec3 g(0.0), g_j(0.0);
@@ -163,7 +188,7 @@ void ReferenceSolver::constraint_apply(double relax) {
     const dvec3 xi = state.x_pred[i];
     const WallImages walls = walls_near(xi);
     dvec3 dp(0.0);
-    for_each_neighbour(xi, [&](size_t j) {
+    for_each_neighbour(i, xi, [&](size_t j) {
       // An image carries its particle's lambda; i's own images push i away from the wall.
       for (const WallImage& m : walls) {
         dvec3 d = xi - m.of(state.x_pred[j]);
@@ -189,7 +214,7 @@ void ReferenceSolver::viscosity_vorticity() {
   for (size_t i = 0; i < v_next.size(); ++i) {
     dvec3 smooth(0.0), curl(0.0), damp(0.0);  // viscosity_vorticity.comp says what each is
     const double rho_i = std::max(state.rho[i], d_.rho0);
-    for_each_neighbour(state.x[i], [&](size_t j) {
+    for_each_neighbour(i, state.x[i], [&](size_t j) {
       dvec3 d = state.x[i] - state.x[j];
       dvec3 vij = state.v[j] - state.v[i];
       double r2 = glm::dot(d, d);
@@ -207,7 +232,7 @@ void ReferenceSolver::viscosity_vorticity() {
 void ReferenceSolver::vorticity_force() {
   for (size_t i = 0; i < state.x.size(); ++i) {
     dvec3 eta(0.0);
-    for_each_neighbour(state.x[i], [&](size_t j) {
+    for_each_neighbour(i, state.x[i], [&](size_t j) {
       eta += glm::length(state.omega[j]) * kernels::spiky_grad(state.x[i] - state.x[j], d_.h);
     });
     double len = glm::length(eta);

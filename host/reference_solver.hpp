@@ -61,8 +61,14 @@ class ReferenceSolver : public Solver {
   ParticleState state;
 
  private:
+  // The step's neighbour sets, as the GPU's lists (shaders/neighbours.glsl): built by the
+  // first pass after a grid build, density at x or constraint_lambda at x_pred, from the
+  // 27 cells, keeping those within h; read by every later pass of the step.
+  void build_neighbours(const std::vector<glm::dvec3>& at);
   template <class F>
-  void for_each_neighbour(const glm::dvec3& xi, F&& visit) const;
+  void for_each_candidate(const glm::dvec3& xi, F&& visit) const;
+  template <class F>
+  void for_each_neighbour(size_t i, const glm::dvec3& xi, F&& visit) const;
 
   glm::ivec3 cell_of(const glm::dvec3& x) const;
   size_t cell_id(const glm::ivec3& c) const { return (size_t(c.z) * d_.grid.y + c.y) * d_.grid.x + c.x; }
@@ -74,6 +80,8 @@ class ReferenceSolver : public Solver {
   Derived d_;
   long iterations_run_ = 0;  // constraint iterations in the current advance()
   std::vector<std::vector<size_t>> cells_;  // particles binned by cell at the last build_grid
+  std::vector<std::vector<size_t>> neighbours_;  // per particle: within h when the list was built
+  bool neighbours_current_ = false;              // built since the last build_grid
 };
 
 }  // namespace pbflow

@@ -69,16 +69,3 @@ ivec3 cell_of(vec3 x) {
 uint cell_id(ivec3 c) { return uint((c.z * sim.grid.y + c.y) * sim.grid.x + c.x); }
 
 vec3 project_to_walls(vec3 x) { return clamp(x, sim.wall_min, sim.wall_max); }
-
-// Loops j over every particle binned in the 27 cells around position xi (the body
-// tests the distance). Cells are numbered x-fastest, so each row of three cells is
-// one contiguous range of the sorted particles: nine ranges instead of 27.
-// Needs a buffer `cell_start` (exclusive prefix sum of particles per cell).
-#define FOR_EACH_NEIGHBOUR(xi, j)                                                         \
-  ivec3 c_##j = cell_of(xi);                                                              \
-  int lo_##j = max(c_##j.x - 1, 0), hi_##j = min(c_##j.x + 1, sim.grid.x - 1);            \
-  for (int z_##j = max(c_##j.z - 1, 0); z_##j <= min(c_##j.z + 1, sim.grid.z - 1); ++z_##j) \
-    for (int y_##j = max(c_##j.y - 1, 0); y_##j <= min(c_##j.y + 1, sim.grid.y - 1); ++y_##j) \
-      for (uint j = cell_start[cell_id(ivec3(lo_##j, y_##j, z_##j))],                     \
-                end_##j = cell_start[cell_id(ivec3(hi_##j, y_##j, z_##j)) + 1];           \
-           j < end_##j; ++j)

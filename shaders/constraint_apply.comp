@@ -14,6 +14,9 @@ layout(std430, binding = 3) writeonly buffer XOut { vec4 x_out[]; };
 #define OBSTACLES_BINDING 4
 #include "obstacles.glsl"
 layout(constant_id = 1) const float TENSILE_N = 4.0;  // solver.scorr_n
+#define NEIGHBOUR_BINDING 5
+#define NEIGHBOUR_CAPACITY_ID 2
+#include "neighbours.glsl"
 
 // (W(r)/W(dq))^n, by squaring for the usual n = 4: pow() is slow on CPU Vulkan.
 float tensile_power(float ratio) {
@@ -39,7 +42,7 @@ void main() {
   WallImages walls = walls_near(xi);
   float lambda_i = lambda[i];
   vec3 dp = vec3(0.0);
-  FOR_EACH_NEIGHBOUR(xi, j) {
+  FOR_EACH_NEIGHBOUR(i, xi, j) {
     vec3 xj = x_pred[j].xyz;
     float lambda_ij = lambda_i + lambda[j];
     dp += pair_push(xi - xj, lambda_ij);

@@ -16,6 +16,9 @@ layout(std430, binding = 2) readonly buffer Rho { float rho[]; };
 layout(std430, binding = 3) buffer V { vec4 v[]; };
 layout(constant_id = 1) const bool CLAMP_DENSITY = true;
 layout(constant_id = 2) const float LDC_ROOM = 1.8;  // Derived::ldc_room
+#define NEIGHBOUR_BINDING 4
+#define NEIGHBOUR_CAPACITY_ID 3
+#include "neighbours.glsl"
 
 float ldc_density(uint k) { return CLAMP_DENSITY ? max(rho[k], sim.rho0) : rho[k]; }
 
@@ -34,7 +37,7 @@ void main() {
   float rho_i = ldc_density(i);
   WallImages walls = walls_near(xi);
   vec3 f = vec3(0.0);
-  FOR_EACH_NEIGHBOUR(xi, j) {
+  FOR_EACH_NEIGHBOUR(i, xi, j) {
     vec3 xj = x[j].xyz;
     float difference = ldc_density(j) - rho_i;
     f += pair_term(xj - xi, difference);

@@ -25,6 +25,9 @@ layout(std430, binding = 2) readonly buffer V { vec4 v[]; };
 layout(std430, binding = 3) writeonly buffer VOut { vec4 v_out[]; };
 layout(std430, binding = 4) writeonly buffer Omega { vec4 omega[]; };
 layout(std430, binding = 5) readonly buffer Rho { float rho[]; };  // the last lambda pass's
+#define NEIGHBOUR_BINDING 6
+#define NEIGHBOUR_CAPACITY_ID 3
+#include "neighbours.glsl"
 
 void main() {
   uint i = thread_index();
@@ -35,7 +38,7 @@ void main() {
   vec3 curl = vec3(0.0);
   vec3 damp = vec3(0.0);
   float rho_i = max(rho[i], sim.rho0);
-  FOR_EACH_NEIGHBOUR(xi, j) {
+  FOR_EACH_NEIGHBOUR(i, xi, j) {
     vec3 d = xi - x[j].xyz;
     float r2 = dot(d, d);
     if (r2 >= sim.h * sim.h) continue;

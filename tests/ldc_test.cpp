@@ -109,6 +109,7 @@ TEST(LdcForce, AWallParticleFeelsTheInteriorsForce) {
   auto x = initial_particles(scene);
   ReferenceSolver ref(d, x);
   ref.build_grid(ref.state.x);
+  ref.density();  // lists the neighbours; the densities are then set by hand
   for (size_t i = 0; i < x.size(); ++i) ref.state.rho[i] = d.rho0 * (1.0 + 0.2 * (0.4 - x[i].y));
   const double s = scene.particle_spacing, y = 0.2 + 0.5 * s;  // a layer mid-depth
   auto force_at = [&](double px, double pz) {
