@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# Rendering cost beside the solver's, per frame, from the same runs: every style at each
+# resolution, on one scene (default dam_break, its default setting), over its first frames.
+# "render" is the capture stage (particles to GL, draw, read back, PNG written); "solver"
+# is the GPU time of the frame's steps (timestamps). Both come from the run's summary.
+#
+#   bench/render.sh [-s scene] [-f frames] [-r "640x360 1280x720 1920x1080"] [-y "fluid particles"] > table.md
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scene=dam_break
+frames=16
+sizes="640x360 1280x720 1920x1080"
+styles="fluid particles density speed"
+while getopts "s:f:r:y:" opt; do
+  case $opt in
+    s) scene=$OPTARG ;;
+    f) frames=$OPTARG ;;
+    r) sizes=$OPTARG ;;
+    y) styles=$OPTARG ;;
+    *) echo "usage: $0 [-s scene] [-f frames] [-r sizes] [-y styles]" >&2; exit 2 ;;
+  esac
+done
+bin=build/pbflow
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+echo "| scene | style | size | particles | solver ms/frame | render ms/frame | render / solver |"
+echo "|---|---|---|---|---|---|---|"
+for size in $sizes; do
+  for style in $styles; do
+    log=$("$bin" run "$scene" --frames "$frames" --style "$style" --width "${size%x*}" --height "${size#*x}" \
+          --out "$dir/run" 2>&1) || { echo "$log" >&2; exit 1; }
+    particles=$(sed -n 's/^particles \([0-9]*\),.*/\1/p' <<<"$log")
+    solver_s=$(sed -n 's/.*(solver time \([0-9.e+-]*\) s).*/\1/p' <<<"$log")
+    render_ms=$(sed -n 's/.*(\([0-9.e+-]*\) ms per frame).*/\1/p' <<<"$log")
+    awk -v sc="$scene" -v st="$style" -v sz="$size" -v n="$particles" -v s="$solver_s" -v r="$render_ms" -v f="$frames" \
+      'BEGIN { sm = 1000 * s / (f - 1); printf "| %s | %s | %s | %s | %.1f | %.1f | %.2f |\n", sc, st, sz, n, sm, r, r / sm }'
+  done
+done
