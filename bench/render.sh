@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Rendering cost beside the solver's, per frame, from the same runs: every style at each
 # resolution, on one scene (default dam_break, its default setting), over its first frames.
-# "render" is the capture stage (particles to GL, draw, read back, PNG written); "solver"
-# is the GPU time of the frame's steps (timestamps). Both come from the run's summary.
+# "capture" is the whole capture stage, "drawing" its part before the PNG (particles to GL,
+# draw, read back); "solver" is the GPU time of the frame's steps (timestamps). All come
+# from the run's summary, so each row's ratio is measured in one run.
 #
 #   bench/render.sh [-s scene] [-f frames] [-r "640x360 1280x720 1920x1080"] [-y "fluid particles"] > table.md
 set -euo pipefail
@@ -23,16 +24,18 @@ done
 bin=build/pbflow
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
-echo "| scene | style | size | particles | solver ms/frame | render ms/frame | render / solver |"
-echo "|---|---|---|---|---|---|---|"
+echo "| scene | style | size | particles | solver ms/frame | capture ms/frame | drawing ms/frame | drawing / solver |"
+echo "|---|---|---|---|---|---|---|---|"
 for size in $sizes; do
   for style in $styles; do
     log=$("$bin" run "$scene" --frames "$frames" --style "$style" --width "${size%x*}" --height "${size#*x}" \
           --out "$dir/run" 2>&1) || { echo "$log" >&2; exit 1; }
     particles=$(sed -n 's/^particles \([0-9]*\),.*/\1/p' <<<"$log")
     solver_s=$(sed -n 's/.*(solver time \([0-9.e+-]*\) s).*/\1/p' <<<"$log")
-    render_ms=$(sed -n 's/.*(\([0-9.e+-]*\) ms per frame).*/\1/p' <<<"$log")
-    awk -v sc="$scene" -v st="$style" -v sz="$size" -v n="$particles" -v s="$solver_s" -v r="$render_ms" -v f="$frames" \
-      'BEGIN { sm = 1000 * s / (f - 1); printf "| %s | %s | %s | %s | %.1f | %.1f | %.2f |\n", sc, st, sz, n, sm, r, r / sm }'
+    capture_ms=$(sed -n 's/.*(\([0-9.e+-]*\) ms per frame, .*/\1/p' <<<"$log")
+    drawing_ms=$(sed -n 's/.*ms per frame, \([0-9.e+-]*\) of it drawing).*/\1/p' <<<"$log")
+    awk -v sc="$scene" -v st="$style" -v sz="$size" -v n="$particles" -v s="$solver_s" -v c="$capture_ms" \
+      -v r="$drawing_ms" -v f="$frames" 'BEGIN { sm = 1000 * s / (f - 1);
+      printf "| %s | %s | %s | %s | %.1f | %.1f | %.1f | %.2f |\n", sc, st, sz, n, sm, c, r, r / sm }'
   done
 done

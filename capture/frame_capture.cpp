@@ -16,11 +16,14 @@ FrameCapture::FrameCapture(const CaptureOptions& options, const Solver& solver, 
 FrameCapture::~FrameCapture() = default;
 
 void FrameCapture::write(const std::filesystem::path& png, const Solver& solver) {
-  auto start = std::chrono::steady_clock::now();
+  using clock = std::chrono::steady_clock;
+  const auto start = clock::now();
   Image image = renderer_.render(transfer_->update(solver), uint32_t(solver.particle_count()));
+  const auto drawn = clock::now();
   write_png(png, image);
   if (video_) video_->add(image);
-  seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  drawing_seconds_ += std::chrono::duration<double>(drawn - start).count();
+  seconds_ += std::chrono::duration<double>(clock::now() - start).count();
 }
 
 void FrameCapture::finish() {

@@ -31,6 +31,7 @@ class FrameCapture {
 
   std::string description() const;  // GL platform, renderer and transfer path
   double seconds() const { return seconds_; }  // spent rendering and writing so far
+  double drawing_seconds() const { return drawing_seconds_; }  // of which particles to GL, drawing, reading back
   std::vector<std::string> gl_errors() const { return gl_.errors(); }
 
  private:
@@ -39,7 +40,7 @@ class FrameCapture {
   Renderer renderer_;
   std::unique_ptr<ParticleTransfer> transfer_;
   std::unique_ptr<VideoEncoder> video_;
-  double seconds_ = 0;
+  double seconds_ = 0, drawing_seconds_ = 0;
 };
 
 }  // namespace pbflow::capture

@@ -106,16 +106,21 @@ void Renderer::upload(const FrameUniforms& u) {
   glBindBufferBase(GL_UNIFORM_BUFFER, 0, frame_ubo_);
 }
 
+// Particles as point sprites, obstacle spheres (kPassSolid) as quads (sphere.vert).
 void Renderer::draw_spheres(uint32_t count, int pass) {
   if (count == 0) return;
   upload(uniforms(count, pass));
   glUseProgram(sphere_);
-  glDrawArrays(GL_TRIANGLES, 0, GLsizei(6 * count));
+  if (pass == kPassSolid)
+    glDrawArrays(GL_TRIANGLES, 0, GLsizei(6 * count));
+  else
+    glDrawArrays(GL_POINTS, 0, GLsizei(count));
 }
 
 Image Renderer::render(GLuint buffer, uint32_t count) {
   const int w = view_.width, h = view_.height;
   glBindVertexArray(vao_);
+  glEnable(GL_PROGRAM_POINT_SIZE);  // sphere.vert sizes each particle's sprite
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buffer);
   glViewport(0, 0, w, h);
 
@@ -167,7 +172,7 @@ void Renderer::draw_tank_and_obstacles(GLuint particles, uint32_t count) {
       upload(u);
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, obstacle_spheres_[sphere++]);
       glUseProgram(sphere_);
-      glDrawArrays(GL_TRIANGLES, 0, 6);
+      glDrawArrays(GL_TRIANGLES, 0, 6);  // a quad: it may pass the largest point size
     }
   }
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, particles);

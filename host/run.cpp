@@ -202,7 +202,8 @@ int run(const RunOptions& o) {
                 << " simulating";
       if (capture)
         std::cout << ", " << simulated_s / wall() << " with rendering (" << 1000.0 * render_s / scene.frames
-                  << " ms per frame)\nframes: " << (out / "frames").string() << "/";
+                  << " ms per frame, " << 1000.0 * capture->drawing_seconds() / scene.frames
+                  << " of it drawing)\nframes: " << (out / "frames").string() << "/";
       if (!o.video.empty()) std::cout << "\nvideo: " << o.video;
       std::cout << "\nstats: " << dir.stats_path().string() << "\n";
     }

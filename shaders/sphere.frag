@@ -1,12 +1,13 @@
 // Ray-sphere intersection per fragment: exact silhouette and depth of each particle.
 // PASS_SHADED: lit colour; PASS_DEPTH: linear eye depth; PASS_THICKNESS: chord length.
-in vec3 corner_view;
 flat in vec3 centre_view;
 flat in float scalar;
 layout(location = 0) out vec4 result;
 
 void main() {
-  vec3 dir = normalize(corner_view);
+  // This pixel's ray through the eye (view space; the projection is symmetric).
+  vec2 ndc = gl_FragCoord.xy / viewport * 2.0 - 1.0;
+  vec3 dir = normalize(vec3(ndc.x / proj[0][0], ndc.y / proj[1][1], -1.0));
   float b = dot(dir, centre_view);
   float disc = b * b - dot(centre_view, centre_view) + radius * radius;
   if (disc < 0.0) discard;
