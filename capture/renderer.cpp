@@ -46,6 +46,7 @@ const char* style_name(Style style) {
 Renderer::Renderer(const View& view) : view_(view) {
   const int w = view.width, h = view.height;
   vao_ = gl::make_vertex_array();
+  glEnable(GL_PROGRAM_POINT_SIZE);  // sphere.vert sizes each particle's sprite
   frame_ubo_ = gl::make_buffer(sizeof(FrameUniforms));
   sphere_ = gl::make_program("sphere.vert", "sphere.frag");
   box_ = gl::make_program("box.vert", "box.frag");
@@ -106,21 +107,18 @@ void Renderer::upload(const FrameUniforms& u) {
   glBindBufferBase(GL_UNIFORM_BUFFER, 0, frame_ubo_);
 }
 
-// Particles as point sprites, obstacle spheres (kPassSolid) as quads (sphere.vert).
+// Particles as point sprites (sphere.vert); obstacle spheres are quads, drawn by
+// draw_tank_and_obstacles.
 void Renderer::draw_spheres(uint32_t count, int pass) {
   if (count == 0) return;
   upload(uniforms(count, pass));
   glUseProgram(sphere_);
-  if (pass == kPassSolid)
-    glDrawArrays(GL_TRIANGLES, 0, GLsizei(6 * count));
-  else
-    glDrawArrays(GL_POINTS, 0, GLsizei(count));
+  glDrawArrays(GL_POINTS, 0, GLsizei(count));
 }
 
 Image Renderer::render(GLuint buffer, uint32_t count) {
   const int w = view_.width, h = view_.height;
   glBindVertexArray(vao_);
-  glEnable(GL_PROGRAM_POINT_SIZE);  // sphere.vert sizes each particle's sprite
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buffer);
   glViewport(0, 0, w, h);
 

@@ -21,16 +21,21 @@ layout(constant_id = NEIGHBOUR_CAPACITY_ID) const uint NEIGHBOUR_CAPACITY = 64; 
 layout(std430, binding = NEIGHBOUR_BINDING) NEIGHBOUR_ACCESS buffer NeighbourCount { uint neighbour_count[]; };
 layout(std430, binding = NEIGHBOUR_BINDING + 1) NEIGHBOUR_ACCESS buffer NeighbourList { uint neighbour_list[]; };
 
+// The 27 cells around position xi, clipped to the grid: the first and last cell per axis.
+ivec3 first_cell(vec3 xi) { return max(cell_of(xi) - 1, ivec3(0)); }
+ivec3 last_cell(vec3 xi) { return min(cell_of(xi) + 1, sim.grid - 1); }
+// Cells are numbered x-fastest, so each row of three cells (x from first.x to last.x at
+// y, z) is one contiguous range of the sorted particles: nine ranges instead of 27.
+uint row_begin(ivec3 first, int y, int z) { return cell_start[cell_id(ivec3(first.x, y, z))]; }
+uint row_end(ivec3 last, int y, int z) { return cell_start[cell_id(ivec3(last.x, y, z)) + 1u]; }
+
 // Loops j over every particle binned in the 27 cells around position xi (the body tests
-// the distance). Cells are numbered x-fastest, so each row of three cells is one
-// contiguous range of the sorted particles: nine ranges instead of 27.
-#define FOR_EACH_CANDIDATE(xi, j)                                                         \
-  ivec3 c_##j = cell_of(xi);                                                              \
-  int lo_##j = max(c_##j.x - 1, 0), hi_##j = min(c_##j.x + 1, sim.grid.x - 1);            \
-  for (int z_##j = max(c_##j.z - 1, 0); z_##j <= min(c_##j.z + 1, sim.grid.z - 1); ++z_##j) \
-    for (int y_##j = max(c_##j.y - 1, 0); y_##j <= min(c_##j.y + 1, sim.grid.y - 1); ++y_##j) \
-      for (uint j = cell_start[cell_id(ivec3(lo_##j, y_##j, z_##j))],                     \
-                end_##j = cell_start[cell_id(ivec3(hi_##j, y_##j, z_##j)) + 1];           \
+// the distance).
+#define FOR_EACH_CANDIDATE(xi, j)                                                          \
+  ivec3 first_##j = first_cell(xi), last_##j = last_cell(xi);                              \
+  for (int z_##j = first_##j.z; z_##j <= last_##j.z; ++z_##j)                              \
+    for (int y_##j = first_##j.y; y_##j <= last_##j.y; ++y_##j)                            \
+      for (uint j = row_begin(first_##j, y_##j, z_##j), end_##j = row_end(last_##j, y_##j, z_##j); \
            j < end_##j; ++j)
 
 #ifdef NEIGHBOUR_BUILDER
@@ -54,10 +59,11 @@ void build_neighbour_list(uint i, vec3 xi) {
 // Reading the lists: a particle's entries, or, where its list overflowed, every particle
 // in its 27 cells (the body tests r < h).
 struct Neighbours {
-  uint i, k, n;  // the particle, entries read, entries listed
-  bool cells;    // the list overflowed: walking the cells
-  int lo, hi, y, y_first, y_last, z, z_last;  // the walk: x range, current row, its bounds
-  uint j, end;   // the sorted range of the current row
+  uint i, k, n;        // the particle, entries read, entries listed
+  bool cells;          // the list overflowed: walking the cells
+  ivec3 first, last;   // the walk's cells (first_cell, last_cell)
+  int y, z;            // its current row
+  uint j, end;         // the sorted range of that row
 };
 
 Neighbours neighbours_of(uint i, vec3 xi) {
@@ -66,14 +72,10 @@ Neighbours neighbours_of(uint i, vec3 xi) {
   w.k = 0u;
   w.n = neighbour_count[i];
   w.cells = w.n > NEIGHBOUR_CAPACITY;
-  ivec3 c = cell_of(xi);
-  w.lo = max(c.x - 1, 0);
-  w.hi = min(c.x + 1, sim.grid.x - 1);
-  w.y_first = max(c.y - 1, 0);
-  w.y_last = min(c.y + 1, sim.grid.y - 1);
-  w.z = max(c.z - 1, 0);
-  w.z_last = min(c.z + 1, sim.grid.z - 1);
-  w.y = w.y_first - 1;  // the first step of the walk opens row (y_first, z)
+  w.first = first_cell(xi);
+  w.last = last_cell(xi);
+  w.y = w.first.y - 1;  // the first step of the walk opens row (first.y, first.z)
+  w.z = w.first.z;
   w.j = w.end = 0u;
   return w;
 }
@@ -85,12 +87,12 @@ bool next_neighbour(inout Neighbours w, out uint j) {
     return true;
   }
   while (w.j >= w.end) {  // the next row of three cells (FOR_EACH_CANDIDATE's order)
-    if (++w.y > w.y_last) {
-      w.y = w.y_first;
-      if (++w.z > w.z_last) return false;
+    if (++w.y > w.last.y) {
+      w.y = w.first.y;
+      if (++w.z > w.last.z) return false;
     }
-    w.j = cell_start[cell_id(ivec3(w.lo, w.y, w.z))];
-    w.end = cell_start[cell_id(ivec3(w.hi, w.y, w.z)) + 1u];
+    w.j = row_begin(w.first, w.y, w.z);
+    w.end = row_end(w.last, w.y, w.z);
   }
   j = w.j++;
   return true;

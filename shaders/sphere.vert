@@ -20,7 +20,8 @@ void main() {
   if (quad) {
     vec3 axis = centre_view / max(d, 1e-9);
     vec3 u = normalize(cross(axis, abs(axis.y) < 0.99 ? vec3(0, 1, 0) : vec3(1, 0, 0)));
-    corner += half_size * (corners[gl_VertexID % 6].x * u + corners[gl_VertexID % 6].y * cross(u, axis));
+    vec2 c = corners[gl_VertexID % 6];
+    corner += half_size * (c.x * u + c.y * cross(u, axis));
   } else {
     // The outline's extent from the projected centre: f r / sqrt(d^2 - r^2) on the axis,
     // stretched by up to sec^2 of the angle off it; a pixel of margin. Every pixel of the
