@@ -334,12 +334,19 @@ void GpuSolver::record_step() {
   if (d_.solver.target_compression > 0) adaptive_iterations();
   end_of(PassGroup::Constraints);
   velocity_update();
-  end_of(PassGroup::Velocity);
-  if (viscosity_pass_) viscosity_vorticity();
-  if (vorticity_pass_) vorticity_force();
-  if (viscosity_pass_ || vorticity_pass_) end_of(PassGroup::Viscosity);
+  const bool viscosity = viscosity_pass_ || vorticity_pass_;
+  if (viscosity) {
+    end_of(PassGroup::Velocity);
+    if (viscosity_pass_) viscosity_vorticity();
+    if (vorticity_pass_) vorticity_force();
+  }
   density_current_ = false;
+  watch();
+  // The watch counts with the step's last group, so that the groups cover the whole step.
+  end_of(viscosity ? PassGroup::Viscosity : PassGroup::Velocity);
+}
 
+void GpuSolver::watch() {
   cmd_.update(watch_buf_, &step_in_frame_, sizeof step_in_frame_, 5 * sizeof(uint32_t));
   bind_particle_pass(watch_);
   cmd_.bind(0, at(X));

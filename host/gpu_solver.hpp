@@ -40,6 +40,7 @@ class GpuSolver : public Solver {
   void velocity_update();
   void viscosity_vorticity();
   void vorticity_force();
+  void watch();  // flags non-finite, runaway and escaped particles of this step
   void record_step();  // one step, then the divergence watch
   void record_measures();  // grid and density at x, then the reductions
 

@@ -18,6 +18,7 @@ struct ListCase {
   const char* name;
   uint32_t capacity;  // 0: the scene's own (Derived::neighbour_capacity)
 };
+void PrintTo(const ListCase& c, std::ostream* os) { *os << c.name; }
 
 class PassTest : public test::GpuTest, public ::testing::WithParamInterface<ListCase> {
  protected:
@@ -185,6 +186,7 @@ struct StepCase {
   const char* method;
   const char* obstacles;  // JSON for the scene's obstacles
 };
+void PrintTo(const StepCase& c, std::ostream* os) { *os << c.name; }
 
 class StepTest : public test::GpuTest, public ::testing::WithParamInterface<StepCase> {};
 
@@ -218,13 +220,6 @@ INSTANTIATE_TEST_SUITE_P(Methods, StepTest,
                          ::testing::Values(StepCase{"pbf", "pbf", "[]"}, StepCase{"ldc", "ldc", "[]"},
                                            StepCase{"ldc_obstacles", "ldc", kObstaclesInTheColumn}),
                          [](const auto& info) { return std::string(info.param.name); });
-
-
-}  // namespace
-}  // namespace pbflow
-
-namespace pbflow {
-namespace {
 
 class ProfileTest : public test::GpuTest {};
 
