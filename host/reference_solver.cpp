@@ -214,6 +214,7 @@ void ReferenceSolver::viscosity_vorticity() {
   for (size_t i = 0; i < v_next.size(); ++i) {
     dvec3 smooth(0.0), curl(0.0), damp(0.0);  // viscosity_vorticity.comp says what each is
     const double rho_i = std::max(state.rho[i], d_.rho0);
+    const WallImages walls = walls_near(state.x[i]);
     for_each_neighbour(i, state.x[i], [&](size_t j) {
       dvec3 d = state.x[i] - state.x[j];
       dvec3 vij = state.v[j] - state.v[i];
@@ -221,7 +222,12 @@ void ReferenceSolver::viscosity_vorticity() {
       smooth += vij * kernels::poly6(r2, d_.h);
       curl += glm::cross(vij, kernels::spiky_grad(d, d_.h));
       const double c = std::min(d_.solver.damping, d_.damping_limit * d_.rho0 / std::max(rho_i, state.rho[j]));
-      if (r2 > 0 && r2 < d_.h * d_.h) damp += c * (1 - std::sqrt(r2) / d_.h) * glm::dot(vij, d) / r2 * d;
+      for (const WallImage& m : walls) {  // j, then its images, which move as j mirrored
+        d = state.x[i] - m.of(state.x[j]);
+        r2 = glm::dot(d, d);
+        vij = m.sign * state.v[j] - state.v[i];
+        if (r2 > 0 && r2 < d_.h * d_.h) damp += c * (1 - std::sqrt(r2) / d_.h) * glm::dot(vij, d) / r2 * d;
+      }
     });
     v_next[i] = state.v[i] + d_.solver.xsph * volume * smooth + damp;
     state.omega[i] = volume * curl;

@@ -10,8 +10,11 @@
 // constraint is idle) and a Jacobi pass in fluid squeezed to 40 % (pbf@1) kept modes
 // jittering at 0.1-1 m/s in a tank at rest. The dashpot is symmetric in i and j: it keeps
 // momentum and only removes energy; it acts on approach and separation along d only, so
-// a rigid motion (translation, rotation) passes untouched. Neighbours only, no wall
-// images: the walls do not move.
+// a rigid motion (translation, rotation) passes untouched. The neighbours' images behind
+// the walls (common.glsl) take part too, moving as their particle mirrored: against its
+// own image a particle's velocity normal to a wall is damped, along the wall it is free.
+// Without them a squeezed particle in a bottom corner (pbf@1, ~1.9 rho0) swung normal to
+// the walls at ~0.1 m/s in a tank at rest. Every image term removes energy, as a pair's.
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x_id = 0) in;
 #include "common.glsl"
@@ -29,6 +32,14 @@ layout(std430, binding = 5) readonly buffer Rho { float rho[]; };  // the last l
 #define NEIGHBOUR_CAPACITY_ID 3
 #include "neighbours.glsl"
 
+// The velocity change of i from a dashpot of coefficient c to a partner at x_i - d moving
+// at v_i + vij; nothing beyond h, nothing from a partner at i's own place.
+vec3 dashpot(vec3 d, vec3 vij, float c) {
+  float r2 = dot(d, d);
+  if (r2 >= sim.h * sim.h || r2 == 0.0) return vec3(0.0);
+  return (c * (1.0 - sqrt(r2) / sim.h) * dot(vij, d) / r2) * d;
+}
+
 void main() {
   uint i = thread_index();
   if (i >= sim.count) return;
@@ -38,19 +49,24 @@ void main() {
   vec3 curl = vec3(0.0);
   vec3 damp = vec3(0.0);
   float rho_i = max(rho[i], sim.rho0);
+  WallImages walls = walls_near(xi);
   FOR_EACH_NEIGHBOUR(i, xi, j) {
-    vec3 d = xi - x[j].xyz;
+    vec3 xj = x[j].xyz, d = xi - xj;
     float r2 = dot(d, d);
-    if (r2 >= sim.h * sim.h) continue;
-    vec3 vij = v[j].xyz - vi;
+    if (r2 >= sim.h * sim.h) continue;  // and so are its images, which lie farther
+    vec3 vj = v[j].xyz, vij = vj - vi;
     smooth_v += vij * poly6(r2);
-    float r = sqrt(r2);
-    curl += cross(vij, spiky_grad(d, r));
-    // The dashpot's largest eigenvalue grows with the neighbours inside h (by less than
-    // rho/rho0 on a squeezed lattice): a pair is damped by at most DAMPING_LIMIT times the
-    // denser one's rho0/rho, so no mode is driven (2.4x at 3x rho0 drove them: blow-up).
+    curl += cross(vij, spiky_grad(d, sqrt(r2)));
+    // The dashpot's largest eigenvalue grows with the neighbours inside h, images included
+    // (by less than rho/rho0 on a squeezed lattice): a pair is damped by at most
+    // DAMPING_LIMIT times the denser one's rho0/rho, so no mode is driven (2.4x at 3x rho0
+    // drove them: blow-up).
     float c = min(DAMPING, DAMPING_LIMIT * sim.rho0 / max(rho_i, rho[j]));
-    if (r2 > 0.0) damp += (c * (1.0 - r / sim.h) * dot(vij, d) / r2) * d;
+    damp += dashpot(d, vij, c);
+    for (int k = walls.axes; k != 0; k = next_image(walls, k)) {
+      d = xi - mirror(walls, k, xj);
+      damp += dashpot(d, mirror_sign(k) * vj - vi, c);
+    }
   }
   float volume = sim.mass / sim.rho0;
   v_out[i] = vec4(vi + (sim.xsph_c * volume) * smooth_v + damp, 0.0);
