@@ -18,12 +18,12 @@ Object make_buffer(GLsizeiptr bytes, GLbitfield flags) {
   return {id, [](GLuint b) { glDeleteBuffers(1, &b); }};
 }
 
-Object make_texture(GLenum format, int width, int height) {
+Object make_texture(GLenum format, int width, int height, GLenum filter) {
   GLuint id = 0;
   glCreateTextures(GL_TEXTURE_2D, 1, &id);
   glTextureStorage2D(id, 1, format, width, height);
-  glTextureParameteri(id, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-  glTextureParameteri(id, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glTextureParameteri(id, GL_TEXTURE_MIN_FILTER, GLint(filter));
+  glTextureParameteri(id, GL_TEXTURE_MAG_FILTER, GLint(filter));
   glTextureParameteri(id, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
   glTextureParameteri(id, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
   return {id, [](GLuint t) { glDeleteTextures(1, &t); }};

@@ -39,7 +39,8 @@ class Object {
 };
 
 Object make_buffer(GLsizeiptr bytes, GLbitfield flags = GL_DYNAMIC_STORAGE_BIT);
-Object make_texture(GLenum format, int width, int height);  // 2D, one level, nearest, clamped
+// 2D, one level, clamped; `filter`: GL_NEAREST, or GL_LINEAR for a texture sampled at another size.
+Object make_texture(GLenum format, int width, int height, GLenum filter = GL_NEAREST);
 Object make_framebuffer(std::initializer_list<GLuint> colour, GLuint depth);  // throws if incomplete
 Object make_vertex_array();
 

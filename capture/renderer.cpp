@@ -43,7 +43,12 @@ const char* style_name(Style style) {
   return "?";
 }
 
-Renderer::Renderer(const View& view) : view_(view) {
+Renderer::Renderer(const View& view)
+    : view_(view),
+      image_size_(view.width, view.height),
+      surface_size_((image_size_ + view.surface_divisor - 1) / view.surface_divisor) {
+  if (view.surface_divisor != 1 && view.surface_divisor != 2)
+    throw InputError("the fluid surface's resolution divisor must be 1 or 2, not " + std::to_string(view.surface_divisor));
   const int w = view.width, h = view.height;
   vao_ = gl::make_vertex_array();
   glEnable(GL_PROGRAM_POINT_SIZE);  // sphere.vert sizes each particle's sprite
@@ -56,11 +61,16 @@ Renderer::Renderer(const View& view) : view_(view) {
   if (view.style == Style::Fluid) {
     smooth_ = gl::make_program("fullscreen.vert", "smooth_depth.frag");
     fluid_ = gl::make_program("fullscreen.vert", "fluid_shade.frag");
-    for (auto& t : fluid_depth_) t = gl::make_texture(GL_R32F, w, h);
-    thickness_ = gl::make_texture(GL_R32F, w, h);
+    // Depth and coverage (r: linear eye depth times coverage, g: coverage, 1 where fluid
+    // was drawn), so that the shading's bilinear read at full size, r/g, blends only
+    // depths of fluid and g says how much of the pixel the fluid covers.
+    const int sw = surface_size_.x, sh = surface_size_.y;
+    for (auto& t : fluid_depth_) t = gl::make_texture(GL_RG32F, sw, sh, GL_LINEAR);
+    thickness_ = gl::make_texture(GL_R32F, sw, sh, GL_LINEAR);
     output_colour_ = gl::make_texture(GL_RGBA8, w, h);
-    // The tank's depth buffer: fluid behind an obstacle stays hidden.
-    depth_fb_ = gl::make_framebuffer({fluid_depth_[0]}, scene_depth_);
+    // The tank's depth at the surface's size: fluid behind an obstacle stays hidden.
+    surface_zbuffer_ = gl::make_texture(GL_DEPTH_COMPONENT32F, sw, sh);
+    depth_fb_ = gl::make_framebuffer({fluid_depth_[0]}, surface_zbuffer_);
     smooth_fb_[0] = gl::make_framebuffer({fluid_depth_[1]}, 0);
     smooth_fb_[1] = gl::make_framebuffer({fluid_depth_[0]}, 0);
     thickness_fb_ = gl::make_framebuffer({thickness_}, 0);
@@ -73,7 +83,7 @@ Renderer::Renderer(const View& view) : view_(view) {
   }
 }
 
-Renderer::FrameUniforms Renderer::uniforms(uint32_t count, int pass) const {
+Renderer::FrameUniforms Renderer::uniforms(uint32_t count, int pass, glm::ivec2 viewport) const {
   const Camera& c = view_.camera;
   glm::vec3 eye(c.eye), target(c.target);
   glm::vec3 lo(view_.domain.min), hi(view_.domain.max);
@@ -92,7 +102,7 @@ Renderer::FrameUniforms Renderer::uniforms(uint32_t count, int pass) const {
   u.light_view = glm::vec4(glm::normalize(glm::mat3(u.view) * glm::normalize(glm::vec3(0.3f, 1.0f, 0.5f))), 0.0f);
   u.domain_min = glm::vec4(lo, 0.0f);
   u.domain_max = glm::vec4(hi, 0.0f);
-  u.viewport = glm::vec2(view_.width, view_.height);
+  u.viewport = glm::vec2(viewport);
   u.radius = float(view_.particle_radius);
   u.count = int32_t(count);
   u.style = int32_t(view_.style);
@@ -109,9 +119,9 @@ void Renderer::upload(const FrameUniforms& u) {
 
 // Particles as point sprites (sphere.vert); obstacle spheres are quads, drawn by
 // draw_tank_and_obstacles.
-void Renderer::draw_spheres(uint32_t count, int pass) {
+void Renderer::draw_spheres(uint32_t count, int pass, glm::ivec2 viewport) {
   if (count == 0) return;
-  upload(uniforms(count, pass));
+  upload(uniforms(count, pass, viewport));
   glUseProgram(sphere_);
   glDrawArrays(GL_POINTS, 0, GLsizei(count));
 }
@@ -129,7 +139,7 @@ Image Renderer::render(GLuint buffer, uint32_t count) {
     fluid_surface(count);
     result_fb = output_fb_;
   } else {
-    draw_spheres(count, kPassShaded);
+    draw_spheres(count, kPassShaded, image_size_);
   }
   glDisable(GL_DEPTH_TEST);
 
@@ -153,12 +163,12 @@ void Renderer::draw_tank_and_obstacles(GLuint particles, uint32_t count) {
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glUseProgram(box_);
-  upload(uniforms(count, kPassShaded));
+  upload(uniforms(count, kPassShaded, image_size_));
   glDrawArrays(GL_TRIANGLES, 0, 36);
 
   size_t sphere = 0;
   for (const Obstacle& o : view_.obstacles) {
-    FrameUniforms u = uniforms(1, kPassSolid);
+    FrameUniforms u = uniforms(1, kPassSolid, image_size_);
     if (o.kind == Obstacle::Kind::Box) {
       u.domain_min = glm::vec4(glm::vec3(o.min), 0.0f);
       u.domain_max = glm::vec4(glm::vec3(o.max), 0.0f);
@@ -177,11 +187,16 @@ void Renderer::draw_tank_and_obstacles(GLuint particles, uint32_t count) {
 }
 
 void Renderer::fluid_surface(uint32_t count) {
-  // 1. Nearest sphere depth per pixel (linear eye depth, 0 where no fluid), in front of the tank.
+  const glm::ivec2 size = surface_size_;
+  glViewport(0, 0, size.x, size.y);
+  // 1. Nearest sphere depth per pixel (linear eye depth, 0 where no fluid), in front of the
+  //    tank, whose depth is first brought to the surface's size.
+  glBlitNamedFramebuffer(scene_fb_, depth_fb_, 0, 0, image_size_.x, image_size_.y, 0, 0, size.x, size.y,
+                         GL_DEPTH_BUFFER_BIT, GL_NEAREST);
   const float zero[4] = {0, 0, 0, 0};
   glClearNamedFramebufferfv(depth_fb_, GL_COLOR, 0, zero);
   glBindFramebuffer(GL_FRAMEBUFFER, depth_fb_);
-  draw_spheres(count, kPassDepth);
+  draw_spheres(count, kPassDepth, size);
 
   // 2. Thickness: every sphere's chord, summed.
   glClearNamedFramebufferfv(thickness_fb_, GL_COLOR, 0, zero);
@@ -189,11 +204,11 @@ void Renderer::fluid_surface(uint32_t count) {
   glDisable(GL_DEPTH_TEST);
   glEnable(GL_BLEND);
   glBlendFunc(GL_ONE, GL_ONE);
-  draw_spheres(count, kPassThickness);
+  draw_spheres(count, kPassThickness, size);
   glDisable(GL_BLEND);
 
   // 3. Smoothing, ping-ponging between the two depth textures; ends in fluid_depth_[0].
-  upload(uniforms(count, kPassShaded));
+  upload(uniforms(count, kPassShaded, size));
   glUseProgram(smooth_);
   for (int round = 0; round < kSmoothingRounds; ++round)
     for (int axis = 0; axis < 2; ++axis) {
@@ -203,12 +218,15 @@ void Renderer::fluid_surface(uint32_t count) {
       glDrawArrays(GL_TRIANGLES, 0, 3);
     }
 
-  // 4. Shading over the tank.
+  // 4. Shading over the tank, at the image's size.
+  glViewport(0, 0, image_size_.x, image_size_.y);
+  upload(uniforms(count, kPassShaded, image_size_));
   glBindFramebuffer(GL_FRAMEBUFFER, output_fb_);
   glUseProgram(fluid_);
   glBindTextureUnit(0, scene_colour_);
   glBindTextureUnit(1, fluid_depth_[0]);
   glBindTextureUnit(2, thickness_);
+  glBindTextureUnit(3, scene_depth_);
   glDrawArrays(GL_TRIANGLES, 0, 3);
 }
 

@@ -27,6 +27,10 @@ struct View {
   double particle_radius = 0.01;  // m
   double rest_density = 1000;     // kg/m^3, for the density style
   double speed_scale = 1;         // m/s drawn red in the speed style
+  // Fluid style: the surface's depth, thickness and smoothing run at 1/surface_divisor of
+  // the image's width and height (1 or 2), the shading at full size. Those three stages
+  // are fragment-bound, most of a fluid frame's cost on llvmpipe.
+  int surface_divisor = 2;
 };
 
 // RGB, 8 bits per channel, rows from the top.
@@ -45,17 +49,18 @@ class Renderer {
 
  private:
   struct FrameUniforms;
-  FrameUniforms uniforms(uint32_t count, int pass) const;
+  FrameUniforms uniforms(uint32_t count, int pass, glm::ivec2 viewport) const;  // viewport: the pass's size
   void upload(const FrameUniforms& u);
-  void draw_spheres(uint32_t count, int pass);
+  void draw_spheres(uint32_t count, int pass, glm::ivec2 viewport);
   void draw_tank_and_obstacles(GLuint particles, uint32_t count);
   void fluid_surface(uint32_t count);
 
   View view_;
+  glm::ivec2 image_size_, surface_size_;
   gl::Object vao_, frame_ubo_;
   gl::Object sphere_, box_, smooth_, fluid_;
   gl::Object scene_colour_, scene_depth_, scene_fb_;
-  gl::Object fluid_depth_[2], thickness_, output_colour_;
+  gl::Object fluid_depth_[2], surface_zbuffer_, thickness_, output_colour_;
   std::vector<gl::Object> obstacle_spheres_;  // one particle each (frame layout), drawn at its radius
   gl::Object depth_fb_, smooth_fb_[2], thickness_fb_, output_fb_;
 };

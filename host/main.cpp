@@ -74,6 +74,10 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--style", run.style, "fluid | particles | density | speed")
       ->check(CLI::IsMember({"fluid", "particles", "density", "speed"}))
       ->capture_default_str();
+  run_cmd->add_option("--fluid-resolution", run.fluid_resolution,
+                      "fluid style: the surface's depth, thickness and smoothing at half or full image size")
+      ->check(CLI::IsMember({"half", "full"}))
+      ->capture_default_str();
   run_cmd->add_option("--width", run.width, "image width in pixels")->check(CLI::Range(16, 16384))->capture_default_str();
   run_cmd->add_option("--height", run.height, "image height in pixels")
       ->check(CLI::Range(16, 16384))

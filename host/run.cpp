@@ -74,6 +74,9 @@ std::unique_ptr<capture::FrameCapture> make_capture(const RunOptions& o, const S
   c.view.width = o.width;
   c.view.height = o.height;
   c.view.style = capture::parse_style(o.style);
+  if (o.fluid_resolution != "half" && o.fluid_resolution != "full")
+    throw InputError("--fluid-resolution must be half or full, not '" + o.fluid_resolution + "'");
+  c.view.surface_divisor = o.fluid_resolution == "half" ? 2 : 1;
   c.view.camera = scene.camera;
   c.view.domain = scene.domain;
   c.view.obstacles = scene.obstacles;
@@ -94,7 +97,7 @@ nlohmann::json describe_run(const RunOptions& o, const Scene& scene, const Solve
           {"scene", nlohmann::json::parse(scene.resolved)},
           {"options",
            {{"params", o.params}, {"device", o.device}, {"render", o.render}, {"style", o.style},
-            {"width", o.width}, {"height", o.height}, {"export", o.export_format}, {"validate", o.validate}}},
+            {"fluid_resolution", o.fluid_resolution}, {"width", o.width}, {"height", o.height}, {"export", o.export_format}, {"validate", o.validate}}},
           {"video", o.video.empty() ? "" : std::filesystem::absolute(o.video).string()},
           {"device", solver.device_name()}};
 }

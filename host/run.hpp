@@ -28,6 +28,7 @@ struct RunOptions {
   // Rendering (capture/): image size, style, video file, and the particle path.
   int width = 1280, height = 720;
   std::string style = "fluid";
+  std::string fluid_resolution = "half";  // the fluid surface's passes: "half" or "full" size
   std::string video;      // empty: no video
   bool readback = false;  // force the read-back path even where zero-copy works
   std::string export_format;  // "", "ply" or "vtk": DIR/particles/frame_NNNNN.{ply,vtp}

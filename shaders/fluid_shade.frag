@@ -4,8 +4,17 @@
 in vec2 uv;
 layout(location = 0) out vec4 result;
 layout(binding = 0) uniform sampler2D scene_texture;
-layout(binding = 1) uniform sampler2D depth_texture;      // smoothed linear depth, 0 = no fluid
+// Both at the surface's size, read bilinearly at the image's.
+layout(binding = 1) uniform sampler2D depth_texture;      // smoothed (linear depth, coverage); 0 = no fluid
 layout(binding = 2) uniform sampler2D thickness_texture;  // summed chord lengths, m
+layout(binding = 3) uniform sampler2D scene_depth;        // the tank's and obstacles' depth buffer
+
+// The surface's depth seen through pixel p: the covered texels' depths blended, 0 where
+// they cover under half of it (the silhouette falls between texels, not on their grid).
+float surface_depth(ivec2 p) {
+  vec2 s = texture(depth_texture, (vec2(p) + 0.5) / viewport).rg;
+  return s.g >= 0.5 ? s.r / s.g : 0.0;
+}
 
 vec3 view_position(ivec2 p, float d) {
   vec2 ndc = (vec2(p) + 0.5) / viewport * 2.0 - 1.0;
@@ -15,19 +24,26 @@ vec3 view_position(ivec2 p, float d) {
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
   vec3 background = texelFetch(scene_texture, p, 0).rgb;
-  float d = texelFetch(depth_texture, p, 0).r;
-  if (d <= 0.0) {
+  float d = surface_depth(p);
+  // The tank's linear depth here: a surface texel straddling an obstacle's outline must not
+  // paint the fluid over it (a particle radius of slack for the smoothing).
+  float z_ndc = 2.0 * texelFetch(scene_depth, p, 0).r - 1.0;
+  float scene = proj[3][2] / (z_ndc + proj[2][2]);
+  if (d <= 0.0 || d > scene + radius) {
     result = vec4(background, 1.0);
     return;
   }
   vec3 pos = view_position(p, d);
   // Slopes from the neighbour on the side with the smaller step, so that edges do not smear.
+  // The neighbours lie a surface texel away: between pixels of one texel the bilinear
+  // depth's slope jumps at the texel's edges, over a texel it changes smoothly.
+  int step = int(round(float(textureSize(scene_texture, 0).x) / float(textureSize(depth_texture, 0).x)));
   vec3 ddx = vec3(0.0), ddy = vec3(0.0);
-  for (int s = -1; s <= 1; s += 2) {
-    float dx = texelFetch(depth_texture, p + ivec2(s, 0), 0).r;
-    float dy = texelFetch(depth_texture, p + ivec2(0, s), 0).r;
-    vec3 ex = dx > 0.0 ? float(s) * (view_position(p + ivec2(s, 0), dx) - pos) : vec3(0.0);
-    vec3 ey = dy > 0.0 ? float(s) * (view_position(p + ivec2(0, s), dy) - pos) : vec3(0.0);
+  for (int s = -step; s <= step; s += 2 * step) {
+    float dx = surface_depth(p + ivec2(s, 0));
+    float dy = surface_depth(p + ivec2(0, s));
+    vec3 ex = dx > 0.0 ? float(sign(s)) * (view_position(p + ivec2(s, 0), dx) - pos) : vec3(0.0);
+    vec3 ey = dy > 0.0 ? float(sign(s)) * (view_position(p + ivec2(0, s), dy) - pos) : vec3(0.0);
     if (ddx == vec3(0.0) || (ex != vec3(0.0) && abs(ex.z) < abs(ddx.z))) ddx = ex;
     if (ddy == vec3(0.0) || (ey != vec3(0.0) && abs(ey.z) < abs(ddy.z))) ddy = ey;
   }
@@ -36,7 +52,7 @@ void main() {
   vec3 eye_dir = normalize(-pos);
   if (dot(n, eye_dir) < 0.0) n = -n;
 
-  float thickness = texelFetch(thickness_texture, p, 0).r;
+  float thickness = texture(thickness_texture, uv).r;
   vec2 offset = n.xy * min(thickness, 0.3) * 0.15;
   vec3 behind = texture(scene_texture, uv + offset).rgb;
   // Water absorbs red first: thin sheets are clear, deep water turns blue-green.

@@ -1,6 +1,7 @@
 // One direction of a separable bilateral filter on linear eye depth: smooths the
 // bumps of the sphere splats into a surface while keeping silhouettes (depth jumps)
-// sharp. 0 marks pixels without fluid.
+// sharp. Runs at the surface's size (Renderer's surface_divisor); (depth, coverage 1) where
+// there is fluid, 0 elsewhere.
 in vec2 uv;
 layout(location = 0) out vec4 result;
 layout(binding = 0) uniform sampler2D depth_texture;
@@ -29,5 +30,5 @@ void main() {
     sum += w * d;
     weights += w;
   }
-  result = vec4(sum / weights, 0.0, 0.0, 1.0);
+  result = vec4(sum / weights, 1.0, 0.0, 1.0);
 }

@@ -4,6 +4,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 
@@ -142,6 +143,60 @@ TEST_F(RenderTest, FluidStyleIsShadedAndSmootherThanTheParticles) {
   EXPECT_GT(stddev, 2.0) << "the fluid is one flat colour";
   EXPECT_GT(differs_from_particles, covered / 2);
   EXPECT_LT(jumps_fluid, jumps_particles) << "smoothing did not smooth";
+}
+
+// The fluid style's surface at half size (the default) against full size: the same
+// pixels covered but within 2 pixels of the outline, colours close; and a box in front of the fluid
+// hides it exactly at either size, though the half-size surface's texels straddle the
+// box's outline.
+TEST_F(RenderTest, HalfSizeSurfaceMatchesTheFullSizeOneAndStaysBehindObstacles) {
+  capture::View v = view(Style::Fluid, 0.01);
+  v.camera = {glm::dvec3(0.3, 0.5, 1.2), glm::dvec3(0, 0, 0), 45};
+  Image bare = render(v, {});
+  Obstacle box;
+  box.min = glm::dvec3(-0.1, -0.1, 0.3);
+  box.max = glm::dvec3(0.1, 0.05, 0.4);
+  v.obstacles = {box};
+  Image tank = render(v, {});
+  v.surface_divisor = 1;
+  Image full = render(v, fluid_block());
+  v.surface_divisor = 2;
+  Image half = render(v, fluid_block());
+
+  // A pixel on the full-size outline: within 2 pixels of one the fluid does not cover.
+  auto covers = [&](int x, int y) { return !same_pixel(tank, full, std::clamp(x, 0, v.width - 1), std::clamp(y, 0, v.height - 1)); };
+  auto near_outline = [&](int x, int y) {
+    for (int dy = -2; dy <= 2; ++dy)
+      for (int dx = -2; dx <= 2; ++dx)
+        if (covers(x + dx, y + dy) != covers(x, y)) return true;
+    return false;
+  };
+  int box_pixels = 0, fluid_over_box = 0, covered = 0, covered_once = 0, covered_once_inside = 0;
+  double green_difference = 0;
+  for (int y = 0; y < v.height; ++y)
+    for (int x = 0; x < v.width; ++x) {
+      if (!same_pixel(bare, tank, x, y)) {
+        box_pixels++;
+        fluid_over_box += !same_pixel(tank, full, x, y) + !same_pixel(tank, half, x, y);
+        continue;
+      }
+      bool in_full = !same_pixel(tank, full, x, y), in_half = !same_pixel(tank, half, x, y);
+      covered += in_full;
+      covered_once += in_full != in_half;
+      covered_once_inside += in_full != in_half && !near_outline(x, y);
+      if (in_full && in_half) {
+        size_t i = (size_t(y) * v.width + x) * 3 + 1;
+        green_difference += std::abs(int(full.rgb[i]) - int(half.rgb[i]));
+      }
+    }
+  std::printf("[ render   ] full-size surface covers %d pixels, half-size differs on %d (%d off the outline); "
+              "mean green difference %.2f; box %d pixels\n", covered, covered_once, covered_once_inside,
+              green_difference / std::max(covered, 1), box_pixels);
+  EXPECT_GT(box_pixels, 1000);
+  EXPECT_EQ(fluid_over_box, 0) << "fluid drawn over the box in front of it";
+  EXPECT_GT(covered, 5000);
+  EXPECT_EQ(covered_once_inside, 0) << "the half-size surface covers other pixels than the outline's";
+  EXPECT_LT(green_difference / covered, 6.0) << "the half-size surface is shaded differently";
 }
 
 TEST_F(RenderTest, ZeroCopyAndReadBackGiveTheSameImage) {
