@@ -64,7 +64,7 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
       grid_(ctx, sim_),
       rho_(ctx, n_ * sizeof(float)),
       neighbour_count_(ctx, n_ * sizeof(uint32_t)),
-      neighbour_list_(ctx, size_t(n_) * d.neighbour_capacity * sizeof(uint32_t)),
+      neighbour_list_(ctx, size_t(n_) * std::max(d.neighbour_capacity, 1u) * sizeof(uint32_t)),  // no lists: a word
       lambda_buf_(ctx, n_ * sizeof(float)),
       partials_(ctx, 2 * partial_count(n_) * sizeof(glm::vec4)),
       result_(ctx, 5 * sizeof(glm::vec4), vk::Memory::Host),  // measures (2 vec4), adaptive count, watch (2 vec4)

@@ -55,17 +55,24 @@ uint64_t address_space_in_use() {
 
 }  // namespace
 
+uint32_t neighbour_capacity_on(const Derived& d, double particles, const vk::DeviceInfo& device) {
+  const double list_bytes = sizeof(uint32_t) * double(d.neighbour_capacity) * particles;
+  return device.max_storage_buffer_range && list_bytes > double(device.max_storage_buffer_range) ? 0
+                                                                                                 : d.neighbour_capacity;
+}
+
 MemoryNeed memory_need(const Derived& d, double particles, const vk::DeviceInfo* device, double pixels) {
   const double cells = double(d.grid.x) * d.grid.y * d.grid.z;
-  double gpu = 0, host = kBytesPerPixel * pixels;
+  double gpu = 0, host = kBytesPerPixel * pixels, largest = 0;
   if (device) {
-    gpu = (kGpuPerParticle + 4.0 * (d.neighbour_capacity + 1)) * particles + kGpuPerCell * cells;
+    const uint32_t capacity = neighbour_capacity_on(d, particles, *device);
+    gpu = (kGpuPerParticle + 4.0 * (capacity + 1)) * particles + kGpuPerCell * cells;
     host += kHostPerParticleGpuRun * particles;
+    largest = std::max<double>(sizeof(glm::vec4), sizeof(uint32_t) * capacity) * particles;
   } else {
     host += kHostPerParticleCpuRun * particles + kHostPerCellCpuRun * cells;
   }
-  const double largest = std::max<double>(sizeof(glm::vec4), sizeof(uint32_t) * d.neighbour_capacity) * particles;
-  return {uint64_t(gpu), uint64_t(host), device ? uint64_t(largest) : 0};
+  return {uint64_t(gpu), uint64_t(host), uint64_t(largest)};
 }
 
 uint64_t host_memory_available() {

@@ -19,6 +19,12 @@ struct MemoryNeed {
   uint64_t largest_array = 0;  // one GPU buffer (a vec4 per particle), against the storage buffer range
 };
 
+// The neighbour capacity a GPU run gets: the scene's (Derived::neighbour_capacity), or 0
+// where one list for `particles` would pass the device's storage buffer range (llvmpipe's
+// 128 MiB: ~460k particles at 72 entries). At 0 there are no lists: every pass walks its
+// cells (shaders/neighbours.glsl), as before the lists, and the run still fits.
+uint32_t neighbour_capacity_on(const Derived& d, double particles, const vk::DeviceInfo& device);
+
 // `particles` as estimated from the scene; `device` null for the reference solver;
 // `pixels` 0 without rendering.
 MemoryNeed memory_need(const Derived& d, double particles, const vk::DeviceInfo* device, double pixels);

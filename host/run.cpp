@@ -39,7 +39,9 @@ std::unique_ptr<vk::Context> make_context(const std::string& device, bool valida
 
 std::unique_ptr<Solver> make_solver(const vk::Context* ctx, const Derived& d, const std::vector<glm::dvec3>& x0) {
   if (!ctx) return std::make_unique<ReferenceSolver>(d, x0);
-  return std::make_unique<GpuSolver>(*ctx, d, x0);
+  Derived on_device = d;
+  on_device.neighbour_capacity = neighbour_capacity_on(d, double(x0.size()), ctx->info());
+  return std::make_unique<GpuSolver>(*ctx, on_device, x0);
 }
 
 namespace {

@@ -4,7 +4,8 @@
 // of walking the ~8x as many candidates again. A list holds
 // at most NEIGHBOUR_CAPACITY entries; the count goes on past it (squeezed fluid), and
 // such a particle is never cut short: later passes walk its cells instead, so a full
-// list costs time, not neighbours.
+// list costs time, not neighbours. A capacity of 0 means no lists at all (one would not
+// fit the device's storage buffer range, host/memory_estimate.hpp): every pass walks.
 //
 // The includer defines NEIGHBOUR_BINDING (the count buffer; the list is the next
 // binding), NEIGHBOUR_CAPACITY_ID (its next free specialisation constant), and in a pass
@@ -45,6 +46,10 @@ uint row_end(ivec3 last, int y, int z) { return cell_start[cell_id(ivec3(last.x,
 // all ~8x as many candidates as there are neighbours (the first lambda pass took 6.9 ms
 // instead of 4.5 on lavapipe, peer scene).
 void build_neighbour_list(uint i, vec3 xi) {
+  if (NEIGHBOUR_CAPACITY == 0u) {  // no lists (too large for the device): every pass walks
+    neighbour_count[i] = 1u;
+    return;
+  }
   uint listed = 0u;
   FOR_EACH_CANDIDATE(xi, j) {
     vec3 d = xi - NEIGHBOUR_X[j].xyz;
