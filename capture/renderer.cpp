@@ -46,7 +46,8 @@ const char* style_name(Style style) {
 Renderer::Renderer(const View& view)
     : view_(view),
       image_size_(view.width, view.height),
-      surface_size_((image_size_ + view.surface_divisor - 1) / view.surface_divisor) {
+      surface_size_((image_size_ + view.surface_divisor - 1) / view.surface_divisor),
+      thickness_size_((image_size_ + 2 * view.surface_divisor - 1) / (2 * view.surface_divisor)) {
   if (view.surface_divisor != 1 && view.surface_divisor != 2)
     throw InputError("the fluid surface's resolution divisor must be 1 or 2, not " + std::to_string(view.surface_divisor));
   const int w = view.width, h = view.height;
@@ -66,7 +67,7 @@ Renderer::Renderer(const View& view)
     // depths of fluid and g says how much of the pixel the fluid covers.
     const int sw = surface_size_.x, sh = surface_size_.y;
     for (auto& t : fluid_depth_) t = gl::make_texture(GL_RG32F, sw, sh, GL_LINEAR);
-    thickness_ = gl::make_texture(GL_R32F, sw, sh, GL_LINEAR);
+    thickness_ = gl::make_texture(GL_R32F, thickness_size_.x, thickness_size_.y, GL_LINEAR);
     output_colour_ = gl::make_texture(GL_RGBA8, w, h);
     // The tank's depth at the surface's size: fluid behind an obstacle stays hidden.
     surface_zbuffer_ = gl::make_texture(GL_DEPTH_COMPONENT32F, sw, sh);
@@ -198,14 +199,16 @@ void Renderer::fluid_surface(uint32_t count) {
   glBindFramebuffer(GL_FRAMEBUFFER, depth_fb_);
   draw_spheres(count, kPassDepth, size);
 
-  // 2. Thickness: every sphere's chord, summed.
+  // 2. Thickness: every sphere's chord, summed, at half the surface's size.
   glClearNamedFramebufferfv(thickness_fb_, GL_COLOR, 0, zero);
   glBindFramebuffer(GL_FRAMEBUFFER, thickness_fb_);
+  glViewport(0, 0, thickness_size_.x, thickness_size_.y);
   glDisable(GL_DEPTH_TEST);
   glEnable(GL_BLEND);
   glBlendFunc(GL_ONE, GL_ONE);
-  draw_spheres(count, kPassThickness, size);
+  draw_spheres(count, kPassThickness, thickness_size_);
   glDisable(GL_BLEND);
+  glViewport(0, 0, size.x, size.y);
 
   // 3. Smoothing, ping-ponging between the two depth textures; ends in fluid_depth_[0].
   upload(uniforms(count, kPassShaded, size));

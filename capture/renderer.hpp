@@ -56,7 +56,9 @@ class Renderer {
   void fluid_surface(uint32_t count);
 
   View view_;
-  glm::ivec2 image_size_, surface_size_;
+  // The surface's depth and smoothing run at surface_size_, its thickness (a blurred
+  // absorption term, drawn with every layer blended: the dearest splat) at half that.
+  glm::ivec2 image_size_, surface_size_, thickness_size_;
   gl::Object vao_, frame_ubo_;
   gl::Object sphere_, box_, smooth_, fluid_;
   gl::Object scene_colour_, scene_depth_, scene_fb_;

@@ -25,11 +25,14 @@ void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
   vec3 background = texelFetch(scene_texture, p, 0).rgb;
   float d = surface_depth(p);
+  if (d <= 0.0) {  // most of the image: nothing more to read
+    result = vec4(background, 1.0);
+    return;
+  }
   // The tank's linear depth here: a surface texel straddling an obstacle's outline must not
   // paint the fluid over it (a particle radius of slack for the smoothing).
   float z_ndc = 2.0 * texelFetch(scene_depth, p, 0).r - 1.0;
-  float scene = proj[3][2] / (z_ndc + proj[2][2]);
-  if (d <= 0.0 || d > scene + radius) {
+  if (d > proj[3][2] / (z_ndc + proj[2][2]) + radius) {
     result = vec4(background, 1.0);
     return;
   }
