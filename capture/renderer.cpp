@@ -12,7 +12,8 @@ namespace pbflow::capture {
 
 namespace {
 
-constexpr int kPassShaded = 0, kPassDepth = 1, kPassThickness = 2, kPassSolid = 3;  // render_common.glsl
+constexpr int kPassShaded = 0, kPassSurface = 1, kPassSolid = 2;  // render_common.glsl
+constexpr float kNoFluid = 1e30f;                                   // NO_FLUID there
 constexpr int kSmoothingRounds = 3;  // bilateral x then y, thrice
 
 }  // namespace
@@ -46,8 +47,7 @@ const char* style_name(Style style) {
 Renderer::Renderer(const View& view)
     : view_(view),
       image_size_(view.width, view.height),
-      surface_size_((image_size_ + view.surface_divisor - 1) / view.surface_divisor),
-      thickness_size_((image_size_ + 2 * view.surface_divisor - 1) / (2 * view.surface_divisor)) {
+      surface_size_((image_size_ + view.surface_divisor - 1) / view.surface_divisor) {
   if (view.surface_divisor != 1 && view.surface_divisor != 2)
     throw InputError("the fluid surface's resolution divisor must be 1 or 2, not " + std::to_string(view.surface_divisor));
   const int w = view.width, h = view.height;
@@ -67,14 +67,13 @@ Renderer::Renderer(const View& view)
     // depths of fluid and g says how much of the pixel the fluid covers.
     const int sw = surface_size_.x, sh = surface_size_.y;
     for (auto& t : fluid_depth_) t = gl::make_texture(GL_RG32F, sw, sh, GL_LINEAR);
-    thickness_ = gl::make_texture(GL_R32F, thickness_size_.x, thickness_size_.y, GL_LINEAR);
+    thickness_ = gl::make_texture(GL_R32F, sw, sh, GL_LINEAR);
     output_colour_ = gl::make_texture(GL_RGBA8, w, h);
     // The tank's depth at the surface's size: fluid behind an obstacle stays hidden.
     surface_zbuffer_ = gl::make_texture(GL_DEPTH_COMPONENT32F, sw, sh);
-    depth_fb_ = gl::make_framebuffer({fluid_depth_[0]}, surface_zbuffer_);
+    surface_fb_ = gl::make_framebuffer({fluid_depth_[0], thickness_}, surface_zbuffer_);
     smooth_fb_[0] = gl::make_framebuffer({fluid_depth_[1]}, 0);
     smooth_fb_[1] = gl::make_framebuffer({fluid_depth_[0]}, 0);
-    thickness_fb_ = gl::make_framebuffer({thickness_}, 0);
     output_fb_ = gl::make_framebuffer({output_colour_}, 0);
   }
   for (const Obstacle& o : view.obstacles) {
@@ -190,27 +189,27 @@ void Renderer::draw_tank_and_obstacles(GLuint particles, uint32_t count) {
 void Renderer::fluid_surface(uint32_t count) {
   const glm::ivec2 size = surface_size_;
   glViewport(0, 0, size.x, size.y);
-  // 1. Nearest sphere depth per pixel (linear eye depth, 0 where no fluid), in front of the
-  //    tank, whose depth is first brought to the surface's size.
-  glBlitNamedFramebuffer(scene_fb_, depth_fb_, 0, 0, image_size_.x, image_size_.y, 0, 0, size.x, size.y,
+  // 1. Nearest sphere depth per pixel (linear eye depth) and every sphere's chord summed,
+  //    in one draw: min and sum blending. The tank, its depth first brought to the
+  //    surface's size, hides the fluid behind it; fluid does not hide fluid (no depth writes).
+  glBlitNamedFramebuffer(scene_fb_, surface_fb_, 0, 0, image_size_.x, image_size_.y, 0, 0, size.x, size.y,
                          GL_DEPTH_BUFFER_BIT, GL_NEAREST);
-  const float zero[4] = {0, 0, 0, 0};
-  glClearNamedFramebufferfv(depth_fb_, GL_COLOR, 0, zero);
-  glBindFramebuffer(GL_FRAMEBUFFER, depth_fb_);
-  draw_spheres(count, kPassDepth, size);
-
-  // 2. Thickness: every sphere's chord, summed, at half the surface's size.
-  glClearNamedFramebufferfv(thickness_fb_, GL_COLOR, 0, zero);
-  glBindFramebuffer(GL_FRAMEBUFFER, thickness_fb_);
-  glViewport(0, 0, thickness_size_.x, thickness_size_.y);
-  glDisable(GL_DEPTH_TEST);
+  const float no_fluid[4] = {kNoFluid, 0, 0, 0}, zero[4] = {0, 0, 0, 0};
+  glClearNamedFramebufferfv(surface_fb_, GL_COLOR, 0, no_fluid);
+  glClearNamedFramebufferfv(surface_fb_, GL_COLOR, 1, zero);
+  glBindFramebuffer(GL_FRAMEBUFFER, surface_fb_);
+  glDepthMask(GL_FALSE);
   glEnable(GL_BLEND);
   glBlendFunc(GL_ONE, GL_ONE);
-  draw_spheres(count, kPassThickness, thickness_size_);
+  glBlendEquationi(0, GL_MIN);
+  glBlendEquationi(1, GL_FUNC_ADD);
+  draw_spheres(count, kPassSurface, size);
+  glBlendEquation(GL_FUNC_ADD);
   glDisable(GL_BLEND);
-  glViewport(0, 0, size.x, size.y);
+  glDepthMask(GL_TRUE);
+  glDisable(GL_DEPTH_TEST);
 
-  // 3. Smoothing, ping-ponging between the two depth textures; ends in fluid_depth_[0].
+  // 2. Smoothing, ping-ponging between the two depth textures; ends in fluid_depth_[0].
   upload(uniforms(count, kPassShaded, size));
   glUseProgram(smooth_);
   for (int round = 0; round < kSmoothingRounds; ++round)
@@ -221,7 +220,7 @@ void Renderer::fluid_surface(uint32_t count) {
       glDrawArrays(GL_TRIANGLES, 0, 3);
     }
 
-  // 4. Shading over the tank, at the image's size.
+  // 3. Shading over the tank, at the image's size.
   glViewport(0, 0, image_size_.x, image_size_.y);
   upload(uniforms(count, kPassShaded, image_size_));
   glBindFramebuffer(GL_FRAMEBUFFER, output_fb_);

@@ -56,15 +56,13 @@ class Renderer {
   void fluid_surface(uint32_t count);
 
   View view_;
-  // The surface's depth and smoothing run at surface_size_, its thickness (a blurred
-  // absorption term, drawn with every layer blended: the dearest splat) at half that.
-  glm::ivec2 image_size_, surface_size_, thickness_size_;
+  glm::ivec2 image_size_, surface_size_;  // the fluid surface's passes run at surface_size_
   gl::Object vao_, frame_ubo_;
   gl::Object sphere_, box_, smooth_, fluid_;
   gl::Object scene_colour_, scene_depth_, scene_fb_;
   gl::Object fluid_depth_[2], surface_zbuffer_, thickness_, output_colour_;
   std::vector<gl::Object> obstacle_spheres_;  // one particle each (frame layout), drawn at its radius
-  gl::Object depth_fb_, smooth_fb_[2], thickness_fb_, output_fb_;
+  gl::Object surface_fb_, smooth_fb_[2], output_fb_;
 };
 
 }  // namespace pbflow::capture

@@ -3,8 +3,10 @@
 // (vec4 x[n], vec4 v[n], float rho[n], see solver.hpp).
 
 const int STYLE_FLUID = 0, STYLE_PARTICLES = 1, STYLE_DENSITY = 2, STYLE_SPEED = 3;
-const int PASS_SHADED = 0, PASS_DEPTH = 1, PASS_THICKNESS = 2;
-const int PASS_SOLID = 3;  // obstacles: boxes seen from outside, spheres in the solid colour
+const int PASS_SHADED = 0;
+const int PASS_SURFACE = 1;  // the fluid style's nearest depth and summed thickness, in one draw
+const int PASS_SOLID = 2;    // obstacles: boxes seen from outside, spheres in the solid colour
+const float NO_FLUID = 1e30;  // the surface pass's depth where no sphere was drawn (blended by min)
 const vec3 SOLID_COLOUR = vec3(0.62, 0.48, 0.34);
 
 layout(std140, binding = 0) uniform Frame {

@@ -1,16 +1,19 @@
 // One direction of a separable bilateral filter on linear eye depth: smooths the
 // bumps of the sphere splats into a surface while keeping silhouettes (depth jumps)
-// sharp. Runs at the surface's size (Renderer's surface_divisor); (depth, coverage 1) where
-// there is fluid, 0 elsewhere.
+// sharp. Runs at the surface's size (Renderer's surface_divisor). Reads linear depth
+// (the first round: NO_FLUID where no sphere was drawn; later rounds: 0); writes (depth,
+// coverage 1) where there is fluid, 0 elsewhere.
 in vec2 uv;
 layout(location = 0) out vec4 result;
 layout(binding = 0) uniform sampler2D depth_texture;
 layout(location = 0) uniform ivec2 direction;
 
+bool fluid(float d) { return d > 0.0 && d < NO_FLUID; }
+
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
   float d0 = texelFetch(depth_texture, p, 0).r;
-  if (d0 <= 0.0) {
+  if (!fluid(d0)) {
     result = vec4(0.0);
     return;
   }
@@ -24,7 +27,7 @@ void main() {
   for (int k = -taps; k <= taps; ++k) {
     ivec2 q = clamp(p + k * direction, ivec2(0), size - 1);
     float d = texelFetch(depth_texture, q, 0).r;
-    if (d <= 0.0) continue;
+    if (!fluid(d)) continue;
     float dd = (d - d0) / depth_sigma;
     float w = exp(-0.5 * float(k * k) / (sigma * sigma) - 0.5 * dd * dd);
     sum += w * d;
