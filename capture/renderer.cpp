@@ -62,9 +62,10 @@ Renderer::Renderer(const View& view)
   if (view.style == Style::Fluid) {
     smooth_ = gl::make_program("fullscreen.vert", "smooth_depth.frag");
     fluid_ = gl::make_program("fullscreen.vert", "fluid_shade.frag");
-    // Depth and coverage (r: linear eye depth times coverage, g: coverage, 1 where fluid
-    // was drawn), so that the shading's bilinear read at full size, r/g, blends only
-    // depths of fluid and g says how much of the pixel the fluid covers.
+    // The smoothed surface holds (linear eye depth, coverage 1) where there is fluid and 0
+    // elsewhere, so that the shading's bilinear read at full size, r/g, blends only depths
+    // of fluid and g says how much of the pixel the fluid covers. (The surface pass's raw
+    // depth, before smoothing, is NO_FLUID where no sphere was drawn.)
     const int sw = surface_size_.x, sh = surface_size_.y;
     for (auto& t : fluid_depth_) t = gl::make_texture(GL_RG32F, sw, sh, GL_LINEAR);
     thickness_ = gl::make_texture(GL_R32F, sw, sh, GL_LINEAR);
