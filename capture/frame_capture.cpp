@@ -18,7 +18,7 @@ FrameCapture::~FrameCapture() = default;
 void FrameCapture::write(const std::filesystem::path& png, const Solver& solver) {
   using clock = std::chrono::steady_clock;
   const auto start = clock::now();
-  Image image = renderer_.render(transfer_->update(solver), uint32_t(solver.particle_count()));
+  const Image& image = renderer_.render(transfer_->update(solver), uint32_t(solver.particle_count()));
   const auto drawn = clock::now();
   write_png(png, image);
   if (video_) video_->add(image);

@@ -47,7 +47,8 @@ const char* style_name(Style style) {
 Renderer::Renderer(const View& view)
     : view_(view),
       image_size_(view.width, view.height),
-      surface_size_((image_size_ + view.surface_divisor - 1) / view.surface_divisor) {
+      surface_size_((image_size_ + view.surface_divisor - 1) / view.surface_divisor),
+      image_{view.width, view.height, std::vector<uint8_t>(size_t(view.width) * view.height * 3)} {
   if (view.surface_divisor != 1 && view.surface_divisor != 2)
     throw InputError("the fluid surface's resolution divisor must be 1 or 2, not " + std::to_string(view.surface_divisor));
   const int w = view.width, h = view.height;
@@ -127,7 +128,7 @@ void Renderer::draw_spheres(uint32_t count, int pass, glm::ivec2 viewport) {
   glDrawArrays(GL_POINTS, 0, GLsizei(count));
 }
 
-Image Renderer::render(GLuint buffer, uint32_t count) {
+const Image& Renderer::render(GLuint buffer, uint32_t count) {
   const int w = view_.width, h = view_.height;
   glBindVertexArray(vao_);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buffer);
@@ -144,15 +145,15 @@ Image Renderer::render(GLuint buffer, uint32_t count) {
   }
   glDisable(GL_DEPTH_TEST);
 
-  Image image{w, h, std::vector<uint8_t>(size_t(w) * h * 3)};
-  std::vector<uint8_t> rows(image.rgb.size());
   glBindFramebuffer(GL_READ_FRAMEBUFFER, result_fb);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadPixels(0, 0, w, h, GL_RGB, GL_UNSIGNED_BYTE, rows.data());
-  for (int y = 0; y < h; ++y)  // GL's rows run from the bottom
-    std::memcpy(&image.rgb[size_t(y) * w * 3], &rows[size_t(h - 1 - y) * w * 3], size_t(w) * 3);
+  uint8_t* rgb = image_.rgb.data();
+  glReadPixels(0, 0, w, h, GL_RGB, GL_UNSIGNED_BYTE, rgb);
+  const size_t row = size_t(w) * 3;
+  for (int y = 0; y < h / 2; ++y)  // GL's rows run from the bottom
+    std::swap_ranges(rgb + y * row, rgb + (y + 1) * row, rgb + (h - 1 - y) * row);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
-  return image;
+  return image_;
 }
 
 void Renderer::draw_tank_and_obstacles(GLuint particles, uint32_t count) {

@@ -44,7 +44,10 @@ class Renderer {
   explicit Renderer(const View& view);  // needs a current gl::Context
 
   // Draws `count` particles from `buffer` (frame layout); count 0 draws the empty tank.
-  Image render(GLuint buffer, uint32_t count);
+  // The image is the renderer's own, valid until the next call: a frame's pixels fill the
+  // same memory every time, for fresh megabytes each frame cost llvmpipe runs ~15 ms of
+  // page faults (a 720p frame drawn and read back in 76 ms; 57 ms reusing the memory).
+  const Image& render(GLuint buffer, uint32_t count);
   const View& view() const { return view_; }
 
  private:
@@ -61,6 +64,7 @@ class Renderer {
   gl::Object sphere_, box_, smooth_, fluid_;
   gl::Object scene_colour_, scene_depth_, scene_fb_;
   gl::Object fluid_depth_[2], surface_zbuffer_, thickness_, output_colour_;
+  Image image_;  // what render() returns
   std::vector<gl::Object> obstacle_spheres_;  // one particle each (frame layout), drawn at its radius
   gl::Object surface_fb_, smooth_fb_[2], output_fb_;
 };
