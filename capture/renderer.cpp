@@ -3,7 +3,6 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
-#include <cstring>
 
 #include "gl_context.hpp"
 #include "particle_transfer.hpp"

@@ -44,9 +44,8 @@ class Renderer {
   explicit Renderer(const View& view);  // needs a current gl::Context
 
   // Draws `count` particles from `buffer` (frame layout); count 0 draws the empty tank.
-  // The image is the renderer's own, valid until the next call: a frame's pixels fill the
-  // same memory every time, for fresh megabytes each frame cost llvmpipe runs ~15 ms of
-  // page faults (a 720p frame drawn and read back in 76 ms; 57 ms reusing the memory).
+  // The image is the renderer's own, valid until the next call: every frame's pixels
+  // fill the same memory, which page faults made dear to allocate anew (host/main.cpp).
   const Image& render(GLuint buffer, uint32_t count);
   const View& view() const { return view_; }
 
