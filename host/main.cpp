@@ -56,9 +56,9 @@ pbflow::bench::ScalingOptions scaling_options(const pbflow::bench::StudyOptions&
 int main(int argc, char** argv) {
   std::signal(SIGPIPE, SIG_IGN);  // a dying ffmpeg shows as a failed write, not a silent exit
   std::signal(SIGXFSZ, SIG_IGN);  // past a file size limit a write fails (EFBIG) and is reported
-  // Freed memory stays with the process: each frame written allocates and frees the same
-  // few megabytes (GL read-back, PNG), and handing them back to the kernel every frame
-  // made every frame fault them in again, ~800 page faults a 720p frame; on the 2-core CI
+  // Freed memory stays with the process: the libraries that draw and write a frame
+  // allocate and free a few megabytes each time, and handing them back to the kernel made
+  // every frame fault them in again, ~800 page faults a 720p frame; on a 2-core llvmpipe
   // machine a fluid frame drew in 60 ms with this against 72 ms without.
   mallopt(M_TRIM_THRESHOLD, 512 << 20);
   CLI::App app{"pbflow: position based fluids with local density correction, on Vulkan compute"};
