@@ -16,6 +16,12 @@ float surface_depth(ivec2 p) {
   return s.g >= 0.5 ? s.r / s.g : 0.0;
 }
 
+// The tank's and obstacles' linear eye depth at pixel p.
+float tank_depth(ivec2 p) {
+  float z_ndc = 2.0 * texelFetch(scene_depth, p, 0).r - 1.0;
+  return proj[3][2] / (z_ndc + proj[2][2]);
+}
+
 vec3 view_position(ivec2 p, float d) {
   vec2 ndc = (vec2(p) + 0.5) / viewport * 2.0 - 1.0;
   return vec3(ndc.x / proj[0][0], ndc.y / proj[1][1], -1.0) * d;
@@ -25,14 +31,10 @@ void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
   vec3 background = texelFetch(scene_texture, p, 0).rgb;
   float d = surface_depth(p);
-  if (d <= 0.0) {  // most of the image: nothing more to read
-    result = vec4(background, 1.0);
-    return;
-  }
-  // The tank's linear depth here: a surface texel straddling an obstacle's outline must not
-  // paint the fluid over it (a particle radius of slack for the smoothing).
-  float z_ndc = 2.0 * texelFetch(scene_depth, p, 0).r - 1.0;
-  if (d > proj[3][2] / (z_ndc + proj[2][2]) + radius) {
+  // The tank shows where there is no fluid (most of the image, which reads nothing more)
+  // and where a surface texel straddling an obstacle's outline lies behind the obstacle
+  // (by more than a particle radius, the smoothing's slack).
+  if (d <= 0.0 || d > tank_depth(p) + radius) {
     result = vec4(background, 1.0);
     return;
   }
