@@ -49,6 +49,7 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
       lambda_building_(ctx, "constraint_lambda", 6, sizeof(SimConstants), 0,
                        std::array<uint32_t, 2>{1u, d.neighbour_capacity}),
       lambda_(ctx, "constraint_lambda", 6, sizeof(SimConstants), 0, std::array<uint32_t, 2>{0u, d.neighbour_capacity}),
+      smooth_(ctx, "constraint_smooth", 6, sizeof(SimConstants), 0, std::array<uint32_t, 1>{d.neighbour_capacity}),
       apply_(ctx, "constraint_apply", 7, sizeof(SimConstants), 0,
              std::array<uint32_t, 2>{std::bit_cast<uint32_t>(float(d.solver.scorr_n)), d.neighbour_capacity}),
       velocity_(ctx, "velocity_update", 3, sizeof(SimConstants)),
@@ -81,6 +82,7 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
   for (auto& b : id_) b = vk::Buffer(ctx, n_ * sizeof(uint32_t));
   // Model no more than the scene needs: vorticity storage only when a pass uses it.
   if (viscosity_pass_) omega_ = vk::Buffer(ctx, n_ * sizeof(glm::vec4));
+  if (d.solver.lambda_smoothing > 0) lambda_spare_ = vk::Buffer(ctx, n_ * sizeof(float));
   ParticleState s;
   s.x = x0;
   s.v.assign(n_, glm::dvec3(0.0));
@@ -225,6 +227,19 @@ void GpuSolver::constraint_lambda(const vk::Buffer* indirect) {
   run_particle_pass(indirect);
 }
 
+void GpuSolver::constraint_smooth(const vk::Buffer* indirect) {
+  // Passes go in pairs (the count is even, scene.cpp), so lambda ends where it began.
+  for (int pass = 0; pass < d_.solver.lambda_smoothing; ++pass) {
+    const bool back = pass % 2;
+    bind_particle_pass(smooth_);
+    bind_neighbours(4, false);
+    cmd_.bind(1, at(XPred));
+    cmd_.bind(2, back ? lambda_spare_ : lambda_buf_);
+    cmd_.bind(3, back ? lambda_buf_ : lambda_spare_);
+    run_particle_pass(indirect);
+  }
+}
+
 void GpuSolver::constraint_apply(double relax, const vk::Buffer* indirect) {
   // Jacobi: every particle reads the same x_pred, so the result goes to a spare array.
   sim_.relax = float(relax);
@@ -269,9 +284,10 @@ void GpuSolver::adaptive_iterations() {
     cmd_.bind(0, check_);
     cmd_.bind(1, indirect_);
     cmd_.dispatch(1);
-    for (double relax : d_.relaxation_schedule(kAdaptiveStride)) {
+    for (const Derived::ConstraintPass& pass : d_.constraint_schedule(kAdaptiveStride)) {
       constraint_lambda(&indirect_);
-      constraint_apply(relax, &indirect_);
+      if (pass.smoothed) constraint_smooth(&indirect_);
+      constraint_apply(pass.relax, &indirect_);
     }
   }
 }
@@ -327,9 +343,10 @@ void GpuSolver::record_step() {
   end_of(PassGroup::Predict);
   grid_at_predictions();
   end_of(PassGroup::Grid);
-  for (double relax : d_.relaxation_schedule(d_.solver.iterations)) {
+  for (const Derived::ConstraintPass& pass : d_.constraint_schedule(d_.solver.iterations)) {
     constraint_lambda();
-    constraint_apply(relax);
+    if (pass.smoothed) constraint_smooth();
+    constraint_apply(pass.relax);
   }
   if (d_.solver.target_compression > 0) adaptive_iterations();
   end_of(PassGroup::Constraints);

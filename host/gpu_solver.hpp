@@ -36,6 +36,7 @@ class GpuSolver : public Solver {
   void predict();
   // With `indirect`, group counts come from that buffer (adaptive iterations).
   void constraint_lambda(const vk::Buffer* indirect = nullptr);
+  void constraint_smooth(const vk::Buffer* indirect = nullptr);  // solver.lambda_smoothing passes over lambda
   void constraint_apply(double relax, const vk::Buffer* indirect = nullptr);
   void velocity_update();
   void viscosity_vorticity();
@@ -70,7 +71,7 @@ class GpuSolver : public Solver {
   bool viscosity_pass_, vorticity_pass_, correction_pass_;
   bool density_current_ = false;  // rho and the grid already match x (measures were just taken)
 
-  vk::Program density_, correction_, predict_, lambda_building_, lambda_, apply_, velocity_, viscosity_, vorticity_;
+  vk::Program density_, correction_, predict_, lambda_building_, lambda_, smooth_, apply_, velocity_, viscosity_, vorticity_;
   vk::Program reduce_, reduce_final_, check_converged_, watch_;
   GpuGrid grid_;
   std::array<vk::Buffer, kSlots> vec4_;
@@ -80,7 +81,7 @@ class GpuSolver : public Solver {
   vk::Buffer rho_, neighbour_count_, neighbour_list_;
   // The lists match the last grid build: density or the first lambda pass since built them.
   bool lists_current_ = false;
-  vk::Buffer lambda_buf_, omega_, partials_, result_, obstacles_;
+  vk::Buffer lambda_buf_, lambda_spare_, omega_, partials_, result_, obstacles_;
   vk::Buffer check_, indirect_;
   vk::Buffer watch_buf_;  // watch.comp: flags, first step, counts, the step being watched
   uint32_t step_in_frame_ = 0;  // adaptive iterations: the last check's measures, dispatch arguments + count

@@ -38,4 +38,12 @@ inline double spiky(double r, double h) {
   return r < h ? spiky_coef(h) / 3.0 * s * s * s : 0.0;  // 15/(pi h^6) (h - r)^3
 }
 
+// The weight of lambda's average over the neighbours (constraint_smooth.comp), 1 - (r/h)^8:
+// nearly flat inside h, where a flat weight smooths the worst modes most, and 0 at h, so that
+// a neighbour crossing h changes the average smoothly. Unnormalised (the average divides).
+inline double smoothing_weight(const glm::dvec3& d, double h) {
+  const double t = glm::dot(d, d) / (h * h), t2 = t * t;
+  return std::max(1.0 - t2 * t2, 0.0);
+}
+
 }  // namespace pbflow::kernels

@@ -15,7 +15,7 @@ namespace pbflow {
 namespace {
 
 // Bytes per particle, counted from the arrays each solver allocates (rounded up):
-// GPU: five vec4 arrays, two id arrays, rho, lambda, the vorticity vec4 and the grid's cell
+// GPU: five vec4 arrays, two id arrays, rho, lambda and its smoothing spare, the vorticity vec4 and the grid's cell
 // and rank, then the neighbour lists and counts (4 bytes an entry); host: the initial
 // lattice (dvec3), the state uploaded once (x, v, x_pred) and a frame read back for
 // rendering or export (x, v, rho, id).

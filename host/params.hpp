@@ -25,6 +25,7 @@ struct SolverParams {
   double rest_density;     // rho0, kg/m^3
   double relaxation;       // eps as a fraction of an interior particle's sum |grad C|^2
   double jacobi_gain;      // (0, 1]: the most a step's passes correct any density mode, as a fraction of its error
+  int lambda_smoothing;    // 0, 2 or 4: passes averaging lambda over the neighbours before each constraint_apply
   double scorr_k;          // tensile term strength, as an equivalent compression (dimensionless)
   double scorr_n;          // tensile term exponent
   double scorr_dq;         // tensile term reference distance, as a fraction of h
@@ -65,10 +66,20 @@ struct Derived {
   // s_corr in the units of lambda (m^2): k divided by an interior particle's sum |grad C|^2,
   // so that k reads as the compression the tensile term is worth at r = dq.
   double scorr_scale;
-  // The largest gain of one unrelaxed Jacobi pass over all density modes (host/stability.hpp).
-  double jacobi_gain_max;
-  // Under-relaxation of each of `passes` Jacobi passes (stability.hpp, jacobi_schedule).
-  std::vector<double> relaxation_schedule(int passes) const;
+  // The largest gain of one unrelaxed Jacobi pass over all density modes (host/stability.hpp),
+  // as a lone pass runs it and as a pair's passes run it (lambda smoothed first, if the scene smooths).
+  double jacobi_gain_max, paired_gain_max;
+  // One constraint iteration: its under-relaxation, and whether lambda is smoothed before it.
+  struct ConstraintPass {
+    double relax;
+    bool smoothed;
+  };
+  // A step's `passes` iterations. Pairs run smoothed at paired_gain_max's relaxation
+  // (jacobi_schedule); an odd count's last pass runs alone, unsmoothed, at jacobi_gain_max's:
+  // a lone pass sits at the linear model's edge (its worst mode corrected exactly), and
+  // smoothed there, 2.9x bolder, the squeezed floor of a pbf@1 tank oscillated (0.4-2.9 m/s
+  // at 0.5-1x that boldness, README).
+  std::vector<ConstraintPass> constraint_schedule(int passes) const;
   // LDC: the K the force uses (1/s^2; 0 for pbf) and the K at which the explicit force
   // alone goes unstable at this dt and h / spacing (K dt^2 s = 4).
   double ldc_k, ldc_k_limit;

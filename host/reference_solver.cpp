@@ -181,6 +181,26 @@ void ReferenceSolver::constraint_lambda() {
   }
 }
 
+void ReferenceSolver::constraint_smooth() {
+  for (int pass = 0; pass < d_.solver.lambda_smoothing; ++pass) {
+    std::vector<double> mean(state.x.size());
+    for (size_t i = 0; i < mean.size(); ++i) {
+      const dvec3 xi = state.x_pred[i];
+      const WallImages walls = walls_near(xi);
+      double total = 0;
+      for_each_neighbour(i, xi, [&](size_t j) {
+        for (const WallImage& m : walls) {  // j, then its images, each carrying j's lambda
+          const double w = kernels::smoothing_weight(xi - m.of(state.x_pred[j]), d_.h);
+          mean[i] += w * state.lambda[j];
+          total += w;
+        }
+      });
+      mean[i] /= total;
+    }
+    state.lambda = std::move(mean);
+  }
+}
+
 void ReferenceSolver::constraint_apply(double relax) {
   std::vector<dvec3> next(state.x.size());
   const double inv_wdq = d_.scorr_inv_wdq, k = d_.scorr_scale, n = d_.solver.scorr_n;
@@ -255,17 +275,19 @@ void ReferenceSolver::step() {
   }
   predict();
   build_grid(state.x_pred);
-  for (double relax : d_.relaxation_schedule(p.iterations)) {
+  for (const Derived::ConstraintPass& pass : d_.constraint_schedule(p.iterations)) {
     constraint_lambda();
-    constraint_apply(relax);
+    if (pass.smoothed) constraint_smooth();
+    constraint_apply(pass.relax);
   }
   int run = p.iterations;
   // Adaptive: as the GPU's check (check_converged.comp), from the last lambda pass's
   // densities, a pair of iterations at a time (GpuSolver::adaptive_iterations says why).
   while (p.target_compression > 0 && run + 2 <= p.max_iterations && mean_compression() > p.target_compression) {
-    for (double relax : d_.relaxation_schedule(2)) {
+    for (const Derived::ConstraintPass& pass : d_.constraint_schedule(2)) {
       constraint_lambda();
-      constraint_apply(relax);
+      if (pass.smoothed) constraint_smooth();
+      constraint_apply(pass.relax);
     }
     run += 2;
   }

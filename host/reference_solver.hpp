@@ -30,6 +30,7 @@ class ReferenceSolver : public Solver {
   void correction();                                   // v += f_LDC dt
   void predict();                                      // v += g dt, x_pred
   void constraint_lambda();                            // lambda at x_pred
+  void constraint_smooth();                            // lambda averaged over the neighbours, lambda_smoothing times
   void constraint_apply(double relax);                 // x_pred += relax dp
   void velocity_update();                              // v from x_pred - x; x = x_pred
   void viscosity_vorticity();                          // XSPH, omega

@@ -21,7 +21,7 @@ const json& schema() {
     "description": "", "domain": {"min": 0, "max": 0}, "particle_spacing": 0,
     "fluid_blocks": [], "fluid_spheres": [], "obstacles": [], "gravity": 0, "settle": 0, "fps": 0, "frames": 0,
     "solver": {"method": 0, "iterations": 0, "max_iterations": 0, "target_compression": 0, "substeps": 0, "kernel_ratio": 0, "rest_density": 0,
-               "relaxation": 0, "jacobi_gain": 0, "scorr_k": 0, "scorr_n": 0, "scorr_dq": 0, "xsph": 0,
+               "relaxation": 0, "jacobi_gain": 0, "lambda_smoothing": 0, "scorr_k": 0, "scorr_n": 0, "scorr_dq": 0, "xsph": 0,
                "vorticity": 0, "damping": 0, "ldc_strength": 0, "ldc_k": 0, "ldc_clamp": 0},
     "camera": {"eye": 0, "target": 0, "fov": 0}
   })");
@@ -235,6 +235,9 @@ Scene parse_scene(const std::string& json_text, const std::string& origin, const
   p.jacobi_gain = number(solver, "jacobi_gain", p.jacobi_gain);
   require(p.jacobi_gain > 0 && p.jacobi_gain <= 1,
           "solver.jacobi_gain must be in (0, 1]: a constraint pass that moves a mode past its error makes energy");
+  p.lambda_smoothing = whole("lambda_smoothing", p.lambda_smoothing, 0, 4);
+  require(p.lambda_smoothing % 2 == 0,
+          "solver.lambda_smoothing must be 0, 2 or 4: a single average turns some density modes' correction around");
   p.scorr_k = number(solver, "scorr_k", p.scorr_k);
   require(p.scorr_k >= 0 && p.scorr_k <= 1e3, "solver.scorr_k must be in [0, 1000]");
   p.scorr_n = number(solver, "scorr_n", p.scorr_n);

@@ -50,15 +50,17 @@ struct Lattice {
 
 // Every mode up to the lattice's Nyquist limit; the cubic lattice's symmetry leaves [0, pi]^3.
 template <class F>
-double max_over_modes(double spacing, F&& eigenvalue) {
+void for_each_mode(double spacing, F&& visit) {
   constexpr int kSamples = 24;
-  double worst = 0;
   for (int a = 0; a <= kSamples; ++a)
     for (int b = 0; b <= a; ++b)
-      for (int c = 0; c <= b; ++c) {
-        glm::dvec3 k = std::numbers::pi / (kSamples * spacing) * glm::dvec3(a, b, c);
-        worst = std::max(worst, eigenvalue(k));
-      }
+      for (int c = 0; c <= b; ++c) visit(std::numbers::pi / (kSamples * spacing) * glm::dvec3(a, b, c));
+}
+
+template <class F>
+double max_over_modes(double spacing, F&& eigenvalue) {
+  double worst = 0;
+  for_each_mode(spacing, [&](const glm::dvec3& k) { worst = std::max(worst, eigenvalue(k)); });
   return worst;
 }
 
@@ -79,28 +81,63 @@ double largest_eigenvalue(const glm::dmat3& m) {
 
 std::complex<double> dot(const cvec3& a, const cvec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 
+// One Jacobi pass of the density constraint on a lattice: its gain on each mode.
+class JacobiPass {
+ public:
+  JacobiPass(double kernel_ratio, double relaxation, double compression, int smoothing)
+      : l_(kernel_ratio, compression), smoothing_(smoothing) {
+    // sum_j |grad_j C_i|^2 (grad_i C_i vanishes on a lattice); eps is sized at rest, as the solver's
+    auto gradient_sq = [](const Lattice& lattice) {
+      double sum = 0;
+      for (const glm::dvec3& o : lattice.offsets) {
+        glm::dvec3 g = lattice.mass * kernels::spiky_grad(o, lattice.h);
+        sum += glm::dot(g, g);
+      }
+      return sum;
+    };
+    denominator_ = gradient_sq(l_) + relaxation * gradient_sq(Lattice(kernel_ratio));
+  }
+  double spacing() const { return l_.spacing; }
+
+  // lambda_i = -c.u / denominator, then smoothed: times F(k)^smoothing (F: the weighted mean of cos(k.o));
+  // dx_i = m sum_j (lambda_i + lambda_j) grad W_spiky = -g (c.u) F^smoothing / denominator:
+  // a rank-one map whose eigenvalue is (c.g) F^smoothing / denominator.
+  double gain(const glm::dvec3& k) const {
+    cvec3 g(0.0);
+    double weights = 1.0, cosines = 1.0;  // the particle itself, at r = 0
+    for (const glm::dvec3& o : l_.offsets) {
+      g += cvec3(l_.mass * kernels::spiky_grad(o, l_.h)) * (1.0 + Lattice::phase(k, o));
+      const double w = kernels::smoothing_weight(o, l_.h);
+      weights += w;
+      cosines += w * std::cos(glm::dot(k, o));
+    }
+    const double average = cosines / weights;
+    return dot(l_.density_change(k), g).real() * std::pow(average, smoothing_) / denominator_;
+  }
+
+ private:
+  Lattice l_;
+  int smoothing_;
+  double denominator_;
+};
+
 }  // namespace
 
-double jacobi_gain_max(double kernel_ratio, double relaxation, double compression) {
-  const Lattice rest(kernel_ratio), l(kernel_ratio, compression);
-  // sum_j |grad_j C_i|^2 (grad_i C_i vanishes on a lattice); eps is sized at rest, as the solver's
-  auto gradient_sq = [](const Lattice& lattice) {
-    double sum = 0;
-    for (const glm::dvec3& o : lattice.offsets) {
-      glm::dvec3 g = lattice.mass * kernels::spiky_grad(o, lattice.h);
-      sum += glm::dot(g, g);
-    }
-    return sum;
-  };
-  const double denominator = gradient_sq(l) + relaxation * gradient_sq(rest);
-  // lambda_i = -c.u / denominator; dx_i = m sum_j (lambda_i + lambda_j) grad W_spiky = -g (c.u) / denominator:
-  // a rank-one map whose eigenvalue is (c.g) / denominator.
-  return max_over_modes(l.spacing, [&](const glm::dvec3& k) {
-    cvec3 g(0.0);
-    for (const glm::dvec3& o : l.offsets)
-      g += cvec3(l.mass * kernels::spiky_grad(o, l.h)) * (1.0 + Lattice::phase(k, o));
-    return dot(l.density_change(k), g).real() / denominator;
-  });
+double jacobi_gain_max(double kernel_ratio, double relaxation, double compression, int smoothing) {
+  const JacobiPass pass(kernel_ratio, relaxation, compression, smoothing);
+  return max_over_modes(pass.spacing(), [&](const glm::dvec3& k) { return pass.gain(k); });
+}
+
+double jacobi_gain_min(double kernel_ratio, double relaxation, int smoothing) {
+  const JacobiPass pass(kernel_ratio, relaxation, 0.0, smoothing);
+  double least = 0;
+  for_each_mode(1.0, [&](const glm::dvec3& k) { least = std::min(least, pass.gain(k)); });
+  return least;
+}
+
+double jacobi_long_mode_gain(double kernel_ratio, double relaxation, int smoothing) {
+  constexpr double k = 1e-3;  // a wavelength of ~6000 spacings, along an axis
+  return JacobiPass(kernel_ratio, relaxation, 0.0, smoothing).gain(glm::dvec3(k, 0.0, 0.0)) / (k * k);
 }
 
 double lattice_density(double kernel_ratio, double compression) {

@@ -17,8 +17,20 @@ namespace pbflow {
 // Largest gain mu of one Jacobi pass of the density constraint (lambda_i + lambda_j form,
 // poly6 density, spiky gradients, eps = relaxation * denominator at rest) over all lattice
 // modes, on a lattice squeezed uniformly to (1 + compression) rho0 (same mass: more
-// neighbours inside h, so a larger gain).
-double jacobi_gain_max(double kernel_ratio, double relaxation, double compression = 0);
+// neighbours inside h, so a larger gain), lambda averaged `smoothing` times over the
+// neighbours inside h first (constraint_smooth.comp): that multiplies a mode's gain by
+// F(k)^smoothing, F the mean of cos(k.o) over them weighted by kernels::smoothing_weight,
+// 1 for the longest modes.
+double jacobi_gain_max(double kernel_ratio, double relaxation, double compression = 0, int smoothing = 0);
+
+// The same pass's least gain over all modes: negative where a mode's correction turns
+// around (the pass then grows it). An odd smoothing count gets there (-0.2 for one
+// average); without smoothing or with an even count it stays within rounding of 0.
+double jacobi_gain_min(double kernel_ratio, double relaxation, int smoothing);
+
+// The gain of the longest modes per (k spacing)^2, k -> 0: how fast the pass corrects the
+// compression a column of fluid holds. Smoothing leaves it.
+double jacobi_long_mode_gain(double kernel_ratio, double relaxation, int smoothing);
 
 // The gain's growth with compression: jacobi_gain_max at rho0 (1 + C) stays within 3 % of
 // (1 + kCompressedGain C) times its value at rho0 for C up to 1 (tests/energy_test.cpp);

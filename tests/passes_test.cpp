@@ -94,6 +94,23 @@ TEST_P(PassTest, ConstraintLambda) {
   expect_close(test::compare(g.lambda, ref.state.lambda, "constraint lambda"));
 }
 
+TEST_P(PassTest, ConstraintSmooth) {
+  ASSERT_GT(d.solver.lambda_smoothing, 0);
+  ParticleState g = run_gpu([&] {
+    gpu.grid_at_predictions();
+    gpu.constraint_lambda();
+    gpu.constraint_smooth();
+  });
+  ref.build_grid(ref.state.x_pred);
+  ref.constraint_lambda();
+  const std::vector<double> raw = ref.state.lambda;
+  ref.constraint_smooth();
+  expect_close(test::compare(g.lambda, ref.state.lambda, "smoothed lambda"));
+  // The smoothing did something: the smoothed field is not the raw one.
+  const test::ErrorReport change = test::compare(ref.state.lambda, raw, "smoothing's change of lambda");
+  EXPECT_GT(change.max_abs, 0.1 * change.scale);
+}
+
 TEST_P(PassTest, ConstraintApply) {
   ParticleState g = run_gpu([&] {
     gpu.grid_at_predictions();

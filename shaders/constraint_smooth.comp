@@ -1,0 +1,46 @@
+#version 450
+// lambda_i <- the weighted mean of lambda_j over i's neighbours (i and the walls' mirror
+// images included; weight 1 - (r/h)^8): one of the solver.lambda_smoothing passes between
+// constraint_lambda and constraint_apply.
+// Why: a Jacobi pass corrects a density mode by its gain, and the under-relaxation that
+// keeps the worst mode (~5 spacings long, gain 2.8 unrelaxed) sound scales the long modes,
+// which hold the compression, down with it. Averaging twice multiplies each mode's gain by
+// F(k)^2, F the weighted mean of cos(k.o): near 1 for long modes, small for the worst one,
+// never negative; a pair of passes can then be 2.8x bolder (host/stability.cpp).
+// The weight is nearly flat inside h (a flat one smooths most) and reaches 0 at h: an
+// unweighted mean jumps when a neighbour crosses h, and on a lattice at h = 2 spacings
+// the six axis neighbours sit exactly there (float rounding then decided the mean).
+// The images carry their particle's lambda: near a wall the fluid is then the lattice
+// restricted to mirror-symmetric modes, which the model covers.
+#extension GL_GOOGLE_include_directive : require
+layout(local_size_x_id = 0) in;
+#include "common.glsl"
+
+layout(std430, binding = 0) readonly buffer CellStart { uint cell_start[]; };
+layout(std430, binding = 1) readonly buffer XPred { vec4 x_pred[]; };
+layout(std430, binding = 2) readonly buffer LambdaIn { float lambda_in[]; };
+layout(std430, binding = 3) writeonly buffer LambdaOut { float lambda_out[]; };
+#define NEIGHBOUR_BINDING 4
+#define NEIGHBOUR_CAPACITY_ID 1
+#include "neighbours.glsl"
+
+float weight(vec3 d) {
+  float t = dot(d, d) / (sim.h * sim.h), t2 = t * t;
+  return max(1.0 - t2 * t2, 0.0);  // kernels::smoothing_weight
+}
+
+void main() {
+  uint i = thread_index();
+  if (i >= sim.count) return;
+  vec3 xi = x_pred[i].xyz;
+  WallImages walls = walls_near(xi);
+  float sum = 0.0, total = 0.0;
+  FOR_EACH_NEIGHBOUR(i, xi, j) {
+    vec3 xj = x_pred[j].xyz;
+    float w = weight(xi - xj);  // j, then its images, each carrying j's lambda
+    for (int k = walls.axes; k != 0; k = next_image(walls, k)) w += weight(xi - mirror(walls, k, xj));
+    sum += w * lambda_in[j];
+    total += w;
+  }
+  lambda_out[i] = sum / total;  // total >= 1: i is its own neighbour at r = 0
+}
