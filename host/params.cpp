@@ -35,8 +35,8 @@ SolverParams SolverParams::defaults() {
   p.jacobi_gain = 1.0;
   // The relaxation that keeps the worst mode (gain 2.8) sound slows the long modes, which
   // carry the compression, as much. Two averages of lambda over the neighbours cut the worst
-  // gain to 0.96 and leave the long modes', so every pass is 2.9x bolder: 3x less compression
-  // at every iteration count, for two list passes that read no positions (README).
+  // gain to 0.99 and leave the long modes', so paired passes are 2.8x bolder: 2.4-3.4x less
+  // compression at 2-4 iterations, for two more list passes per iteration (README).
   p.lambda_smoothing = 2;
   // Macklin & Mueller 2013, section 4: n = 4, dq = 0.2 h, and k = 0.1 there. Off here: the
   // constraint is one-sided (C >= 0), so the negative pressures that clump particles, which
