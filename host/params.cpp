@@ -128,7 +128,9 @@ Derived derive(const Scene& scene) {
   d.scorr_inv_wdq = 1.0 / kernels::poly6(std::pow(scene.solver.scorr_dq * d.h, 2), d.h);
   d.jacobi_gain_max = jacobi_gain_max(scene.solver.kernel_ratio, scene.solver.relaxation);
   d.paired_gain_max =
-      jacobi_gain_max(scene.solver.kernel_ratio, scene.solver.relaxation, 0.0, scene.solver.lambda_smoothing);
+      scene.solver.lambda_smoothing == 0
+          ? d.jacobi_gain_max
+          : jacobi_gain_max(scene.solver.kernel_ratio, scene.solver.relaxation, 0.0, scene.solver.lambda_smoothing);
   d.ldc_k_limit = 4.0 / (d.dt * d.dt * ldc_stiffness_max(scene.solver.kernel_ratio));
   d.ldc_k = scene.solver.method != Method::Ldc ? 0.0
             : scene.solver.ldc_k >= 0          ? scene.solver.ldc_k

@@ -77,7 +77,7 @@ struct Derived {
   // A step's `passes` iterations. Pairs run smoothed at paired_gain_max's relaxation
   // (jacobi_schedule); an odd count's last pass runs alone, unsmoothed, at jacobi_gain_max's:
   // a lone pass sits at the linear model's edge (its worst mode corrected exactly), and
-  // smoothed there, 2.9x bolder, the squeezed floor of a pbf@1 tank oscillated (0.4-2.9 m/s
+  // smoothed there, 2.8x bolder, the squeezed floor of a pbf@1 tank oscillated (0.4-2.9 m/s
   // at 0.5-1x that boldness, README).
   std::vector<ConstraintPass> constraint_schedule(int passes) const;
   // LDC: the K the force uses (1/s^2; 0 for pbf) and the K at which the explicit force

@@ -96,6 +96,7 @@ class JacobiPass {
       return sum;
     };
     denominator_ = gradient_sq(l_) + relaxation * gradient_sq(Lattice(kernel_ratio));
+    for (const glm::dvec3& o : l_.offsets) weights_ += kernels::smoothing_weight(o, l_.h);
   }
   double spacing() const { return l_.spacing; }
 
@@ -104,14 +105,12 @@ class JacobiPass {
   // a rank-one map whose eigenvalue is (c.g) F^smoothing / denominator.
   double gain(const glm::dvec3& k) const {
     cvec3 g(0.0);
-    double weights = 1.0, cosines = 1.0;  // the particle itself, at r = 0
+    double cosines = 1.0;  // the particle itself, at r = 0
     for (const glm::dvec3& o : l_.offsets) {
       g += cvec3(l_.mass * kernels::spiky_grad(o, l_.h)) * (1.0 + Lattice::phase(k, o));
-      const double w = kernels::smoothing_weight(o, l_.h);
-      weights += w;
-      cosines += w * std::cos(glm::dot(k, o));
+      cosines += kernels::smoothing_weight(o, l_.h) * std::cos(glm::dot(k, o));
     }
-    const double average = cosines / weights;
+    const double average = cosines / weights_;
     return dot(l_.density_change(k), g).real() * std::pow(average, smoothing_) / denominator_;
   }
 
@@ -119,6 +118,7 @@ class JacobiPass {
   Lattice l_;
   int smoothing_;
   double denominator_;
+  double weights_ = 1.0;  // the smoothing weights' sum: the particle itself (1 at r = 0) and its neighbours
 };
 
 }  // namespace
@@ -131,7 +131,7 @@ double jacobi_gain_max(double kernel_ratio, double relaxation, double compressio
 double jacobi_gain_min(double kernel_ratio, double relaxation, int smoothing) {
   const JacobiPass pass(kernel_ratio, relaxation, 0.0, smoothing);
   double least = 0;
-  for_each_mode(1.0, [&](const glm::dvec3& k) { least = std::min(least, pass.gain(k)); });
+  for_each_mode(pass.spacing(), [&](const glm::dvec3& k) { least = std::min(least, pass.gain(k)); });
   return least;
 }
 
