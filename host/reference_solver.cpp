@@ -115,9 +115,20 @@ dvec3 ReferenceSolver::correction_force(size_t i) const {
   auto rho = [&](size_t k) { return d_.solver.ldc_clamp ? std::max(state.rho[k], d_.rho0) : state.rho[k]; };
   const dvec3 xi = state.x[i];
   const WallImages walls = walls_near(xi);
+  // f = sum_j (rho_j - rho_ref) h (1 - r/h) d/r, rho_ref the particle's own density or the
+  // neighbourhood's weighted mean (solver.ldc_mean_reference; correction_force.comp says why).
+  double mean = 0, total = 0;
+  for_each_neighbour(i, xi, [&](size_t j) {
+    for (const WallImage& m : walls) {
+      const double w = kernels::smoothing_weight(xi - m.of(state.x[j]), d_.h);
+      mean += w * rho(j);
+      total += w;
+    }
+  });
+  const double reference = d_.solver.ldc_mean_reference ? mean / total : rho(i);
   dvec3 f(0.0);
   for_each_neighbour(i, xi, [&](size_t j) {
-    const double difference = (rho(j) - rho(i)) / d_.rho0;
+    const double difference = (rho(j) - reference) / d_.rho0;
     for (const WallImage& m : walls) {
       dvec3 d = m.of(state.x[j]) - xi;
       double r = glm::length(d);

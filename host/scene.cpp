@@ -22,7 +22,8 @@ const json& schema() {
     "fluid_blocks": [], "fluid_spheres": [], "obstacles": [], "gravity": 0, "settle": 0, "fps": 0, "frames": 0,
     "solver": {"method": 0, "iterations": 0, "max_iterations": 0, "target_compression": 0, "substeps": 0, "kernel_ratio": 0, "rest_density": 0,
                "relaxation": 0, "jacobi_gain": 0, "lambda_smoothing": 0, "scorr_k": 0, "scorr_n": 0, "scorr_dq": 0, "xsph": 0,
-               "vorticity": 0, "damping": 0, "ldc_strength": 0, "ldc_k": 0, "ldc_clamp": 0},
+               "vorticity": 0, "damping": 0, "ldc_strength": 0, "ldc_k": 0, "ldc_clamp": 0,
+               "ldc_mean_reference": 0},
     "camera": {"eye": 0, "target": 0, "fov": 0}
   })");
   return s;
@@ -261,6 +262,10 @@ Scene parse_scene(const std::string& json_text, const std::string& origin, const
   if (solver.contains("ldc_clamp")) {
     require(solver["ldc_clamp"].is_boolean(), "solver.ldc_clamp must be true or false");
     p.ldc_clamp = solver["ldc_clamp"].get<bool>();
+  }
+  if (solver.contains("ldc_mean_reference")) {
+    require(solver["ldc_mean_reference"].is_boolean(), "solver.ldc_mean_reference must be true or false");
+    p.ldc_mean_reference = solver["ldc_mean_reference"].get<bool>();
   }
 
   glm::dvec3 centre = 0.5 * (s.domain.min + s.domain.max), size = s.domain.max - s.domain.min;

@@ -12,8 +12,10 @@
 // How: the scene's own steps, each followed by a hold: every particle keeps only the part
 // of its move along gravity (the column settles as in a container, nothing flows
 // sideways) and its velocity, also along gravity, is damped by kMomentum (a heavy ball,
-// which converges in ~1/sqrt(mu) steps instead of the ~1/mu of a pure damping). Stops
-// when the potential energy has stopped changing; the velocities are then zero.
+// which converges in ~1/sqrt(mu) steps instead of the ~1/mu of a pure damping), until the
+// potential energy has stopped changing; then the same with the whole move kept; last the
+// scene's own steps, undamped, until it stands still again (the damped fluid sits a little
+// denser than the moving one). The velocities are then zero.
 #include <functional>
 
 #include "params.hpp"

@@ -31,6 +31,12 @@ vec3 spiky_grad(vec3 d, float r) {
   return (-sim.spiky_coef * s * s / r) * d;
 }
 
+// The weight of a neighbourhood mean, 1 - (r/h)^8 (kernels::smoothing_weight says why).
+float smoothing_weight(vec3 d) {
+  float t = dot(d, d) / (sim.h * sim.h), t2 = t * t;
+  return max(1.0 - t2 * t2, 0.0);
+}
+
 // The walls are mirrors: the fluid behind a wall is the fluid in front of it, reflected
 // (ghost particles; host/reference_solver.hpp says why). A neighbour j of particle i has
 // an image behind every wall within h of i (the nearer wall of each axis), and one behind

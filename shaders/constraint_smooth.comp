@@ -24,11 +24,6 @@ layout(std430, binding = 3) writeonly buffer LambdaOut { float lambda_out[]; };
 #define NEIGHBOUR_CAPACITY_ID 1
 #include "neighbours.glsl"
 
-float weight(vec3 d) {
-  float t = dot(d, d) / (sim.h * sim.h), t2 = t * t;
-  return max(1.0 - t2 * t2, 0.0);  // kernels::smoothing_weight
-}
-
 void main() {
   uint i = thread_index();
   if (i >= sim.count) return;
@@ -37,8 +32,8 @@ void main() {
   float sum = 0.0, total = 0.0;
   FOR_EACH_NEIGHBOUR(i, xi, j) {
     vec3 xj = x_pred[j].xyz;
-    float w = weight(xi - xj);  // j, then its images, each carrying j's lambda
-    for (int k = walls.axes; k != 0; k = next_image(walls, k)) w += weight(xi - mirror(walls, k, xj));
+    float w = smoothing_weight(xi - xj);  // j, then its images, each carrying j's lambda
+    for (int k = walls.axes; k != 0; k = next_image(walls, k)) w += smoothing_weight(xi - mirror(walls, k, xj));
     sum += w * lambda_in[j];
     total += w;
   }

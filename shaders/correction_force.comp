@@ -6,6 +6,11 @@
 // Within h of a wall the sum also runs over the neighbours' mirror images behind it (the
 // walls' ghost fluid, common.glsl): without them a particle at a wall got half the force
 // that holds up a compressed column, sank, and drove a jet down every wall.
+// With MEAN_REFERENCE (solver.ldc_mean_reference) rho_i is replaced by the weighted mean
+// of the densities around i (i and the images included; the weight of constraint_smooth):
+// at a free surface rho_i's share, rho_i sum_j h(1 - r/h) d/r, points into the fluid, so
+// the paper's force pulls a particle that reads dense (slipped into a hollow) further in;
+// in ldc@1's tank at rest such particles fell at up to 0.14 m/s (host/params.cpp).
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x_id = 0) in;
 #include "common.glsl"
@@ -16,33 +21,49 @@ layout(std430, binding = 2) readonly buffer Rho { float rho[]; };
 layout(std430, binding = 3) buffer V { vec4 v[]; };
 layout(constant_id = 1) const bool CLAMP_DENSITY = true;
 layout(constant_id = 2) const float LDC_ROOM = 1.8;  // Derived::ldc_room
+layout(constant_id = 4) const bool MEAN_REFERENCE = true;
 #define NEIGHBOUR_BINDING 4
 #define NEIGHBOUR_CAPACITY_ID 3
 #include "neighbours.glsl"
 
 float ldc_density(uint k) { return CLAMP_DENSITY ? max(rho[k], sim.rho0) : rho[k]; }
 
-// One neighbour's term, h(1 - r/h) = h - r.
-vec3 pair_term(vec3 d, float rho_difference) {
+// One neighbour's geometric term, h(1 - r/h) d/r = (h - r) d/r.
+vec3 pair_term(vec3 d) {
   float r2 = dot(d, d);
   if (r2 >= sim.h * sim.h || r2 == 0.0) return vec3(0.0);
   float r = sqrt(r2);
-  return (rho_difference * (sim.h - r) / r) * d;
+  return ((sim.h - r) / r) * d;
 }
 
 void main() {
   uint i = thread_index();
   if (i >= sim.count) return;
   vec3 xi = x[i].xyz;
-  float rho_i = ldc_density(i);
   WallImages walls = walls_near(xi);
-  vec3 f = vec3(0.0);
+  // f = sum_j (rho_j - rho_ref) t_ij = sum_j (rho_j - rho_i) t_ij - (rho_ref - rho_i) sum_j t_ij:
+  // one walk gathers both sums and the mean; differences keep the float sums exact at
+  // uniform density.
+  float rho_i = ldc_density(i);
+  vec3 by_difference = vec3(0.0), by_geometry = vec3(0.0);
+  float mean_sum = 0.0, mean_weight = 0.0;
   FOR_EACH_NEIGHBOUR(i, xi, j) {
-    vec3 xj = x[j].xyz;
     float difference = ldc_density(j) - rho_i;
-    f += pair_term(xj - xi, difference);
-    for (int k = walls.axes; k != 0; k = next_image(walls, k)) f += pair_term(mirror(walls, k, xj) - xi, difference);
+    vec3 xj = x[j].xyz;
+    vec3 t = pair_term(xj - xi);
+    float w = smoothing_weight(xi - xj);
+    for (int k = walls.axes; k != 0; k = next_image(walls, k)) {
+      vec3 image = mirror(walls, k, xj);
+      t += pair_term(image - xi);
+      w += smoothing_weight(xi - image);
+    }
+    by_difference += difference * t;
+    by_geometry += t;
+    mean_sum += w * difference;
+    mean_weight += w;
   }
+  float shift = MEAN_REFERENCE ? mean_sum / mean_weight : 0.0;  // rho_ref - rho_i
+  vec3 f = by_difference - shift * by_geometry;
   // The force's stiffness grows with the neighbours inside h, by up to (rho/rho0)^2 on a
   // squeezed lattice (host/stability.hpp): K, a fraction of what the step carries at rho0,
   // is capped where that would pass kLdcCap of the limit. Uncapped, ldc@1 at 0.5 passed the

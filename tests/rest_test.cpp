@@ -24,8 +24,11 @@ void PrintTo(const Setting& s, std::ostream* os) { *os << s.method << "@" << s.i
 // solver before the dashpot (LDC's free surface jittered at 0.5 m/s, pbf@1's squeezed
 // fluid at 0.8 m/s), before the walls were mirrors (ldc@1: a 0.3 m/s jet down every wall),
 // before the settle (the column breathing at 0.1-0.2 m/s) and before the relaxation
-// (7-9 m/s). The 99th percentile is asserted too: the max is one particle.
-constexpr double kP99Speed = 0.05, kMaxSpeed = 0.1;
+// (7-9 m/s). The 99th percentile is asserted too: the max is one particle. So is the max
+// over every frame of the last second, under 0.08 m/s: ldc@1 against each particle's own
+// density (the paper's force, solver.ldc_mean_reference=false) read 0.099-0.138 there, as
+// surface particles lost their support and dived; against the neighbourhood's mean 0.02-0.03.
+constexpr double kP99Speed = 0.05, kMaxSpeed = 0.1, kLastSecondMaxSpeed = 0.08;
 
 class RestTest : public test::GpuTest, public ::testing::WithParamInterface<Setting> {};
 
@@ -44,16 +47,20 @@ TEST_P(RestTest, TankLosesEnergyAndSettles) {
   FrameStats s = solver.advance(0);
   EnergyGain energy;
   energy.add(s);
+  double last_second_max = 0;
   for (int f = 0; f < int(2.0 * scene.fps); ++f) {
     s = solver.advance(scene.solver.substeps);
     ASSERT_FALSE(s.divergence.any()) << "frame " << f;
     energy.add(s);
+    if (f >= scene.fps) last_second_max = std::max(last_second_max, s.max_speed);
   }
+  std::printf("  max speed over the last second %.3f m/s\n", last_second_max);
   const double worst_gain = energy.largest();
   std::printf("  %s@%d settled in %d steps; after 2 s: max speed %.3f m/s, mean compression %.4f, energy gain %+.4f\n",
               p.method, p.iterations, settled.steps, s.max_speed, s.mean_compression, worst_gain);
   EXPECT_LE(worst_gain, 0.01);
   EXPECT_LT(s.max_speed, kMaxSpeed);
+  EXPECT_LT(last_second_max, kLastSecondMaxSpeed);
   ParticleState end = solver.download();
   std::vector<double> speed;
   for (const glm::dvec3& v : end.v) speed.push_back(glm::length(v));
