@@ -117,15 +117,18 @@ dvec3 ReferenceSolver::correction_force(size_t i) const {
   const WallImages walls = walls_near(xi);
   // f = sum_j (rho_j - rho_ref) h (1 - r/h) d/r, rho_ref the particle's own density or the
   // neighbourhood's weighted mean (solver.ldc_mean_reference; correction_force.comp says why).
-  double mean = 0, total = 0;
-  for_each_neighbour(i, xi, [&](size_t j) {
-    for (const WallImage& m : walls) {
-      const double w = kernels::smoothing_weight(xi - m.of(state.x[j]), d_.h);
-      mean += w * rho(j);
-      total += w;
-    }
-  });
-  const double reference = d_.solver.ldc_mean_reference ? mean / total : rho(i);
+  auto neighbourhood_mean = [&] {
+    double sum = 0, total = 0;
+    for_each_neighbour(i, xi, [&](size_t j) {
+      for (const WallImage& m : walls) {
+        const double w = kernels::smoothing_weight(xi - m.of(state.x[j]), d_.h);
+        sum += w * rho(j);
+        total += w;
+      }
+    });
+    return sum / total;
+  };
+  const double reference = d_.solver.ldc_mean_reference ? neighbourhood_mean() : rho(i);
   dvec3 f(0.0);
   for_each_neighbour(i, xi, [&](size_t j) {
     const double difference = (rho(j) - reference) / d_.rho0;

@@ -136,8 +136,7 @@ TEST(LdcForce, AWallParticleFeelsTheInteriorsForce) {
 // loses its support and dives (ldc@1's tank at rest never went still). Against the
 // neighbourhood's mean the support keeps rising.
 std::vector<double> support_when_pressed_in(bool mean_reference) {
-  Scene scene = load_scene("hydrostatic", {"solver.ldc_k=2000", std::string("solver.ldc_mean_reference=") +
-                                                                     (mean_reference ? "true" : "false")});
+  Scene scene = slab_scene("ldc", 2000, true, mean_reference);
   Derived d = derive(scene);
   auto x = initial_particles(scene);
   for (auto& p : x) p.y *= 0.93;
