@@ -25,6 +25,18 @@ struct CheckPush {  // check_converged.comp
 };
 uint32_t partial_count(uint32_t n) { return (n + kReduceThreads - 1) / kReduceThreads; }
 
+// The formats the neighbour passes gather through (uniform texel buffers, vk/program.hpp).
+constexpr VkFormat kVec4 = VK_FORMAT_R32G32B32A32_SFLOAT, kFloat = VK_FORMAT_R32_SFLOAT, kUint = VK_FORMAT_R32_UINT,
+                   kUvec4 = VK_FORMAT_R32G32B32A32_UINT;
+
+// A neighbour pass's texel bindings: the grid's cell_start (0), the lists' counts and
+// entries (`lists`, lists + 1; shaders/neighbours.glsl) and the arrays it gathers from.
+std::vector<vk::TexelBinding> neighbour_texels(uint32_t lists, std::initializer_list<vk::TexelBinding> gathered) {
+  std::vector<vk::TexelBinding> t{{0, kUint}, {lists, kUint}, {lists + 1, kUvec4}};
+  t.insert(t.end(), gathered);
+  return t;
+}
+
 // Bad input rather than a Vulkan failure: the scene asks for more than this device holds.
 // run.cpp checks the same estimate before any particle is made; this guards every other caller.
 uint32_t checked_count(const vk::Context& ctx, const Derived& d, size_t n) {
@@ -41,22 +53,29 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
       viscosity_pass_(d.solver.viscosity_pass()),
       vorticity_pass_(d.solver.vorticity > 0),
       correction_pass_(d.solver.method == Method::Ldc),
-      density_(ctx, "density", 5, sizeof(SimConstants), 0, std::array<uint32_t, 1>{d.neighbour_capacity}),
+      lists_(ctx, "neighbour_lists", 4, sizeof(SimConstants), 0, std::array<uint32_t, 1>{d.neighbour_capacity},
+             std::array<vk::TexelBinding, 2>{{{0, kUint}, {1, kVec4}}}),
+      density_(ctx, "density", 5, sizeof(SimConstants), 0, std::array<uint32_t, 1>{d.neighbour_capacity},
+               neighbour_texels(3, {{1, kVec4}})),
       correction_(ctx, "correction_force", 6, sizeof(SimConstants), 0,
                   std::array<uint32_t, 4>{d.solver.ldc_clamp ? 1u : 0u, std::bit_cast<uint32_t>(float(d.ldc_room)),
-                                          d.neighbour_capacity, d.solver.ldc_mean_reference ? 1u : 0u}),
+                                          d.neighbour_capacity, d.solver.ldc_mean_reference ? 1u : 0u},
+                  neighbour_texels(4, {{1, kVec4}, {2, kFloat}})),
       predict_(ctx, "predict", 4, sizeof(SimConstants)),
-      lambda_building_(ctx, "constraint_lambda", 6, sizeof(SimConstants), 0,
-                       std::array<uint32_t, 2>{1u, d.neighbour_capacity}),
-      lambda_(ctx, "constraint_lambda", 6, sizeof(SimConstants), 0, std::array<uint32_t, 2>{0u, d.neighbour_capacity}),
-      smooth_(ctx, "constraint_smooth", 6, sizeof(SimConstants), 0, std::array<uint32_t, 1>{d.neighbour_capacity}),
+      lambda_(ctx, "constraint_lambda", 6, sizeof(SimConstants), 0, std::array<uint32_t, 1>{d.neighbour_capacity},
+              neighbour_texels(4, {{1, kVec4}})),
+      smooth_(ctx, "constraint_smooth", 6, sizeof(SimConstants), 0, std::array<uint32_t, 1>{d.neighbour_capacity},
+              neighbour_texels(4, {{1, kVec4}, {2, kFloat}})),
       apply_(ctx, "constraint_apply", 7, sizeof(SimConstants), 0,
-             std::array<uint32_t, 2>{std::bit_cast<uint32_t>(float(d.solver.scorr_n)), d.neighbour_capacity}),
+             std::array<uint32_t, 2>{std::bit_cast<uint32_t>(float(d.solver.scorr_n)), d.neighbour_capacity},
+             neighbour_texels(5, {{1, kVec4}, {2, kFloat}})),
       velocity_(ctx, "velocity_update", 3, sizeof(SimConstants)),
       viscosity_(ctx, "viscosity_vorticity", 8, sizeof(SimConstants), 0,
                  std::array<uint32_t, 3>{std::bit_cast<uint32_t>(float(d.solver.damping)),
-                                         std::bit_cast<uint32_t>(float(d.damping_limit)), d.neighbour_capacity}),
-      vorticity_(ctx, "vorticity_force", 6, sizeof(SimConstants), 0, std::array<uint32_t, 1>{d.neighbour_capacity}),
+                                         std::bit_cast<uint32_t>(float(d.damping_limit)), d.neighbour_capacity},
+                 neighbour_texels(6, {{1, kVec4}, {2, kVec4}, {5, kFloat}})),
+      vorticity_(ctx, "vorticity_force", 6, sizeof(SimConstants), 0, std::array<uint32_t, 1>{d.neighbour_capacity},
+                 neighbour_texels(4, {{1, kVec4}, {2, kVec4}})),
       reduce_(ctx, "reduce_stats", 4, sizeof(SimConstants), kReduceThreads),
       reduce_final_(ctx, "reduce_final", 2, sizeof(ReduceFinalPush), kReduceThreads),
       check_converged_(ctx, "check_converged", 2, sizeof(CheckPush), 1),
@@ -65,7 +84,7 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
       grid_(ctx, sim_),
       rho_(ctx, n_ * sizeof(float)),
       neighbour_count_(ctx, n_ * sizeof(uint32_t)),
-      neighbour_list_(ctx, size_t(n_) * std::max(d.neighbour_capacity, 1u) * sizeof(uint32_t)),  // no lists: a word
+      neighbour_list_(ctx, size_t(n_) * list_words(d.neighbour_capacity) * sizeof(uint32_t)),
       lambda_buf_(ctx, n_ * sizeof(float)),
       partials_(ctx, 2 * partial_count(n_) * sizeof(glm::vec4)),
       result_(ctx, 5 * sizeof(glm::vec4), vk::Memory::Host),  // measures (2 vec4), adaptive count, watch (2 vec4)
@@ -156,13 +175,19 @@ void GpuSolver::bind_particle_pass(const vk::Program& p) {
 
 // Every neighbour pass: the grid at binding 0, the lists' counts and entries at `lists`
 // and lists + 1 (shaders/neighbours.glsl).
-void GpuSolver::bind_neighbours(uint32_t lists, bool building) {
-  if (!building && !lists_current_)
-    throw std::logic_error("a neighbour pass ran before density or constraint_lambda built the lists");
+void GpuSolver::bind_neighbours(uint32_t lists) {
   cmd_.bind(0, grid_.cell_start());
   cmd_.bind(lists, neighbour_count_);
   cmd_.bind(lists + 1, neighbour_list_);
-  lists_current_ = true;
+}
+
+void GpuSolver::neighbour_lists(const vk::Buffer& x) {
+  bind_particle_pass(lists_);
+  cmd_.bind(0, grid_.cell_start());
+  cmd_.bind(1, x);
+  cmd_.bind(2, neighbour_count_);
+  cmd_.bind(3, neighbour_list_);
+  cmd_.dispatch(n_);
 }
 
 void GpuSolver::grid_at_positions() {
@@ -170,7 +195,9 @@ void GpuSolver::grid_at_positions() {
   swap_roles(X, Spare0);
   swap_roles(V, Spare1);
   id_current_ = 1 - id_current_;
-  lists_current_ = false;
+  end_of(PassGroup::Grid);
+  neighbour_lists(at(X));
+  end_of(PassGroup::Lists);
 }
 
 void GpuSolver::grid_at_predictions() {
@@ -180,12 +207,14 @@ void GpuSolver::grid_at_predictions() {
   swap_roles(XPred, Spare0);
   swap_roles(X, Spare1);
   id_current_ = 1 - id_current_;
-  lists_current_ = false;
+  end_of(PassGroup::Grid);
+  neighbour_lists(at(XPred));
+  end_of(PassGroup::Lists);
 }
 
 void GpuSolver::density() {
   bind_particle_pass(density_);
-  bind_neighbours(3, true);
+  bind_neighbours(3);
   cmd_.bind(1, at(X));
   cmd_.bind(2, rho_);
   cmd_.dispatch(n_);
@@ -193,7 +222,7 @@ void GpuSolver::density() {
 
 void GpuSolver::correction() {
   bind_particle_pass(correction_);
-  bind_neighbours(4, false);
+  bind_neighbours(4);
   cmd_.bind(1, at(X));
   cmd_.bind(2, rho_);
   cmd_.bind(3, at(V));
@@ -217,10 +246,8 @@ void GpuSolver::run_particle_pass(const vk::Buffer* indirect) {
 }
 
 void GpuSolver::constraint_lambda(const vk::Buffer* indirect) {
-  // The first pass after the grid build at x* builds the step's lists.
-  const bool building = !lists_current_;
-  bind_particle_pass(building ? lambda_building_ : lambda_);
-  bind_neighbours(4, building);
+  bind_particle_pass(lambda_);
+  bind_neighbours(4);
   cmd_.bind(1, at(XPred));
   cmd_.bind(2, lambda_buf_);
   cmd_.bind(3, rho_);
@@ -232,7 +259,7 @@ void GpuSolver::constraint_smooth(const vk::Buffer* indirect) {
   for (int pass = 0; pass < d_.solver.lambda_smoothing; ++pass) {
     const bool back = pass % 2;
     bind_particle_pass(smooth_);
-    bind_neighbours(4, false);
+    bind_neighbours(4);
     cmd_.bind(1, at(XPred));
     cmd_.bind(2, back ? lambda_spare_ : lambda_buf_);
     cmd_.bind(3, back ? lambda_buf_ : lambda_spare_);
@@ -244,7 +271,7 @@ void GpuSolver::constraint_apply(double relax, const vk::Buffer* indirect) {
   // Jacobi: every particle reads the same x_pred, so the result goes to a spare array.
   sim_.relax = float(relax);
   bind_particle_pass(apply_);
-  bind_neighbours(5, false);
+  bind_neighbours(5);
   cmd_.bind(1, at(XPred));
   cmd_.bind(2, lambda_buf_);
   cmd_.bind(3, at(Spare0));
@@ -303,7 +330,7 @@ void GpuSolver::velocity_update() {
 
 void GpuSolver::viscosity_vorticity() {
   bind_particle_pass(viscosity_);
-  bind_neighbours(6, false);
+  bind_neighbours(6);
   cmd_.bind(1, at(X));
   cmd_.bind(2, at(V));
   cmd_.bind(3, at(Spare0));
@@ -315,7 +342,7 @@ void GpuSolver::viscosity_vorticity() {
 
 void GpuSolver::vorticity_force() {
   bind_particle_pass(vorticity_);
-  bind_neighbours(4, false);
+  bind_neighbours(4);
   cmd_.bind(1, at(X));
   cmd_.bind(2, omega_);
   cmd_.bind(3, at(V));
@@ -323,7 +350,7 @@ void GpuSolver::vorticity_force() {
 }
 
 void GpuSolver::end_of(PassGroup group) {
-  if (!profiling_) return;
+  if (!timing_steps_) return;
   timer_->mark(cmd_);
   segments_.push_back(group);
 }
@@ -332,7 +359,6 @@ void GpuSolver::record_step() {
   if (correction_pass_) {
     if (!density_current_) {
       grid_at_positions();
-      end_of(PassGroup::Grid);
       density();
       end_of(PassGroup::Density);
     }
@@ -342,7 +368,6 @@ void GpuSolver::record_step() {
   predict();
   end_of(PassGroup::Predict);
   grid_at_predictions();
-  end_of(PassGroup::Grid);
   for (const Derived::ConstraintPass& pass : d_.constraint_schedule(d_.solver.iterations)) {
     constraint_lambda();
     if (pass.smoothed) constraint_smooth();
@@ -402,8 +427,8 @@ FrameStats GpuSolver::read_measures() const {
 
 FrameStats GpuSolver::advance(int steps) {
   auto start = std::chrono::steady_clock::now();
-  // While profiling a step marks the end of each pass group, the grid twice for ldc.
-  const uint32_t marks = 2 + (profiling_ ? uint32_t(steps) * (kPassGroups + 1) : 0);
+  // While profiling a step marks the end of each pass group, the grid and lists twice for ldc.
+  const uint32_t marks = 2 + (profiling_ ? uint32_t(steps) * (kPassGroups + 2) : 0);
   if (timer_->capacity() < marks) timer_ = std::make_unique<vk::GpuTimer>(ctx_, marks);
   segments_.clear();
   begin();
@@ -416,7 +441,9 @@ FrameStats GpuSolver::advance(int steps) {
   }
   timer_->reset(cmd_);
   timer_->mark(cmd_);
+  timing_steps_ = profiling_;
   for (int k = 0; k < steps; ++k) record_step();
+  timing_steps_ = false;  // the measures' grid build is not a step's
   const uint32_t end = timer_->mark(cmd_);
   record_measures();
   finish();

@@ -29,6 +29,7 @@ class GpuSolver : public Solver {
   // Pass-level access for the tests: begin(), record passes, finish() submits and waits.
   void begin() { cmd_.begin(); }
   void finish() { cmd_.submit_and_wait(); }
+  // A grid build and the neighbour lists at the sorted positions (neighbour_lists.comp).
   void grid_at_positions();    // sorts x, v, id by the cells of x
   void grid_at_predictions();  // sorts x, x_pred, id by the cells of x_pred
   void density();
@@ -56,7 +57,8 @@ class GpuSolver : public Solver {
   const vk::Buffer& at(Slot s) const { return vec4_[role_[s]]; }
   void swap_roles(Slot a, Slot b) { std::swap(role_[a], role_[b]); }
   void bind_particle_pass(const vk::Program& p);
-  void bind_neighbours(uint32_t lists, bool building);
+  void bind_neighbours(uint32_t lists);
+  void neighbour_lists(const vk::Buffer& x);
   FrameStats read_measures() const;
   void end_of(PassGroup group);  // closes a timed segment while profiling
   void run_particle_pass(const vk::Buffer* indirect);
@@ -71,7 +73,7 @@ class GpuSolver : public Solver {
   bool viscosity_pass_, vorticity_pass_, correction_pass_;
   bool density_current_ = false;  // rho and the grid already match x (measures were just taken)
 
-  vk::Program density_, correction_, predict_, lambda_building_, lambda_, smooth_, apply_, velocity_, viscosity_, vorticity_;
+  vk::Program lists_, density_, correction_, predict_, lambda_, smooth_, apply_, velocity_, viscosity_, vorticity_;
   vk::Program reduce_, reduce_final_, check_converged_, watch_;
   GpuGrid grid_;
   std::array<vk::Buffer, kSlots> vec4_;
@@ -79,8 +81,6 @@ class GpuSolver : public Solver {
   std::array<vk::Buffer, 2> id_;
   int id_current_ = 0;
   vk::Buffer rho_, neighbour_count_, neighbour_list_;
-  // The lists match the last grid build: density or the first lambda pass since built them.
-  bool lists_current_ = false;
   vk::Buffer lambda_buf_, lambda_spare_, omega_, partials_, result_, obstacles_;
   vk::Buffer check_, indirect_;
   vk::Buffer watch_buf_;  // watch.comp: flags, first step, counts, the step being watched
@@ -88,6 +88,7 @@ class GpuSolver : public Solver {
   vk::CommandList cmd_;
   std::unique_ptr<vk::GpuTimer> timer_;
   bool profiling_ = false;
+  bool timing_steps_ = false;  // profiling, and recording the frame's steps
   std::vector<PassGroup> segments_;  // while profiling: the group timed between marks k and k+1
 };
 

@@ -56,9 +56,11 @@ uint64_t address_space_in_use() {
 }  // namespace
 
 uint32_t neighbour_capacity_on(const Derived& d, double particles, const vk::DeviceInfo& device) {
-  const double list_bytes = sizeof(uint32_t) * double(d.neighbour_capacity) * particles;
-  return device.max_storage_buffer_range && list_bytes > double(device.max_storage_buffer_range) ? 0
-                                                                                                 : d.neighbour_capacity;
+  const double list_bytes = sizeof(uint32_t) * double(list_words(d.neighbour_capacity)) * particles;
+  const bool past_range = device.max_storage_buffer_range && list_bytes > double(device.max_storage_buffer_range);
+  const bool past_texels =
+      device.max_texel_buffer_elements && list_bytes / 16 > double(device.max_texel_buffer_elements);
+  return past_range || past_texels ? 0 : d.neighbour_capacity;
 }
 
 MemoryNeed memory_need(const Derived& d, double particles, const vk::DeviceInfo* device, double pixels) {
@@ -66,9 +68,9 @@ MemoryNeed memory_need(const Derived& d, double particles, const vk::DeviceInfo*
   double gpu = 0, host = kBytesPerPixel * pixels, largest = 0;
   if (device) {
     const uint32_t capacity = neighbour_capacity_on(d, particles, *device);
-    gpu = (kGpuPerParticle + 4.0 * (capacity + 1)) * particles + kGpuPerCell * cells;
+    gpu = (kGpuPerParticle + 4.0 * (list_words(capacity) + 1)) * particles + kGpuPerCell * cells;
     host += kHostPerParticleGpuRun * particles;
-    largest = std::max<double>(sizeof(glm::vec4), sizeof(uint32_t) * capacity) * particles;
+    largest = std::max<double>(sizeof(glm::vec4), sizeof(uint32_t) * list_words(capacity)) * particles;
   } else {
     host += kHostPerParticleCpuRun * particles + kHostPerCellCpuRun * cells;
   }

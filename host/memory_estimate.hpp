@@ -19,10 +19,15 @@ struct MemoryNeed {
   uint64_t largest_array = 0;  // one GPU buffer (a vec4 per particle), against the storage buffer range
 };
 
+// The words per particle of the neighbour list buffer for `capacity` entries: whole groups
+// of four (shaders/neighbour_lists.comp), one group without lists.
+inline uint32_t list_words(uint32_t capacity) { return 4 * ((capacity + 3) / 4 + (capacity == 0)); }
+
 // The neighbour capacity a GPU run gets: the scene's (Derived::neighbour_capacity), or 0
 // where one list for `particles` would pass the device's storage buffer range (llvmpipe's
-// 128 MiB: ~460k particles at 72 entries). At 0 there are no lists: every pass walks its
-// cells (shaders/neighbours.glsl), as before the lists, and the run still fits.
+// 128 MiB: ~460k particles at 72 entries) or its texel buffer size (the passes read the
+// list as uvec4 texels; NVIDIA's 2^27 texels hold 4M particles at 72 entries). At 0 there
+// are no lists: every pass walks its cells (shaders/neighbours.glsl), and the run still fits.
 uint32_t neighbour_capacity_on(const Derived& d, double particles, const vk::DeviceInfo& device);
 
 // `particles` as estimated from the scene; `device` null for the reference solver;

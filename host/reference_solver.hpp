@@ -62,9 +62,9 @@ class ReferenceSolver : public Solver {
   ParticleState state;
 
  private:
-  // The step's neighbour sets, as the GPU's lists (shaders/neighbours.glsl): built by the
-  // first pass after a grid build, density at x or constraint_lambda at x_pred, from the
-  // 27 cells, keeping those within h; read by every later pass of the step.
+  // The step's neighbour sets, as the GPU's lists (shaders/neighbour_lists.comp): built
+  // after a grid build, at x for density or at x_pred for constraint_lambda, from the 27
+  // cells, keeping those within h; read by every pass of the step.
   void build_neighbours(const std::vector<glm::dvec3>& at);
   template <class F>
   void for_each_candidate(const glm::dvec3& xi, F&& visit) const;

@@ -12,9 +12,9 @@
 namespace pbflow {
 
 // The passes of a step, grouped as the benchmarks report them (DESIGN.md's list).
-enum class PassGroup { Grid, Density, Correction, Predict, Constraints, Velocity, Viscosity, Count };
+enum class PassGroup { Grid, Lists, Density, Correction, Predict, Constraints, Velocity, Viscosity, Count };
 constexpr size_t kPassGroups = size_t(PassGroup::Count);
-constexpr const char* kPassGroupNames[kPassGroups] = {"grid",        "density",  "correction", "predict",
+constexpr const char* kPassGroupNames[kPassGroups] = {"grid", "lists", "density",  "correction", "predict",
                                                       "constraints", "velocity", "viscosity"};
 
 // What the divergence watch saw in a frame's steps: particles whose position or velocity

@@ -7,9 +7,8 @@
 layout(local_size_x_id = 0) in;
 #include "common.glsl"
 
-layout(std430, binding = 0) readonly buffer CellStart { uint cell_start[]; };
-layout(std430, binding = 1) readonly buffer XPred { vec4 x_pred[]; };
-layout(std430, binding = 2) readonly buffer Lambda { float lambda[]; };
+layout(binding = 1) uniform samplerBuffer x_pred;
+layout(binding = 2) uniform samplerBuffer lambda;
 layout(std430, binding = 3) writeonly buffer XOut { vec4 x_out[]; };
 #define OBSTACLES_BINDING 4
 #include "obstacles.glsl"
@@ -38,13 +37,13 @@ vec3 pair_push(vec3 d, float lambda_ij) {
 void main() {
   uint i = thread_index();
   if (i >= sim.count) return;
-  vec3 xi = x_pred[i].xyz;
+  vec3 xi = texelFetch(x_pred, int(i)).xyz;
   WallImages walls = walls_near(xi);
-  float lambda_i = lambda[i];
+  float lambda_i = texelFetch(lambda, int(i)).x;
   vec3 dp = vec3(0.0);
   FOR_EACH_NEIGHBOUR(i, xi, j) {
-    vec3 xj = x_pred[j].xyz;
-    float lambda_ij = lambda_i + lambda[j];
+    vec3 xj = texelFetch(x_pred, int(j)).xyz;
+    float lambda_ij = lambda_i + texelFetch(lambda, int(j)).x;
     dp += pair_push(xi - xj, lambda_ij);
     // An image behind a wall carries its particle's lambda; i's own images push i away.
     for (int k = walls.axes; k != 0; k = next_image(walls, k)) dp += pair_push(xi - mirror(walls, k, xj), lambda_ij);

@@ -1,34 +1,27 @@
 #version 450
 // lambda_i = -C_i / (sum_k |grad_k C_i|^2 + eps), C_i = max(rho_i/rho0 - 1, 0) at the predicted positions.
 // rho_i is kept too: adaptive iterations measure the compression from it (check_converged).
-// The step's first pass follows the grid build at x* and builds the neighbour lists
-// (BUILD_LIST); the later ones read them (neighbours.glsl).
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x_id = 0) in;
 #include "common.glsl"
 
-layout(std430, binding = 0) readonly buffer CellStart { uint cell_start[]; };
-layout(std430, binding = 1) readonly buffer XPred { vec4 x_pred[]; };
+layout(binding = 1) uniform samplerBuffer x_pred;
 layout(std430, binding = 2) writeonly buffer Lambda { float lambda[]; };
 layout(std430, binding = 3) writeonly buffer Rho { float rho_out[]; };
-layout(constant_id = 1) const bool BUILD_LIST = false;
 #define NEIGHBOUR_BINDING 4
-#define NEIGHBOUR_CAPACITY_ID 2
-#define NEIGHBOUR_BUILDER
-#define NEIGHBOUR_X x_pred
+#define NEIGHBOUR_CAPACITY_ID 1
 #include "neighbours.glsl"
 
 void main() {
   uint i = thread_index();
   if (i >= sim.count) return;
-  vec3 xi = x_pred[i].xyz;
-  if (BUILD_LIST) build_neighbour_list(i, xi);
+  vec3 xi = texelFetch(x_pred, int(i)).xyz;
   WallImages walls = walls_near(xi);
   float w_sum = 0.0;
   vec3 grad_i = vec3(0.0);  // grad of C_i with respect to x_i, times rho0/m
   float grad_sq = 0.0;      // sum over j != i of |grad_j C_i|^2, times (rho0/m)^2
   FOR_EACH_NEIGHBOUR(i, xi, j) {
-    vec3 xj = x_pred[j].xyz, d = xi - xj;
+    vec3 xj = texelFetch(x_pred, int(j)).xyz, d = xi - xj;
     float r2 = dot(d, d);
     w_sum += poly6(r2);
     vec3 g = spiky_grad(d, sqrt(r2));  // zero for j = i

@@ -16,9 +16,8 @@
 layout(local_size_x_id = 0) in;
 #include "common.glsl"
 
-layout(std430, binding = 0) readonly buffer CellStart { uint cell_start[]; };
-layout(std430, binding = 1) readonly buffer XPred { vec4 x_pred[]; };
-layout(std430, binding = 2) readonly buffer LambdaIn { float lambda_in[]; };
+layout(binding = 1) uniform samplerBuffer x_pred;
+layout(binding = 2) uniform samplerBuffer lambda_in;
 layout(std430, binding = 3) writeonly buffer LambdaOut { float lambda_out[]; };
 #define NEIGHBOUR_BINDING 4
 #define NEIGHBOUR_CAPACITY_ID 1
@@ -27,14 +26,14 @@ layout(std430, binding = 3) writeonly buffer LambdaOut { float lambda_out[]; };
 void main() {
   uint i = thread_index();
   if (i >= sim.count) return;
-  vec3 xi = x_pred[i].xyz;
+  vec3 xi = texelFetch(x_pred, int(i)).xyz;
   WallImages walls = walls_near(xi);
   float sum = 0.0, total = 0.0;
   FOR_EACH_NEIGHBOUR(i, xi, j) {
-    vec3 xj = x_pred[j].xyz;
+    vec3 xj = texelFetch(x_pred, int(j)).xyz;
     float w = smoothing_weight(xi - xj);  // j, then its images, each carrying j's lambda
     for (int k = walls.axes; k != 0; k = next_image(walls, k)) w += smoothing_weight(xi - mirror(walls, k, xj));
-    sum += w * lambda_in[j];
+    sum += w * texelFetch(lambda_in, int(j)).x;
     total += w;
   }
   lambda_out[i] = sum / total;  // total >= 1: i is its own neighbour at r = 0

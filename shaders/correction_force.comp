@@ -15,9 +15,8 @@
 layout(local_size_x_id = 0) in;
 #include "common.glsl"
 
-layout(std430, binding = 0) readonly buffer CellStart { uint cell_start[]; };
-layout(std430, binding = 1) readonly buffer X { vec4 x[]; };
-layout(std430, binding = 2) readonly buffer Rho { float rho[]; };
+layout(binding = 1) uniform samplerBuffer x;
+layout(binding = 2) uniform samplerBuffer rho;
 layout(std430, binding = 3) buffer V { vec4 v[]; };
 layout(constant_id = 1) const bool CLAMP_DENSITY = true;
 layout(constant_id = 2) const float LDC_ROOM = 1.8;  // Derived::ldc_room
@@ -26,7 +25,8 @@ layout(constant_id = 4) const bool MEAN_REFERENCE = true;
 #define NEIGHBOUR_CAPACITY_ID 3
 #include "neighbours.glsl"
 
-float ldc_density(uint k) { return CLAMP_DENSITY ? max(rho[k], sim.rho0) : rho[k]; }
+float density_of(uint k) { return texelFetch(rho, int(k)).x; }
+float ldc_density(uint k) { return CLAMP_DENSITY ? max(density_of(k), sim.rho0) : density_of(k); }
 
 // One neighbour's geometric term, h(1 - r/h) d/r = (h - r) d/r.
 vec3 pair_term(vec3 d) {
@@ -39,7 +39,7 @@ vec3 pair_term(vec3 d) {
 void main() {
   uint i = thread_index();
   if (i >= sim.count) return;
-  vec3 xi = x[i].xyz;
+  vec3 xi = texelFetch(x, int(i)).xyz;
   WallImages walls = walls_near(xi);
   // f = sum_j (rho_j - rho_ref) t_ij = sum_j (rho_j - rho_i) t_ij - (rho_ref - rho_i) sum_j t_ij:
   // one walk gathers both sums and the mean; differences keep the float sums exact at
@@ -49,7 +49,7 @@ void main() {
   float mean_sum = 0.0, mean_weight = 0.0;
   FOR_EACH_NEIGHBOUR(i, xi, j) {
     float difference = ldc_density(j) - rho_i;
-    vec3 xj = x[j].xyz;
+    vec3 xj = texelFetch(x, int(j)).xyz;
     vec3 t = pair_term(xj - xi);
     float w = smoothing_weight(xi - xj);
     for (int k = walls.axes; k != 0; k = next_image(walls, k)) {
@@ -68,7 +68,7 @@ void main() {
   // squeezed lattice (host/stability.hpp): K, a fraction of what the step carries at rho0,
   // is capped where that would pass kLdcCap of the limit. Uncapped, ldc@1 at 0.5 passed the
   // limit at ~50 % compression, and the dam break at 0.01 m oscillated and blew up.
-  float squeeze = max(rho[i], sim.rho0) / sim.rho0;
+  float squeeze = max(density_of(i), sim.rho0) / sim.rho0;
   float k_i = sim.ldc_k * min(1.0, LDC_ROOM / (squeeze * squeeze));
   v[i].xyz += (-k_i / sim.rho0 * sim.dt) * f;
 }

@@ -22,12 +22,11 @@ layout(local_size_x_id = 0) in;
 layout(constant_id = 1) const float DAMPING = 0.2;         // solver.damping
 layout(constant_id = 2) const float DAMPING_LIMIT = 0.3;   // Derived::damping_limit
 
-layout(std430, binding = 0) readonly buffer CellStart { uint cell_start[]; };
-layout(std430, binding = 1) readonly buffer X { vec4 x[]; };
-layout(std430, binding = 2) readonly buffer V { vec4 v[]; };
+layout(binding = 1) uniform samplerBuffer x;
+layout(binding = 2) uniform samplerBuffer v;
 layout(std430, binding = 3) writeonly buffer VOut { vec4 v_out[]; };
 layout(std430, binding = 4) writeonly buffer Omega { vec4 omega[]; };
-layout(std430, binding = 5) readonly buffer Rho { float rho[]; };  // the last lambda pass's
+layout(binding = 5) uniform samplerBuffer rho;  // the last lambda pass's
 #define NEIGHBOUR_BINDING 6
 #define NEIGHBOUR_CAPACITY_ID 3
 #include "neighbours.glsl"
@@ -43,25 +42,25 @@ vec3 dashpot(vec3 d, vec3 vij, float c) {
 void main() {
   uint i = thread_index();
   if (i >= sim.count) return;
-  vec3 xi = x[i].xyz;
-  vec3 vi = v[i].xyz;
+  vec3 xi = texelFetch(x, int(i)).xyz;
+  vec3 vi = texelFetch(v, int(i)).xyz;
   vec3 smooth_v = vec3(0.0);
   vec3 curl = vec3(0.0);
   vec3 damp = vec3(0.0);
-  float rho_i = max(rho[i], sim.rho0);
+  float rho_i = max(texelFetch(rho, int(i)).x, sim.rho0);
   WallImages walls = walls_near(xi);
   FOR_EACH_NEIGHBOUR(i, xi, j) {
-    vec3 xj = x[j].xyz, d = xi - xj;
+    vec3 xj = texelFetch(x, int(j)).xyz, d = xi - xj;
     float r2 = dot(d, d);
     if (r2 >= sim.h * sim.h) continue;  // and so are its images, which lie farther
-    vec3 vj = v[j].xyz, vij = vj - vi;
+    vec3 vj = texelFetch(v, int(j)).xyz, vij = vj - vi;
     smooth_v += vij * poly6(r2);
     curl += cross(vij, spiky_grad(d, sqrt(r2)));
     // The dashpot's largest eigenvalue grows with the neighbours inside h, images included
     // (by less than rho/rho0 on a squeezed lattice): a pair is damped by at most
     // DAMPING_LIMIT times the denser one's rho0/rho, so no mode is driven (2.4x at 3x rho0
     // drove them: blow-up).
-    float c = min(DAMPING, DAMPING_LIMIT * sim.rho0 / max(rho_i, rho[j]));
+    float c = min(DAMPING, DAMPING_LIMIT * sim.rho0 / max(rho_i, texelFetch(rho, int(j)).x));
     damp += dashpot(d, vij, c);
     for (int k = walls.axes; k != 0; k = next_image(walls, k)) {
       d = xi - mirror(walls, k, xj);

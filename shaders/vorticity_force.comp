@@ -5,9 +5,8 @@
 layout(local_size_x_id = 0) in;
 #include "common.glsl"
 
-layout(std430, binding = 0) readonly buffer CellStart { uint cell_start[]; };
-layout(std430, binding = 1) readonly buffer X { vec4 x[]; };
-layout(std430, binding = 2) readonly buffer Omega { vec4 omega[]; };
+layout(binding = 1) uniform samplerBuffer x;
+layout(binding = 2) uniform samplerBuffer omega;
 layout(std430, binding = 3) buffer V { vec4 v[]; };
 #define NEIGHBOUR_BINDING 4
 #define NEIGHBOUR_CAPACITY_ID 1
@@ -16,13 +15,13 @@ layout(std430, binding = 3) buffer V { vec4 v[]; };
 void main() {
   uint i = thread_index();
   if (i >= sim.count) return;
-  vec3 xi = x[i].xyz;
+  vec3 xi = texelFetch(x, int(i)).xyz;
   vec3 eta = vec3(0.0);
   FOR_EACH_NEIGHBOUR(i, xi, j) {
-    vec3 d = xi - x[j].xyz;
+    vec3 d = xi - texelFetch(x, int(j)).xyz;
     if (dot(d, d) >= sim.h * sim.h) continue;
-    eta += length(omega[j].xyz) * spiky_grad(d, length(d));
+    eta += length(texelFetch(omega, int(j)).xyz) * spiky_grad(d, length(d));
   }
   float len = length(eta);
-  if (len > 1e-9) v[i].xyz += (sim.vorticity_eps * sim.dt / len) * cross(eta, omega[i].xyz);
+  if (len > 1e-9) v[i].xyz += (sim.vorticity_eps * sim.dt / len) * cross(eta, texelFetch(omega, int(i)).xyz);
 }

@@ -15,8 +15,8 @@ Buffer::Buffer(const Context& ctx, VkDeviceSize bytes, Memory memory) : ctx_(&ct
                 std::to_string(ctx.limits().maxStorageBufferRange) + " bytes (fewer particles needed)");
   VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
   info.size = bytes;
-  info.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
-               VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+  info.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
+               VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
   info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
   VkExternalMemoryBufferCreateInfo external{VK_STRUCTURE_TYPE_EXTERNAL_MEMORY_BUFFER_CREATE_INFO};
   external.handleTypes = VK_EXTERNAL_MEMORY_HANDLE_TYPE_OPAQUE_FD_BIT;
@@ -55,12 +55,16 @@ Buffer& Buffer::operator=(Buffer&& o) noexcept {
     bytes_ = std::exchange(o.bytes_, 0);
     allocation_bytes_ = std::exchange(o.allocation_bytes_, 0);
     mapped_ = std::exchange(o.mapped_, nullptr);
+    views_ = std::exchange(o.views_, {});
   }
   return *this;
 }
 
 void Buffer::release() noexcept {
   if (!ctx_) return;
+  for (View& v : views_)
+    if (v.view) vkDestroyBufferView(ctx_->device(), v.view, nullptr);
+  views_ = {};
   if (buffer_) vkDestroyBuffer(ctx_->device(), buffer_, nullptr);
   if (memory_) vkFreeMemory(ctx_->device(), memory_, nullptr);  // unmaps too
   buffer_ = VK_NULL_HANDLE;
@@ -76,6 +80,27 @@ int Buffer::export_fd() const {
   int fd = -1;
   VK_CHECK(ctx_->get_memory_fd(ctx_->device(), &info, &fd));
   return fd;
+}
+
+VkBufferView Buffer::view(VkFormat format) const {
+  for (const View& v : views_)
+    if (v.format == format) return v.view;
+  for (View& v : views_) {
+    if (v.view) continue;
+    const bool four = format == VK_FORMAT_R32G32B32A32_SFLOAT || format == VK_FORMAT_R32G32B32A32_UINT;
+    const VkDeviceSize texel = four ? 16 : 4;  // the formats the passes read: 32-bit, one or four components
+    if (bytes_ / texel > ctx_->limits().maxTexelBufferElements)
+      throw Error("a texel buffer of " + std::to_string(bytes_ / texel) + " elements exceeds the device's limit of " +
+                  std::to_string(ctx_->limits().maxTexelBufferElements) + " (fewer particles needed)");
+    VkBufferViewCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
+    info.buffer = buffer_;
+    info.format = format;
+    info.range = VK_WHOLE_SIZE;
+    VK_CHECK(vkCreateBufferView(ctx_->device(), &info, nullptr, &v.view));
+    v.format = format;
+    return v.view;
+  }
+  throw Error("a buffer was asked for a view in a fourth format");
 }
 
 void Buffer::upload(const void* data, VkDeviceSize bytes) {

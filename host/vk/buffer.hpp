@@ -2,6 +2,7 @@
 // A storage buffer and its memory: move-only, freed with the object.
 #include <vulkan/vulkan.h>
 
+#include <array>
 #include <cstring>
 #include <span>
 #include <utility>
@@ -33,6 +34,9 @@ class Buffer {
   VkDeviceSize allocation_bytes() const { return allocation_bytes_; }
   // A new fd for the memory (Memory::Shared only); whoever imports it owns it.
   int export_fd() const;
+  // The buffer read as a uniform texel buffer of `format` (made on first use, kept with
+  // the buffer): a pass's gathers go through the texture path (see vk/program.hpp).
+  VkBufferView view(VkFormat format) const;
 
   // Whole-buffer transfers through a staging buffer (one submit each); tests and set-up only.
   void upload(const void* data, VkDeviceSize bytes);
@@ -55,6 +59,11 @@ class Buffer {
   VkDeviceMemory memory_ = VK_NULL_HANDLE;
   VkDeviceSize bytes_ = 0, allocation_bytes_ = 0;
   void* mapped_ = nullptr;
+  struct View {
+    VkFormat format = VK_FORMAT_UNDEFINED;
+    VkBufferView view = VK_NULL_HANDLE;
+  };
+  mutable std::array<View, 3> views_{};  // a buffer is read in at most three formats
 };
 
 }  // namespace pbflow::vk

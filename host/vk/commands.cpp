@@ -62,10 +62,9 @@ void CommandList::submit_and_wait() {
 }
 
 void CommandList::set_program(const Program& program) {
-  if (program.bindings() > kMaxBindings)
-    throw Error("program " + program.name() + " has more bindings than CommandList supports");
   program_ = &program;
   bound_.fill({});
+  views_.fill(VK_NULL_HANDLE);
   vkCmdBindPipeline(cb_, VK_PIPELINE_BIND_POINT_COMPUTE, program.pipeline());
 }
 
@@ -73,6 +72,7 @@ void CommandList::bind(uint32_t binding, const Buffer& buffer) {
   if (!program_ || binding >= program_->bindings())
     throw Error("bind(" + std::to_string(binding) + ") outside the bindings of the current program");
   bound_[binding] = {buffer.handle(), 0, VK_WHOLE_SIZE};
+  if (VkFormat format = program_->texel_format(binding)) views_[binding] = buffer.view(format);
 }
 
 void CommandList::push_bytes(const void* data, uint32_t bytes) {
@@ -83,15 +83,20 @@ void CommandList::push_bytes(const void* data, uint32_t bytes) {
 }
 
 void CommandList::push_descriptors() {
-  std::array<VkWriteDescriptorSet, kMaxBindings> writes{};
+  std::array<VkWriteDescriptorSet, Program::kMaxBindings> writes{};
   for (uint32_t i = 0; i < program_->bindings(); ++i) {
     if (!bound_[i].buffer)
       throw Error("program " + program_->name() + ": binding " + std::to_string(i) + " was not bound");
     writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
     writes[i].dstBinding = i;
     writes[i].descriptorCount = 1;
-    writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    writes[i].pBufferInfo = &bound_[i];
+    if (views_[i]) {
+      writes[i].descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+      writes[i].pTexelBufferView = &views_[i];
+    } else {
+      writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+      writes[i].pBufferInfo = &bound_[i];
+    }
   }
   ctx_->push_descriptor_set(cb_, VK_PIPELINE_BIND_POINT_COMPUTE, program_->layout(), 0, program_->bindings(),
                             writes.data());

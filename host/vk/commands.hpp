@@ -6,11 +6,12 @@
 
 #include <array>
 
+#include "vk/program.hpp"
+
 namespace pbflow::vk {
 
 class Context;
 class Buffer;
-class Program;
 
 // Makes all earlier compute, transfer and host writes visible to later commands and the host.
 void memory_barrier(VkCommandBuffer cb);
@@ -44,7 +45,6 @@ class CommandList {
   VkCommandBuffer handle() const { return cb_; }
 
  private:
-  static constexpr uint32_t kMaxBindings = 12;
   void push_bytes(const void* data, uint32_t bytes);
   void push_descriptors();
   void release() noexcept;
@@ -53,7 +53,8 @@ class CommandList {
   VkCommandBuffer cb_ = VK_NULL_HANDLE;
   VkFence fence_ = VK_NULL_HANDLE;
   const Program* program_ = nullptr;
-  std::array<VkDescriptorBufferInfo, kMaxBindings> bound_{};
+  std::array<VkDescriptorBufferInfo, Program::kMaxBindings> bound_{};
+  std::array<VkBufferView, Program::kMaxBindings> views_{};  // the texel bindings'
 };
 
 }  // namespace pbflow::vk

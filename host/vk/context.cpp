@@ -142,6 +142,7 @@ DeviceInfo describe(VkPhysicalDevice pd, uint32_t index) {
       d.device_local_bytes = std::max<uint64_t>(d.device_local_bytes, mem.memoryHeaps[i].size);
   d.max_workgroup_invocations = p.limits.maxComputeWorkGroupInvocations;
   d.max_storage_buffer_range = p.limits.maxStorageBufferRange;
+  d.max_texel_buffer_elements = p.limits.maxTexelBufferElements;
   int family = compute_queue_family(pd);
   if (family >= 0) {
     uint32_t n = 0;

@@ -19,6 +19,7 @@ struct DeviceInfo {
   uint64_t device_local_bytes = 0;
   uint32_t max_workgroup_invocations = 0;
   uint64_t max_storage_buffer_range = 0;
+  uint64_t max_texel_buffer_elements = 0;
   bool timestamps = false;
   bool usable = false;  // has a compute queue and the extensions pbflow needs
 };

@@ -1,5 +1,6 @@
 #include "vk/program.hpp"
 
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -10,17 +11,24 @@
 namespace pbflow::vk {
 
 Program::Program(const Context& ctx, std::string_view shader, uint32_t bindings, uint32_t push_bytes,
-                 uint32_t workgroup_size, std::span<const uint32_t> constants)
+                 uint32_t workgroup_size, std::span<const uint32_t> constants,
+                 std::span<const TexelBinding> texels)
     : ctx_(&ctx),
       name_(shader),
       bindings_(bindings),
       push_bytes_(push_bytes),
       workgroup_size_(workgroup_size ? workgroup_size : ctx.workgroup_size()) {
+  if (bindings > kMaxBindings) throw Error("program " + name_ + " has more than " + std::to_string(kMaxBindings) + " bindings");
+  for (const TexelBinding& t : texels) {
+    if (t.binding >= bindings) throw Error("program " + name_ + ": texel binding outside its bindings");
+    texel_formats_[t.binding] = t.format;
+  }
   VkShaderModule module = VK_NULL_HANDLE;
   try {
     std::vector<VkDescriptorSetLayoutBinding> slots(bindings);
     for (uint32_t i = 0; i < bindings; ++i)
-      slots[i] = {i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
+      slots[i] = {i, texel_formats_[i] ? VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                  1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
     VkDescriptorSetLayoutCreateInfo set{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     set.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
     set.bindingCount = bindings;
@@ -74,6 +82,7 @@ Program& Program::operator=(Program&& o) noexcept {
     bindings_ = o.bindings_;
     push_bytes_ = o.push_bytes_;
     workgroup_size_ = o.workgroup_size_;
+    texel_formats_ = o.texel_formats_;
   }
   return *this;
 }
