@@ -56,10 +56,11 @@ uint64_t address_space_in_use() {
 }  // namespace
 
 uint32_t neighbour_capacity_on(const Derived& d, double particles, const vk::DeviceInfo& device) {
-  const double list_bytes = sizeof(uint32_t) * double(list_words(d.neighbour_capacity)) * particles;
-  const bool past_range = device.max_storage_buffer_range && list_bytes > double(device.max_storage_buffer_range);
-  const bool past_texels =
-      device.max_texel_buffer_elements && list_bytes / 16 > double(device.max_texel_buffer_elements);
+  const double list_words_all = double(list_words(d.neighbour_capacity)) * particles;
+  const bool past_range =
+      device.max_storage_buffer_range && sizeof(uint32_t) * list_words_all > double(device.max_storage_buffer_range);
+  const bool past_texels =  // one uvec4 texel per group of four words
+      device.max_texel_buffer_elements && list_words_all / 4 > double(device.max_texel_buffer_elements);
   return past_range || past_texels ? 0 : d.neighbour_capacity;
 }
 

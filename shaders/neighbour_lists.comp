@@ -19,7 +19,7 @@ layout(local_size_x_id = 0) in;
 layout(binding = 1) uniform samplerBuffer x;  // the positions the lists are built at
 layout(std430, binding = 2) writeonly buffer NeighbourCount { uint neighbour_count[]; };
 layout(std430, binding = 3) writeonly buffer NeighbourList { uint neighbour_list[]; };
-layout(constant_id = 1) const uint NEIGHBOUR_CAPACITY = 64;  // Derived::neighbour_capacity, a multiple of 4
+layout(constant_id = 1) const uint NEIGHBOUR_CAPACITY = 64;  // Derived::neighbour_capacity (groups rounded up: list_words)
 
 void main() {
   uint i = thread_index();

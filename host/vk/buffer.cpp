@@ -82,13 +82,28 @@ int Buffer::export_fd() const {
   return fd;
 }
 
+namespace {
+// The bytes of one texel in the formats the passes read through texel buffers.
+VkDeviceSize texel_bytes(VkFormat format) {
+  switch (format) {
+    case VK_FORMAT_R32_SFLOAT:
+    case VK_FORMAT_R32_UINT:
+      return 4;
+    case VK_FORMAT_R32G32B32A32_SFLOAT:
+    case VK_FORMAT_R32G32B32A32_UINT:
+      return 16;
+    default:
+      throw Error("a texel buffer view in a format the passes do not read (" + std::to_string(format) + ")");
+  }
+}
+}  // namespace
+
 VkBufferView Buffer::view(VkFormat format) const {
   for (const View& v : views_)
     if (v.format == format) return v.view;
   for (View& v : views_) {
     if (v.view) continue;
-    const bool four = format == VK_FORMAT_R32G32B32A32_SFLOAT || format == VK_FORMAT_R32G32B32A32_UINT;
-    const VkDeviceSize texel = four ? 16 : 4;  // the formats the passes read: 32-bit, one or four components
+    const VkDeviceSize texel = texel_bytes(format);
     if (bytes_ / texel > ctx_->limits().maxTexelBufferElements)
       throw Error("a texel buffer of " + std::to_string(bytes_ / texel) + " elements exceeds the device's limit of " +
                   std::to_string(ctx_->limits().maxTexelBufferElements) + " (fewer particles needed)");
