@@ -14,6 +14,7 @@ namespace {
 constexpr int kPassShaded = 0, kPassSurface = 1, kPassSolid = 2;  // render_common.glsl
 constexpr float kNoFluid = 1e30f;                                   // NO_FLUID there
 constexpr int kSmoothingRounds = 3;  // bilateral x then y, thrice
+constexpr int kTile = 8;             // surface texels on a side of a shading tile: TILE in fluid_tiles.vert
 
 }  // namespace
 
@@ -61,7 +62,7 @@ Renderer::Renderer(const View& view)
   scene_fb_ = gl::make_framebuffer({scene_colour_}, scene_depth_);
   if (view.style == Style::Fluid) {
     smooth_ = gl::make_program("fullscreen.vert", "smooth_depth.frag");
-    fluid_ = gl::make_program("fullscreen.vert", "fluid_shade.frag");
+    fluid_ = gl::make_program("fluid_tiles.vert", "fluid_shade.frag");
     // The smoothed surface holds (linear eye depth, coverage 1) where there is fluid and 0
     // elsewhere, so that the shading's bilinear read at full size, r/g, blends only depths
     // of fluid and g says how much of the pixel the fluid covers. (The surface pass's raw
@@ -130,16 +131,23 @@ void Renderer::draw_spheres(uint32_t count, int pass, glm::ivec2 viewport) {
 const Image& Renderer::render(GLuint buffer, uint32_t count) {
   const int w = view_.width, h = view_.height;
   glBindVertexArray(vao_);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buffer);
   glViewport(0, 0, w, h);
-
-  draw_tank_and_obstacles(buffer, count);
+  // The camera, the tank and the obstacles stand still. The fluid style only reads the
+  // tank's image and depth, so it draws them once (5-8 ms of a 720p frame on llvmpipe);
+  // the sphere styles draw into that image and so draw the tank anew each frame.
+  const bool fluid = view_.style == Style::Fluid;
+  if (!fluid || !tank_drawn_) draw_tank_and_obstacles();
+  tank_drawn_ = true;
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buffer);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
 
   GLuint result_fb = scene_fb_;
-  if (view_.style == Style::Fluid) {
+  if (fluid) {
     fluid_surface(count);
     result_fb = output_fb_;
   } else {
+    glBindFramebuffer(GL_FRAMEBUFFER, scene_fb_);
     draw_spheres(count, kPassShaded, image_size_);
   }
   glDisable(GL_DEPTH_TEST);
@@ -155,7 +163,7 @@ const Image& Renderer::render(GLuint buffer, uint32_t count) {
   return image_;
 }
 
-void Renderer::draw_tank_and_obstacles(GLuint particles, uint32_t count) {
+void Renderer::draw_tank_and_obstacles() {
   // The tank: sky, floor and the walls behind the fluid.
   glBindFramebuffer(GL_FRAMEBUFFER, scene_fb_);
   const float sky[4] = {0.80f, 0.85f, 0.90f, 1.0f}, far_depth = 1.0f;
@@ -164,7 +172,7 @@ void Renderer::draw_tank_and_obstacles(GLuint particles, uint32_t count) {
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glUseProgram(box_);
-  upload(uniforms(count, kPassShaded, image_size_));
+  upload(uniforms(0, kPassShaded, image_size_));
   glDrawArrays(GL_TRIANGLES, 0, 36);
 
   size_t sphere = 0;
@@ -184,17 +192,20 @@ void Renderer::draw_tank_and_obstacles(GLuint particles, uint32_t count) {
       glDrawArrays(GL_TRIANGLES, 0, 6);  // a quad: it may pass the largest point size
     }
   }
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, particles);
+  // The fluid's surface passes test against the tank's depth at their own size; they
+  // never write it.
+  if (view_.style == Style::Fluid)
+    glBlitNamedFramebuffer(scene_fb_, surface_fb_, 0, 0, image_size_.x, image_size_.y, 0, 0, surface_size_.x,
+                           surface_size_.y, GL_DEPTH_BUFFER_BIT, GL_NEAREST);
 }
 
 void Renderer::fluid_surface(uint32_t count) {
   const glm::ivec2 size = surface_size_;
   glViewport(0, 0, size.x, size.y);
   // 1. Nearest sphere depth per pixel (linear eye depth) and every sphere's chord summed,
-  //    in one draw: min and sum blending. The tank, its depth first brought to the
-  //    surface's size, hides the fluid behind it; fluid does not hide fluid (no depth writes).
-  glBlitNamedFramebuffer(scene_fb_, surface_fb_, 0, 0, image_size_.x, image_size_.y, 0, 0, size.x, size.y,
-                         GL_DEPTH_BUFFER_BIT, GL_NEAREST);
+  //    in one draw: min and sum blending. The tank's depth, brought to the surface's size
+  //    when the tank was drawn, hides the fluid behind it; fluid does not hide fluid (no
+  //    depth writes).
   const float no_fluid[4] = {kNoFluid, 0, 0, 0}, zero[4] = {0, 0, 0, 0};
   glClearNamedFramebufferfv(surface_fb_, GL_COLOR, 0, no_fluid);
   glClearNamedFramebufferfv(surface_fb_, GL_COLOR, 1, zero);
@@ -221,8 +232,11 @@ void Renderer::fluid_surface(uint32_t count) {
       glDrawArrays(GL_TRIANGLES, 0, 3);
     }
 
-  // 3. Shading over the tank, at the image's size.
+  // 3. Shading over a copy of the tank, at the image's size, on the tiles of the image
+  //    that the fluid may touch (fluid_tiles.vert, kTile).
   glViewport(0, 0, image_size_.x, image_size_.y);
+  glCopyImageSubData(scene_colour_, GL_TEXTURE_2D, 0, 0, 0, 0, output_colour_, GL_TEXTURE_2D, 0, 0, 0, 0,
+                     image_size_.x, image_size_.y, 1);
   upload(uniforms(count, kPassShaded, image_size_));
   glBindFramebuffer(GL_FRAMEBUFFER, output_fb_);
   glUseProgram(fluid_);
@@ -230,7 +244,8 @@ void Renderer::fluid_surface(uint32_t count) {
   glBindTextureUnit(1, fluid_depth_[0]);
   glBindTextureUnit(2, thickness_);
   glBindTextureUnit(3, scene_depth_);
-  glDrawArrays(GL_TRIANGLES, 0, 3);
+  const glm::ivec2 tiles = (size + kTile - 1) / kTile;
+  glDrawArrays(GL_POINTS, 0, tiles.x * tiles.y);
 }
 
 }  // namespace pbflow::capture

@@ -54,7 +54,7 @@ class Renderer {
   FrameUniforms uniforms(uint32_t count, int pass, glm::ivec2 viewport) const;  // viewport: the pass's size
   void upload(const FrameUniforms& u);
   void draw_spheres(uint32_t count, int pass, glm::ivec2 viewport);
-  void draw_tank_and_obstacles(GLuint particles, uint32_t count);
+  void draw_tank_and_obstacles();  // into scene_fb_, and for the fluid style its depth into surface_fb_
   void fluid_surface(uint32_t count);
 
   View view_;
@@ -66,6 +66,7 @@ class Renderer {
   Image image_;  // what render() returns
   std::vector<gl::Object> obstacle_spheres_;  // one particle each (frame layout), drawn at its radius
   gl::Object surface_fb_, smooth_fb_[2], output_fb_;
+  bool tank_drawn_ = false;
 };
 
 }  // namespace pbflow::capture

@@ -1,7 +1,7 @@
 // Screen-space fluid: a surface from the smoothed depth, normals from its slopes,
 // Fresnel mix of the sky's reflection and the scene refracted and absorbed through
-// the fluid's thickness, and a specular highlight.
-in vec2 uv;
+// the fluid's thickness, and a specular highlight. Drawn on the tiles that the fluid may
+// touch (fluid_tiles.vert) over a copy of the tank's image.
 layout(location = 0) out vec4 result;
 layout(binding = 0) uniform sampler2D scene_texture;
 // Both at the surface's size, read bilinearly at the image's.
@@ -29,6 +29,7 @@ vec3 view_position(ivec2 p, float d) {
 
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
+  vec2 uv = gl_FragCoord.xy / viewport;
   vec3 background = texelFetch(scene_texture, p, 0).rgb;
   float d = surface_depth(p);
   // The tank shows where there is no fluid (most of the image, which reads nothing more)

@@ -17,14 +17,19 @@ void main() {
     result = vec4(0.0);
     return;
   }
-  // The filter spans about three particle radii on screen, at most 32 pixels.
+  // The filter spans about three particle radii on screen, at most 32 pixels. It reads
+  // every stride-th pixel, half a sigma apart: the sampled Gaussian's aliases then lie
+  // past 2 / sigma, where it passes under e^-30 of the splats' bumps (a particle spacing,
+  // 1.3 sigma, apart), and a pass reads at most 15 pixels where it read up to 65.
   float radius_px = 0.5 * viewport.y * proj[1][1] * radius / d0;
   int taps = int(clamp(3.0 * radius_px, 1.0, 32.0));
   float sigma = max(float(taps) / 2.0, 0.5);
+  int stride = max(taps / 4, 1), samples = taps / stride;
   float depth_sigma = 2.0 * radius;
   float sum = 0.0, weights = 0.0;
   ivec2 size = textureSize(depth_texture, 0);
-  for (int k = -taps; k <= taps; ++k) {
+  for (int s = -samples; s <= samples; ++s) {
+    int k = s * stride;
     ivec2 q = clamp(p + k * direction, ivec2(0), size - 1);
     float d = texelFetch(depth_texture, q, 0).r;
     if (!fluid(d)) continue;

@@ -66,6 +66,42 @@ bool same_pixel(const Image& a, const Image& b, int x, int y) {
   return a.rgb[i] == b.rgb[i] && a.rgb[i + 1] == b.rgb[i + 1] && a.rgb[i + 2] == b.rgb[i + 2];
 }
 
+struct Disc {
+  double x, y, radius;  // pixels
+};
+
+// Each sphere's outline: centre projected, radius f r / sqrt(d^2 - r^2) (exact on the
+// axis; off the axis the outline is an ellipse stretched by under 2 pixels here).
+std::vector<Disc> projected_discs(const capture::View& v, const std::vector<glm::vec3>& centres, double r) {
+  glm::dmat4 look = glm::lookAt(v.camera.eye, v.camera.target, glm::dvec3(0, 1, 0));
+  double f = 0.5 * v.height / std::tan(glm::radians(v.camera.fov_degrees) / 2);
+  std::vector<Disc> discs;
+  for (const glm::vec3& c : centres) {
+    glm::dvec3 p = glm::dvec3(look * glm::dvec4(glm::dvec3(c), 1.0));
+    double d = glm::length(p);
+    discs.push_back({0.5 * v.width + f * p.x / -p.z, 0.5 * v.height - f * p.y / -p.z, f * r / std::sqrt(d * d - r * r)});
+  }
+  return discs;
+}
+
+// Pixels over 3 inside the discs' outlines that the image left as the tank, and pixels
+// over `outside_margin` outside them that it changed.
+struct Coverage {
+  int inside = 0, inside_missed = 0, outside = 0, outside_drawn = 0;
+};
+Coverage coverage(const Image& empty, const Image& drawn, const std::vector<Disc>& discs, double outside_margin) {
+  Coverage c;
+  for (int y = 0; y < empty.height; ++y)
+    for (int x = 0; x < empty.width; ++x) {
+      double nearest = 1e9;  // signed distance to the nearest outline, negative inside
+      for (const Disc& d : discs) nearest = std::min(nearest, std::hypot(x + 0.5 - d.x, y + 0.5 - d.y) - d.radius);
+      bool changed = !same_pixel(empty, drawn, x, y);
+      if (nearest < -3) c.inside++, c.inside_missed += !changed;
+      if (nearest > outside_margin) c.outside++, c.outside_drawn += changed;
+    }
+  return c;
+}
+
 TEST_F(RenderTest, SpheresCoverTheirProjectedDiscsAndNothingElse) {
   const double r = 0.2;
   const std::vector<glm::vec3> centres = {{0, 0, 0}, {0.8f, 0.5f, 0}, {-0.7f, -0.4f, 0.5f}};
@@ -73,35 +109,37 @@ TEST_F(RenderTest, SpheresCoverTheirProjectedDiscsAndNothingElse) {
   Image empty = render(v, {}), spheres = render(v, centres);
   ASSERT_EQ(spheres.width, 320);
   ASSERT_EQ(spheres.height, 240);
+  Coverage c = coverage(empty, spheres, projected_discs(v, centres, r), 3);
+  std::printf("[ render   ] %d pixels inside the discs (%d missed), %d outside (%d drawn)\n", c.inside,
+              c.inside_missed, c.outside, c.outside_drawn);
+  EXPECT_GT(c.inside, 2000);
+  EXPECT_EQ(c.inside_missed, 0) << "pixels inside a projected sphere left as background";
+  EXPECT_EQ(c.outside_drawn, 0) << "pixels outside every projected sphere were drawn";
+}
 
-  // Each sphere's outline: centre projected, radius f r / sqrt(d^2 - r^2) (exact on the
-  // axis; off the axis the outline is an ellipse stretched by under 2 pixels here).
-  glm::dmat4 look = glm::lookAt(v.camera.eye, v.camera.target, glm::dvec3(0, 1, 0));
-  double f = 0.5 * v.height / std::tan(glm::radians(v.camera.fov_degrees) / 2);
-  struct Disc {
-    double x, y, radius;
-  };
-  std::vector<Disc> discs;
-  for (const glm::vec3& c : centres) {
-    glm::dvec3 p = glm::dvec3(look * glm::dvec4(glm::dvec3(c), 1.0));
-    double d = glm::length(p);
-    discs.push_back({0.5 * v.width + f * p.x / -p.z, 0.5 * v.height - f * p.y / -p.z, f * r / std::sqrt(d * d - r * r)});
+// The fluid style shades only the tiles of the image that the fluid may touch
+// (fluid_tiles.vert): lone drops in the corners and at the edges of an image whose size
+// is no multiple of a tile are shaded whole, at either surface size, and the tank away
+// from them is left as it was.
+TEST_F(RenderTest, FluidShadingTilesMissNoDropAtTheImagesEdges) {
+  const double r = 0.15;
+  const std::vector<glm::vec3> drops = {{-1.95f, -1.15f, 0}, {1.95f, -1.15f, 0}, {-1.95f, 1.15f, 0}, {1.95f, 1.15f, 0},
+                                        {0, 1.17f, 0},       {1.97f, 0, 0},      {0.3f, -0.2f, 0}};
+  capture::View v = view(Style::Fluid, r);
+  v.width = 333;
+  v.height = 197;
+  for (int divisor : {1, 2}) {
+    v.surface_divisor = divisor;
+    Image empty = render(v, {}), fluid = render(v, drops);
+    // Outside: past the drop's outline stretched off the axis (sec^2 of up to 33 degrees)
+    // and grown by the smoothing.
+    Coverage c = coverage(empty, fluid, projected_discs(v, drops, r), 8);
+    std::printf("[ render   ] surface divisor %d: %d pixels inside the drops (%d missed), %d outside (%d drawn)\n",
+                divisor, c.inside, c.inside_missed, c.outside, c.outside_drawn);
+    EXPECT_GT(c.inside, 7 * 60);
+    EXPECT_EQ(c.inside_missed, 0) << "pixels of a drop left as the tank";
+    EXPECT_EQ(c.outside_drawn, 0) << "pixels away from every drop were changed";
   }
-  const double margin = 3;  // pixels either side of an outline that may go either way
-  int inside = 0, inside_changed = 0, outside = 0, outside_changed = 0;
-  for (int y = 0; y < v.height; ++y)
-    for (int x = 0; x < v.width; ++x) {
-      double nearest = 1e9;  // signed distance to the nearest outline, negative inside
-      for (const Disc& c : discs) nearest = std::min(nearest, std::hypot(x + 0.5 - c.x, y + 0.5 - c.y) - c.radius);
-      bool changed = !same_pixel(empty, spheres, x, y);
-      if (nearest < -margin) inside++, inside_changed += changed;
-      if (nearest > margin) outside++, outside_changed += changed;
-    }
-  std::printf("[ render   ] %d pixels inside the discs (%d drawn), %d outside (%d drawn)\n", inside, inside_changed,
-              outside, outside_changed);
-  EXPECT_GT(inside, 2000);
-  EXPECT_EQ(inside_changed, inside) << "pixels inside a projected sphere left as background";
-  EXPECT_EQ(outside_changed, 0) << "pixels outside every projected sphere were drawn";
 }
 
 // A block of fluid 0.4 m wide, 2 cm spacing, seen from 1.2 m.
