@@ -53,37 +53,33 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
       viscosity_pass_(d.solver.viscosity_pass()),
       vorticity_pass_(d.solver.vorticity > 0),
       correction_pass_(d.solver.method == Method::Ldc),
-      lists_(ctx, "neighbour_lists", 4, sizeof(SimConstants), 0, std::array<uint32_t, 1>{d.neighbour_capacity},
+      lists_(ctx, "neighbour_lists", 5, sizeof(SimConstants), 0,
+             std::array<uint32_t, 2>{d.neighbour_capacity, ctx.limits().maxComputeWorkGroupCount[0]},
              std::array<vk::TexelBinding, 2>{{{0, kUint}, {1, kVec4}}}),
-      density_(ctx, "density", 5, sizeof(SimConstants), 0, std::array<uint32_t, 1>{d.neighbour_capacity},
-               neighbour_texels(3, {{1, kVec4}})),
-      correction_(ctx, "correction_force", 6, sizeof(SimConstants), 0,
-                  std::array<uint32_t, 4>{d.solver.ldc_clamp ? 1u : 0u, std::bit_cast<uint32_t>(float(d.ldc_room)),
-                                          d.neighbour_capacity, d.solver.ldc_mean_reference ? 1u : 0u},
-                  neighbour_texels(4, {{1, kVec4}, {2, kFloat}})),
       predict_(ctx, "predict", 4, sizeof(SimConstants)),
-      lambda_(ctx, "constraint_lambda", 6, sizeof(SimConstants), 0, std::array<uint32_t, 1>{d.neighbour_capacity},
-              neighbour_texels(4, {{1, kVec4}})),
-      smooth_(ctx, "constraint_smooth", 6, sizeof(SimConstants), 0, std::array<uint32_t, 1>{d.neighbour_capacity},
-              neighbour_texels(4, {{1, kVec4}, {2, kFloat}})),
-      apply_(ctx, "constraint_apply", 7, sizeof(SimConstants), 0,
-             std::array<uint32_t, 2>{std::bit_cast<uint32_t>(float(d.solver.scorr_n)), d.neighbour_capacity},
-             neighbour_texels(5, {{1, kVec4}, {2, kFloat}})),
       velocity_(ctx, "velocity_update", 3, sizeof(SimConstants)),
-      viscosity_(ctx, "viscosity_vorticity", 8, sizeof(SimConstants), 0,
-                 std::array<uint32_t, 3>{std::bit_cast<uint32_t>(float(d.solver.damping)),
-                                         std::bit_cast<uint32_t>(float(d.damping_limit)), d.neighbour_capacity},
-                 neighbour_texels(6, {{1, kVec4}, {2, kVec4}, {5, kFloat}})),
-      vorticity_(ctx, "vorticity_force", 6, sizeof(SimConstants), 0, std::array<uint32_t, 1>{d.neighbour_capacity},
-                 neighbour_texels(4, {{1, kVec4}, {2, kVec4}})),
+      density_(neighbour_pass("density", 5, {}, neighbour_texels(3, {{1, kVec4}}))),
+      correction_(neighbour_pass("correction_force", 6,
+                                 {d.solver.ldc_clamp ? 1u : 0u, std::bit_cast<uint32_t>(float(d.ldc_room)),
+                                  d.solver.ldc_mean_reference ? 1u : 0u},
+                                 neighbour_texels(4, {{1, kVec4}, {2, kFloat}}))),
+      lambda_(neighbour_pass("constraint_lambda", 6, {}, neighbour_texels(4, {{1, kVec4}}))),
+      smooth_(neighbour_pass("constraint_smooth", 6, {}, neighbour_texels(4, {{1, kVec4}, {2, kFloat}}))),
+      apply_(neighbour_pass("constraint_apply", 7, {std::bit_cast<uint32_t>(float(d.solver.scorr_n))},
+                            neighbour_texels(5, {{1, kVec4}, {2, kFloat}}))),
+      viscosity_(neighbour_pass("viscosity_vorticity", 8,
+                                {std::bit_cast<uint32_t>(float(d.solver.damping)),
+                                 std::bit_cast<uint32_t>(float(d.damping_limit))},
+                                neighbour_texels(6, {{1, kVec4}, {2, kVec4}, {5, kFloat}}))),
+      vorticity_(neighbour_pass("vorticity_force", 6, {}, neighbour_texels(4, {{1, kVec4}, {2, kVec4}}))),
       reduce_(ctx, "reduce_stats", 4, sizeof(SimConstants), kReduceThreads),
       reduce_final_(ctx, "reduce_final", 2, sizeof(ReduceFinalPush), kReduceThreads),
-      check_converged_(ctx, "check_converged", 2, sizeof(CheckPush), 1),
+      check_converged_(ctx, "check_converged", 4, sizeof(CheckPush), 1),
       watch_(ctx, "watch", 3, sizeof(SimConstants), 0,
              std::array<uint32_t, 1>{std::bit_cast<uint32_t>(float(d.speed_limit))}),
       grid_(ctx, sim_),
       rho_(ctx, n_ * sizeof(float)),
-      neighbour_count_(ctx, n_ * sizeof(uint32_t)),
+      neighbour_count_(ctx, (2 * size_t(n_) + 1) * sizeof(uint32_t)),  // counts, then the overflow list
       neighbour_list_(ctx, size_t(n_) * list_words(d.neighbour_capacity) * sizeof(uint32_t)),
       lambda_buf_(ctx, n_ * sizeof(float)),
       partials_(ctx, 2 * partial_count(n_) * sizeof(glm::vec4)),
@@ -97,7 +93,9 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
   if (d.solver.target_compression > 0) {
     check_ = vk::Buffer(ctx, 2 * sizeof(glm::vec4));
     indirect_ = vk::Buffer(ctx, 4 * sizeof(uint32_t));
+    overflow_gated_ = vk::Buffer(ctx, 4 * sizeof(uint32_t));
   }
+  overflow_groups_ = vk::Buffer(ctx, 4 * sizeof(uint32_t));
   for (auto& b : id_) b = vk::Buffer(ctx, n_ * sizeof(uint32_t));
   // Model no more than the scene needs: vorticity storage only when a pass uses it.
   if (viscosity_pass_) omega_ = vk::Buffer(ctx, n_ * sizeof(glm::vec4));
@@ -181,12 +179,44 @@ void GpuSolver::bind_neighbours(uint32_t lists) {
   cmd_.bind(lists + 1, neighbour_list_);
 }
 
+GpuSolver::NeighbourPass GpuSolver::neighbour_pass(std::string_view shader, uint32_t bindings,
+                                                   std::vector<uint32_t> constants,
+                                                   std::vector<vk::TexelBinding> texels) const {
+  // The shader's own constants, then NEIGHBOUR_CAPACITY and WALK_CELLS (neighbours.glsl).
+  constants.push_back(d_.neighbour_capacity);
+  auto variant = [&](bool walk_cells) {
+    constants.push_back(walk_cells ? 1u : 0u);
+    vk::Program p(ctx_, shader, bindings, sizeof(SimConstants), 0, constants, texels);
+    constants.pop_back();
+    return p;
+  };
+  return {variant(false), variant(true)};
+}
+
+void GpuSolver::run_neighbour_pass(const NeighbourPass& pass, const vk::Buffer* indirect,
+                                   const std::function<void()>& bind) {
+  const bool lists = d_.neighbour_capacity > 0;
+  bind_particle_pass(lists ? pass.lists : pass.cells);
+  bind();
+  run_particle_pass(indirect);
+  if (!lists) return;
+  bind_particle_pass(pass.cells);
+  bind();
+  cmd_.dispatch_indirect(indirect ? overflow_gated_ : overflow_groups_);
+}
+
 void GpuSolver::neighbour_lists(const vk::Buffer& x) {
+  if (d_.neighbour_capacity == 0) return;  // no lists: every pass walks the cells
+  const uint32_t none[4] = {0, 1, 1, 0};     // the cell walkers' groups (x, y, z)
+  cmd_.update(overflow_groups_, none, sizeof none);
+  const uint32_t zero = 0;  // the overflow list's length
+  cmd_.update(neighbour_count_, &zero, sizeof zero, n_ * sizeof(uint32_t));
   bind_particle_pass(lists_);
   cmd_.bind(0, grid_.cell_start());
   cmd_.bind(1, x);
   cmd_.bind(2, neighbour_count_);
   cmd_.bind(3, neighbour_list_);
+  cmd_.bind(4, overflow_groups_);
   cmd_.dispatch(n_);
 }
 
@@ -213,20 +243,20 @@ void GpuSolver::grid_at_predictions() {
 }
 
 void GpuSolver::density() {
-  bind_particle_pass(density_);
-  bind_neighbours(3);
-  cmd_.bind(1, at(X));
-  cmd_.bind(2, rho_);
-  cmd_.dispatch(n_);
+  run_neighbour_pass(density_, nullptr, [&] {
+    bind_neighbours(3);
+    cmd_.bind(1, at(X));
+    cmd_.bind(2, rho_);
+  });
 }
 
 void GpuSolver::correction() {
-  bind_particle_pass(correction_);
-  bind_neighbours(4);
-  cmd_.bind(1, at(X));
-  cmd_.bind(2, rho_);
-  cmd_.bind(3, at(V));
-  cmd_.dispatch(n_);
+  run_neighbour_pass(correction_, nullptr, [&] {
+    bind_neighbours(4);
+    cmd_.bind(1, at(X));
+    cmd_.bind(2, rho_);
+    cmd_.bind(3, at(V));
+  });
 }
 
 void GpuSolver::predict() {
@@ -246,37 +276,37 @@ void GpuSolver::run_particle_pass(const vk::Buffer* indirect) {
 }
 
 void GpuSolver::constraint_lambda(const vk::Buffer* indirect) {
-  bind_particle_pass(lambda_);
-  bind_neighbours(4);
-  cmd_.bind(1, at(XPred));
-  cmd_.bind(2, lambda_buf_);
-  cmd_.bind(3, rho_);
-  run_particle_pass(indirect);
+  run_neighbour_pass(lambda_, indirect, [&] {
+    bind_neighbours(4);
+    cmd_.bind(1, at(XPred));
+    cmd_.bind(2, lambda_buf_);
+    cmd_.bind(3, rho_);
+  });
 }
 
 void GpuSolver::constraint_smooth(const vk::Buffer* indirect) {
   // Passes go in pairs (the count is even, scene.cpp), so lambda ends where it began.
   for (int pass = 0; pass < d_.solver.lambda_smoothing; ++pass) {
     const bool back = pass % 2;
-    bind_particle_pass(smooth_);
-    bind_neighbours(4);
-    cmd_.bind(1, at(XPred));
-    cmd_.bind(2, back ? lambda_spare_ : lambda_buf_);
-    cmd_.bind(3, back ? lambda_buf_ : lambda_spare_);
-    run_particle_pass(indirect);
+    run_neighbour_pass(smooth_, indirect, [&] {
+      bind_neighbours(4);
+      cmd_.bind(1, at(XPred));
+      cmd_.bind(2, back ? lambda_spare_ : lambda_buf_);
+      cmd_.bind(3, back ? lambda_buf_ : lambda_spare_);
+    });
   }
 }
 
 void GpuSolver::constraint_apply(double relax, const vk::Buffer* indirect) {
   // Jacobi: every particle reads the same x_pred, so the result goes to a spare array.
   sim_.relax = float(relax);
-  bind_particle_pass(apply_);
-  bind_neighbours(5);
-  cmd_.bind(1, at(XPred));
-  cmd_.bind(2, lambda_buf_);
-  cmd_.bind(3, at(Spare0));
-  cmd_.bind(4, obstacles_);
-  run_particle_pass(indirect);
+  run_neighbour_pass(apply_, indirect, [&] {
+    bind_neighbours(5);
+    cmd_.bind(1, at(XPred));
+    cmd_.bind(2, lambda_buf_);
+    cmd_.bind(3, at(Spare0));
+    cmd_.bind(4, obstacles_);
+  });
   swap_roles(XPred, Spare0);
 }
 
@@ -301,7 +331,7 @@ void GpuSolver::adaptive_iterations() {
   // expects it. Each pair runs if check_converged, from the last lambda pass's densities,
   // finds the mean compression above the target.
   const SolverParams& p = d_.solver;
-  const auto full = cmd_.groups(n_, lambda_.workgroup_size());
+  const auto full = cmd_.groups(n_, lambda_.lists.workgroup_size());
   const uint32_t args[3] = {full[0], full[1], 1};
   cmd_.update(indirect_, args, sizeof args);
   for (int run = p.iterations; run + kAdaptiveStride <= p.max_iterations; run += kAdaptiveStride) {
@@ -310,6 +340,8 @@ void GpuSolver::adaptive_iterations() {
     cmd_.push(CheckPush{float(p.target_compression), full[0], full[1], kAdaptiveStride});
     cmd_.bind(0, check_);
     cmd_.bind(1, indirect_);
+    cmd_.bind(2, overflow_groups_);
+    cmd_.bind(3, overflow_gated_);
     cmd_.dispatch(1);
     for (const Derived::ConstraintPass& pass : d_.constraint_schedule(kAdaptiveStride)) {
       constraint_lambda(&indirect_);
@@ -329,24 +361,24 @@ void GpuSolver::velocity_update() {
 }
 
 void GpuSolver::viscosity_vorticity() {
-  bind_particle_pass(viscosity_);
-  bind_neighbours(6);
-  cmd_.bind(1, at(X));
-  cmd_.bind(2, at(V));
-  cmd_.bind(3, at(Spare0));
-  cmd_.bind(4, omega_);
-  cmd_.bind(5, rho_);
-  cmd_.dispatch(n_);
+  run_neighbour_pass(viscosity_, nullptr, [&] {
+    bind_neighbours(6);
+    cmd_.bind(1, at(X));
+    cmd_.bind(2, at(V));
+    cmd_.bind(3, at(Spare0));
+    cmd_.bind(4, omega_);
+    cmd_.bind(5, rho_);
+  });
   swap_roles(V, Spare0);
 }
 
 void GpuSolver::vorticity_force() {
-  bind_particle_pass(vorticity_);
-  bind_neighbours(4);
-  cmd_.bind(1, at(X));
-  cmd_.bind(2, omega_);
-  cmd_.bind(3, at(V));
-  cmd_.dispatch(n_);
+  run_neighbour_pass(vorticity_, nullptr, [&] {
+    bind_neighbours(4);
+    cmd_.bind(1, at(X));
+    cmd_.bind(2, omega_);
+    cmd_.bind(3, at(V));
+  });
 }
 
 void GpuSolver::end_of(PassGroup group) {

@@ -2,7 +2,10 @@
 // The solver on Vulkan compute: every pass of DESIGN.md's step is one shader, and a
 // whole frame (all its steps and the measures) is one command buffer.
 #include <array>
+#include <functional>
 #include <memory>
+#include <string_view>
+#include <vector>
 
 #include "gpu_grid.hpp"
 #include "obstacles.hpp"
@@ -56,6 +59,16 @@ class GpuSolver : public Solver {
   enum Slot { X, V, XPred, Spare0, Spare1, kSlots };  // roles of the vec4 arrays, swapped on the host
   const vk::Buffer& at(Slot s) const { return vec4_[role_[s]]; }
   void swap_roles(Slot a, Slot b) { std::swap(role_[a], role_[b]); }
+  // A neighbour pass's two variants (shaders/neighbours.glsl, WALK_CELLS): the list
+  // readers, and the cell walkers for overflowed lists (for every particle without lists).
+  struct NeighbourPass {
+    vk::Program lists, cells;
+  };
+  NeighbourPass neighbour_pass(std::string_view shader, uint32_t bindings, std::vector<uint32_t> constants,
+                               std::vector<vk::TexelBinding> texels) const;
+  // Runs `pass` with the bindings `bind` makes: the list readers over every particle, then
+  // the cell walkers over the particles whose lists overflowed (an empty dispatch, mostly).
+  void run_neighbour_pass(const NeighbourPass& pass, const vk::Buffer* indirect, const std::function<void()>& bind);
   void bind_particle_pass(const vk::Program& p);
   void bind_neighbours(uint32_t lists);
   void neighbour_lists(const vk::Buffer& x);
@@ -73,7 +86,8 @@ class GpuSolver : public Solver {
   bool viscosity_pass_, vorticity_pass_, correction_pass_;
   bool density_current_ = false;  // rho and the grid already match x (measures were just taken)
 
-  vk::Program lists_, density_, correction_, predict_, lambda_, smooth_, apply_, velocity_, viscosity_, vorticity_;
+  vk::Program lists_, predict_, velocity_;
+  NeighbourPass density_, correction_, lambda_, smooth_, apply_, viscosity_, vorticity_;
   vk::Program reduce_, reduce_final_, check_converged_, watch_;
   GpuGrid grid_;
   std::array<vk::Buffer, kSlots> vec4_;
@@ -83,6 +97,9 @@ class GpuSolver : public Solver {
   vk::Buffer rho_, neighbour_count_, neighbour_list_;
   vk::Buffer lambda_buf_, lambda_spare_, omega_, partials_, result_, obstacles_;
   vk::Buffer check_, indirect_;
+  // The cell walkers' dispatch (neighbour_lists.comp), and its copy for an adaptive
+  // iteration pair: zero where the pair does not run (check_converged.comp).
+  vk::Buffer overflow_groups_, overflow_gated_;
   vk::Buffer watch_buf_;  // watch.comp: flags, first step, counts, the step being watched
   uint32_t step_in_frame_ = 0;  // adaptive iterations: the last check's measures, dispatch arguments + count
   vk::CommandList cmd_;

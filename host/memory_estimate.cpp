@@ -16,7 +16,7 @@ namespace {
 
 // Bytes per particle, counted from the arrays each solver allocates (rounded up):
 // GPU: five vec4 arrays, two id arrays, rho, lambda and its smoothing spare, the vorticity vec4 and the grid's cell
-// and rank, then the neighbour lists and counts (4 bytes an entry); host: the initial
+// and rank, then the neighbour lists, their counts and the overflow list (4 bytes an entry); host: the initial
 // lattice (dvec3), the state uploaded once (x, v, x_pred) and a frame read back for
 // rendering or export (x, v, rho, id).
 constexpr double kGpuPerParticle = 128, kGpuPerCell = 4.5;
@@ -69,7 +69,7 @@ MemoryNeed memory_need(const Derived& d, double particles, const vk::DeviceInfo*
   double gpu = 0, host = kBytesPerPixel * pixels, largest = 0;
   if (device) {
     const uint32_t capacity = neighbour_capacity_on(d, particles, *device);
-    gpu = (kGpuPerParticle + 4.0 * (list_words(capacity) + 1)) * particles + kGpuPerCell * cells;
+    gpu = (kGpuPerParticle + 4.0 * (list_words(capacity) + 2)) * particles + kGpuPerCell * cells;
     host += kHostPerParticleGpuRun * particles;
     largest = std::max<double>(sizeof(glm::vec4), sizeof(uint32_t) * list_words(capacity)) * particles;
   } else {

@@ -35,8 +35,8 @@ vec3 pair_push(vec3 d, float lambda_ij) {
 }
 
 void main() {
-  uint i = thread_index();
-  if (i >= sim.count) return;
+  uint i;
+  if (!neighbour_pass_particle(i)) return;
   vec3 xi = texelFetch(x_pred, int(i)).xyz;
   WallImages walls = walls_near(xi);
   float lambda_i = texelFetch(lambda, int(i)).x;

@@ -13,8 +13,8 @@ layout(std430, binding = 3) writeonly buffer Rho { float rho_out[]; };
 #include "neighbours.glsl"
 
 void main() {
-  uint i = thread_index();
-  if (i >= sim.count) return;
+  uint i;
+  if (!neighbour_pass_particle(i)) return;
   vec3 xi = texelFetch(x_pred, int(i)).xyz;
   WallImages walls = walls_near(xi);
   float w_sum = 0.0;

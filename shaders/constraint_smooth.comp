@@ -24,8 +24,8 @@ layout(std430, binding = 3) writeonly buffer LambdaOut { float lambda_out[]; };
 #include "neighbours.glsl"
 
 void main() {
-  uint i = thread_index();
-  if (i >= sim.count) return;
+  uint i;
+  if (!neighbour_pass_particle(i)) return;
   vec3 xi = texelFetch(x_pred, int(i)).xyz;
   WallImages walls = walls_near(xi);
   float sum = 0.0, total = 0.0;

@@ -20,9 +20,9 @@ layout(binding = 2) uniform samplerBuffer rho;
 layout(std430, binding = 3) buffer V { vec4 v[]; };
 layout(constant_id = 1) const bool CLAMP_DENSITY = true;
 layout(constant_id = 2) const float LDC_ROOM = 1.8;  // Derived::ldc_room
-layout(constant_id = 4) const bool MEAN_REFERENCE = true;
+layout(constant_id = 3) const bool MEAN_REFERENCE = true;
 #define NEIGHBOUR_BINDING 4
-#define NEIGHBOUR_CAPACITY_ID 3
+#define NEIGHBOUR_CAPACITY_ID 4
 #include "neighbours.glsl"
 
 float density_of(uint k) { return texelFetch(rho, int(k)).x; }
@@ -37,8 +37,8 @@ vec3 pair_term(vec3 d) {
 }
 
 void main() {
-  uint i = thread_index();
-  if (i >= sim.count) return;
+  uint i;
+  if (!neighbour_pass_particle(i)) return;
   vec3 xi = texelFetch(x, int(i)).xyz;
   WallImages walls = walls_near(xi);
   // f = sum_j (rho_j - rho_ref) t_ij = sum_j (rho_j - rho_i) t_ij - (rho_ref - rho_i) sum_j t_ij:

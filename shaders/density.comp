@@ -11,8 +11,8 @@ layout(std430, binding = 2) writeonly buffer Rho { float rho[]; };
 #include "neighbours.glsl"
 
 void main() {
-  uint i = thread_index();
-  if (i >= sim.count) return;
+  uint i;
+  if (!neighbour_pass_particle(i)) return;
   vec3 xi = texelFetch(x, int(i)).xyz;
   WallImages walls = walls_near(xi);
   float sum = 0.0;

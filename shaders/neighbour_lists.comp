@@ -5,9 +5,11 @@
 // many candidates again. Its own pass, so that every reader gathers through texel
 // buffers, which a pass cannot use for what it wrote itself.
 // A list holds at most NEIGHBOUR_CAPACITY entries; the count goes on past it (squeezed
-// fluid), and such a particle is never cut short: the readers walk its cells instead, so
-// a full list costs time, not neighbours. A capacity of 0 means no lists at all (they
-// would not fit the device, host/memory_estimate.hpp): every count reads "overflowed".
+// fluid), and such a particle is never cut short: it is appended to the overflow list
+// after the counts (count[n] entries from count[n + 1] on), and the readers' cell-walking
+// variant redoes it in an indirect dispatch whose group counts this pass raises
+// (neighbours.glsl). Where there are no lists (capacity 0: they would not fit the device,
+// host/memory_estimate.hpp) this pass does not run.
 // Layout, for the readers' coalesced uvec4 fetches: entries go in groups of four, group g
 // of particle i at texel g * count + i (neighbour-major: adjacent invocations read
 // adjacent texels), entry k in group k / 4, lane k % 4.
@@ -17,17 +19,18 @@ layout(local_size_x_id = 0) in;
 #include "grid_walk.glsl"
 
 layout(binding = 1) uniform samplerBuffer x;  // the positions the lists are built at
-layout(std430, binding = 2) writeonly buffer NeighbourCount { uint neighbour_count[]; };
+// count[0, n), then the overflow list's length and entries; the host zeroes the length.
+layout(std430, binding = 2) buffer NeighbourCount { uint neighbour_count[]; };
 layout(std430, binding = 3) writeonly buffer NeighbourList { uint neighbour_list[]; };
+// The cell walkers' VkDispatchIndirectCommand, reset by the host to (0, 1, 1). The
+// readers run this pass's workgroup size; a count past the device's x limit folds into y.
+layout(std430, binding = 4) buffer OverflowGroups { uint overflow_groups[3]; };
 layout(constant_id = 1) const uint NEIGHBOUR_CAPACITY = 64;  // Derived::neighbour_capacity (groups rounded up: list_words)
+layout(constant_id = 2) const uint MAX_GROUPS_X = 65535;     // maxComputeWorkGroupCount[0]
 
 void main() {
   uint i = thread_index();
   if (i >= sim.count) return;
-  if (NEIGHBOUR_CAPACITY == 0u) {
-    neighbour_count[i] = 1u;
-    return;
-  }
   vec3 xi = texelFetch(x, int(i)).xyz;
   uint listed = 0u;
   FOR_EACH_CANDIDATE(xi, j) {
@@ -37,4 +40,11 @@ void main() {
     ++listed;
   }
   neighbour_count[i] = listed;
+  if (listed > NEIGHBOUR_CAPACITY) {
+    uint slot = atomicAdd(neighbour_count[sim.count], 1u);
+    neighbour_count[sim.count + 1u + slot] = i;
+    uint groups = slot / gl_WorkGroupSize.x + 1u;
+    atomicMax(overflow_groups[0], min(groups, MAX_GROUPS_X));
+    atomicMax(overflow_groups[1], (groups + MAX_GROUPS_X - 1u) / MAX_GROUPS_X);
+  }
 }

@@ -1,21 +1,42 @@
-// Reading a step's neighbour sets (DESIGN.md, step 5), as built by neighbour_lists.comp:
-// a particle's listed entries, or, where its list overflowed, every particle in its 27
-// cells (the body then tests r < h).
+// Reading a step's neighbour sets (DESIGN.md, step 5), as built by neighbour_lists.comp.
+// Every neighbour pass comes in two variants (WALK_CELLS, a specialisation constant):
+// - the list readers, over every particle whose list holds all its neighbours;
+// - the cell walkers, over the particles whose lists overflowed (squeezed fluid; the
+//   lists pass collects them after the counts, and the host dispatches them indirectly),
+//   or over every particle where there are no lists (capacity 0). The body then tests r < h.
+// Two variants, not one loop that can do both: llvmpipe runs every branch for all SIMD
+// lanes, masked, and every loop at least once, so a cell walk kept in the readers' loop
+// for the rare overflow cost every particle a row of the walk per neighbour (a pbf@2
+// step on the peer scene: ~20 %).
 //
 // The includer defines NEIGHBOUR_BINDING (the counts; the list is the next binding) and
-// NEIGHBOUR_CAPACITY_ID (its next free specialisation constant). Binding 0 is the grid's
-// cell_start (grid_walk.glsl). All three are texel buffers: counts and cell_start
-// R32_UINT, the list R32G32B32A32_UINT, four entries a fetch.
+// NEIGHBOUR_CAPACITY_ID (its last specialisation constant; WALK_CELLS is the next).
+// Binding 0 is the grid's cell_start (grid_walk.glsl). All three are texel buffers:
+// counts and cell_start R32_UINT, the list R32G32B32A32_UINT, four entries a fetch.
 #include "grid_walk.glsl"
 layout(constant_id = NEIGHBOUR_CAPACITY_ID) const uint NEIGHBOUR_CAPACITY = 64;  // Derived::neighbour_capacity
+layout(constant_id = NEIGHBOUR_CAPACITY_ID + 1) const bool WALK_CELLS = false;
 layout(binding = NEIGHBOUR_BINDING) uniform usamplerBuffer neighbour_count;
 layout(binding = NEIGHBOUR_BINDING + 1) uniform usamplerBuffer neighbour_list;
+
+// The particle this invocation serves, if any: its own for the list readers (skipping
+// overflowed lists, which the cell walkers redo: some passes add to their output), its
+// entry in the overflow list for the cell walkers, its own again where there are no lists.
+bool neighbour_pass_particle(out uint i) {
+  uint t = thread_index();
+  if (WALK_CELLS && NEIGHBOUR_CAPACITY > 0u) {
+    if (t >= texelFetch(neighbour_count, int(sim.count)).x) return false;
+    i = texelFetch(neighbour_count, int(sim.count + 1u + t)).x;
+    return true;
+  }
+  i = t;
+  return i < sim.count && (WALK_CELLS || texelFetch(neighbour_count, int(i)).x <= NEIGHBOUR_CAPACITY);
+}
 
 struct Neighbours {
   uint i, k, n;        // the particle, entries read, entries listed
   uvec4 group;         // the four entries from k & ~3 on
-  bool cells;          // the list overflowed: walking the cells
-  ivec3 first, last;   // the walk's cells (first_cell, last_cell)
+  ivec3 first, last;   // the cell walk's cells (first_cell, last_cell)
   int y, z;            // its current row
   uint j, end;         // the sorted range of that row
 };
@@ -24,9 +45,8 @@ Neighbours neighbours_of(uint i, vec3 xi) {
   Neighbours w;
   w.i = i;
   w.k = 0u;
-  w.n = texelFetch(neighbour_count, int(i)).x;
+  w.n = WALK_CELLS ? 0u : texelFetch(neighbour_count, int(i)).x;
   w.group = uvec4(0u);
-  w.cells = w.n > NEIGHBOUR_CAPACITY;
   w.first = first_cell(xi);
   w.last = last_cell(xi);
   w.y = w.first.y - 1;  // the first step of the walk opens row (first.y, first.z)
@@ -36,7 +56,7 @@ Neighbours neighbours_of(uint i, vec3 xi) {
 }
 
 bool next_neighbour(inout Neighbours w, out uint j) {
-  if (!w.cells) {
+  if (!WALK_CELLS) {  // a constant: the other variant's code is compiled out
     if (w.k >= w.n) return false;
     if ((w.k & 3u) == 0u) w.group = texelFetch(neighbour_list, int((w.k >> 2) * sim.count + w.i));
     j = w.group[w.k & 3u];
@@ -55,7 +75,8 @@ bool next_neighbour(inout Neighbours w, out uint j) {
   return true;
 }
 
-// for each listed neighbour j of particle i at xi (j = i included):
+// for each neighbour j of particle i at xi (j = i included; the cell walkers' candidates
+// include particles beyond h):
 // FOR_EACH_NEIGHBOUR(i, xi, j) { ... }
 #define FOR_EACH_NEIGHBOUR(i, xi, j)            \
   Neighbours walk_##j = neighbours_of(i, xi); \

@@ -40,8 +40,8 @@ vec3 dashpot(vec3 d, vec3 vij, float c) {
 }
 
 void main() {
-  uint i = thread_index();
-  if (i >= sim.count) return;
+  uint i;
+  if (!neighbour_pass_particle(i)) return;
   vec3 xi = texelFetch(x, int(i)).xyz;
   vec3 vi = texelFetch(v, int(i)).xyz;
   vec3 smooth_v = vec3(0.0);

@@ -13,8 +13,8 @@ layout(std430, binding = 3) buffer V { vec4 v[]; };
 #include "neighbours.glsl"
 
 void main() {
-  uint i = thread_index();
-  if (i >= sim.count) return;
+  uint i;
+  if (!neighbour_pass_particle(i)) return;
   vec3 xi = texelFetch(x, int(i)).xyz;
   vec3 eta = vec3(0.0);
   FOR_EACH_NEIGHBOUR(i, xi, j) {
