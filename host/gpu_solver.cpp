@@ -58,20 +58,20 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
              std::array<vk::TexelBinding, 2>{{{0, kUint}, {1, kVec4}}}),
       predict_(ctx, "predict", 4, sizeof(SimConstants)),
       velocity_(ctx, "velocity_update", 3, sizeof(SimConstants)),
-      density_(neighbour_pass("density", 5, {}, neighbour_texels(3, {{1, kVec4}}))),
+      density_(neighbour_pass("density", 5, {}, 3, {{1, kVec4}})),
       correction_(neighbour_pass("correction_force", 6,
                                  {d.solver.ldc_clamp ? 1u : 0u, std::bit_cast<uint32_t>(float(d.ldc_room)),
                                   d.solver.ldc_mean_reference ? 1u : 0u},
-                                 neighbour_texels(4, {{1, kVec4}, {2, kFloat}}))),
-      lambda_(neighbour_pass("constraint_lambda", 6, {}, neighbour_texels(4, {{1, kVec4}}))),
-      smooth_(neighbour_pass("constraint_smooth", 6, {}, neighbour_texels(4, {{1, kVec4}, {2, kFloat}}))),
+                                 4, {{1, kVec4}, {2, kFloat}})),
+      lambda_(neighbour_pass("constraint_lambda", 6, {}, 4, {{1, kVec4}})),
+      smooth_(neighbour_pass("constraint_smooth", 6, {}, 4, {{1, kVec4}, {2, kFloat}})),
       apply_(neighbour_pass("constraint_apply", 7, {std::bit_cast<uint32_t>(float(d.solver.scorr_n))},
-                            neighbour_texels(5, {{1, kVec4}, {2, kFloat}}))),
+                            5, {{1, kVec4}, {2, kFloat}})),
       viscosity_(neighbour_pass("viscosity_vorticity", 8,
                                 {std::bit_cast<uint32_t>(float(d.solver.damping)),
                                  std::bit_cast<uint32_t>(float(d.damping_limit))},
-                                neighbour_texels(6, {{1, kVec4}, {2, kVec4}, {5, kFloat}}))),
-      vorticity_(neighbour_pass("vorticity_force", 6, {}, neighbour_texels(4, {{1, kVec4}, {2, kVec4}}))),
+                                6, {{1, kVec4}, {2, kVec4}, {5, kFloat}})),
+      vorticity_(neighbour_pass("vorticity_force", 6, {}, 4, {{1, kVec4}, {2, kVec4}})),
       reduce_(ctx, "reduce_stats", 4, sizeof(SimConstants), kReduceThreads),
       reduce_final_(ctx, "reduce_final", 2, sizeof(ReduceFinalPush), kReduceThreads),
       check_converged_(ctx, "check_converged", 4, sizeof(CheckPush), 1),
@@ -180,8 +180,9 @@ void GpuSolver::bind_neighbours(uint32_t lists) {
 }
 
 GpuSolver::NeighbourPass GpuSolver::neighbour_pass(std::string_view shader, uint32_t bindings,
-                                                   std::vector<uint32_t> constants,
-                                                   std::vector<vk::TexelBinding> texels) const {
+                                                   std::vector<uint32_t> constants, uint32_t lists,
+                                                   std::initializer_list<vk::TexelBinding> gathered) const {
+  const std::vector<vk::TexelBinding> texels = neighbour_texels(lists, gathered);
   // The shader's own constants, then NEIGHBOUR_CAPACITY and WALK_CELLS (neighbours.glsl).
   constants.push_back(d_.neighbour_capacity);
   auto variant = [&](bool walk_cells) {
@@ -190,17 +191,19 @@ GpuSolver::NeighbourPass GpuSolver::neighbour_pass(std::string_view shader, uint
     constants.pop_back();
     return p;
   };
-  return {variant(false), variant(true)};
+  return {variant(false), variant(true), lists};
 }
 
 void GpuSolver::run_neighbour_pass(const NeighbourPass& pass, const vk::Buffer* indirect,
                                    const std::function<void()>& bind) {
   const bool lists = d_.neighbour_capacity > 0;
   bind_particle_pass(lists ? pass.lists : pass.cells);
+  bind_neighbours(pass.lists_binding);
   bind();
   run_particle_pass(indirect);
   if (!lists) return;
   bind_particle_pass(pass.cells);
+  bind_neighbours(pass.lists_binding);
   bind();
   cmd_.dispatch_indirect(indirect ? overflow_gated_ : overflow_groups_);
 }
@@ -244,7 +247,6 @@ void GpuSolver::grid_at_predictions() {
 
 void GpuSolver::density() {
   run_neighbour_pass(density_, nullptr, [&] {
-    bind_neighbours(3);
     cmd_.bind(1, at(X));
     cmd_.bind(2, rho_);
   });
@@ -252,7 +254,6 @@ void GpuSolver::density() {
 
 void GpuSolver::correction() {
   run_neighbour_pass(correction_, nullptr, [&] {
-    bind_neighbours(4);
     cmd_.bind(1, at(X));
     cmd_.bind(2, rho_);
     cmd_.bind(3, at(V));
@@ -277,7 +278,6 @@ void GpuSolver::run_particle_pass(const vk::Buffer* indirect) {
 
 void GpuSolver::constraint_lambda(const vk::Buffer* indirect) {
   run_neighbour_pass(lambda_, indirect, [&] {
-    bind_neighbours(4);
     cmd_.bind(1, at(XPred));
     cmd_.bind(2, lambda_buf_);
     cmd_.bind(3, rho_);
@@ -289,7 +289,6 @@ void GpuSolver::constraint_smooth(const vk::Buffer* indirect) {
   for (int pass = 0; pass < d_.solver.lambda_smoothing; ++pass) {
     const bool back = pass % 2;
     run_neighbour_pass(smooth_, indirect, [&] {
-      bind_neighbours(4);
       cmd_.bind(1, at(XPred));
       cmd_.bind(2, back ? lambda_spare_ : lambda_buf_);
       cmd_.bind(3, back ? lambda_buf_ : lambda_spare_);
@@ -301,7 +300,6 @@ void GpuSolver::constraint_apply(double relax, const vk::Buffer* indirect) {
   // Jacobi: every particle reads the same x_pred, so the result goes to a spare array.
   sim_.relax = float(relax);
   run_neighbour_pass(apply_, indirect, [&] {
-    bind_neighbours(5);
     cmd_.bind(1, at(XPred));
     cmd_.bind(2, lambda_buf_);
     cmd_.bind(3, at(Spare0));
@@ -362,7 +360,6 @@ void GpuSolver::velocity_update() {
 
 void GpuSolver::viscosity_vorticity() {
   run_neighbour_pass(viscosity_, nullptr, [&] {
-    bind_neighbours(6);
     cmd_.bind(1, at(X));
     cmd_.bind(2, at(V));
     cmd_.bind(3, at(Spare0));
@@ -374,7 +371,6 @@ void GpuSolver::viscosity_vorticity() {
 
 void GpuSolver::vorticity_force() {
   run_neighbour_pass(vorticity_, nullptr, [&] {
-    bind_neighbours(4);
     cmd_.bind(1, at(X));
     cmd_.bind(2, omega_);
     cmd_.bind(3, at(V));

@@ -3,6 +3,7 @@
 // whole frame (all its steps and the measures) is one command buffer.
 #include <array>
 #include <functional>
+#include <initializer_list>
 #include <memory>
 #include <string_view>
 #include <vector>
@@ -63,11 +64,14 @@ class GpuSolver : public Solver {
   // readers, and the cell walkers for overflowed lists (for every particle without lists).
   struct NeighbourPass {
     vk::Program lists, cells;
+    uint32_t lists_binding;  // the counts; the entries at the next binding (bind_neighbours)
   };
+  // `gathered`: the texel bindings of the arrays the pass reads at j, besides the grid and lists.
   NeighbourPass neighbour_pass(std::string_view shader, uint32_t bindings, std::vector<uint32_t> constants,
-                               std::vector<vk::TexelBinding> texels) const;
-  // Runs `pass` with the bindings `bind` makes: the list readers over every particle, then
-  // the cell walkers over the particles whose lists overflowed (an empty dispatch, mostly).
+                               uint32_t lists, std::initializer_list<vk::TexelBinding> gathered) const;
+  // Runs `pass` with the grid, its lists and the bindings `bind` makes: the list readers
+  // over every particle, then the cell walkers over the particles whose lists overflowed
+  // (an empty dispatch, mostly).
   void run_neighbour_pass(const NeighbourPass& pass, const vk::Buffer* indirect, const std::function<void()>& bind);
   void bind_particle_pass(const vk::Program& p);
   void bind_neighbours(uint32_t lists);
