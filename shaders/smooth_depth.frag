@@ -3,7 +3,6 @@
 // sharp. Runs at the surface's size (Renderer's surface_divisor). Reads linear depth
 // (the first round: NO_FLUID where no sphere was drawn; later rounds: 0); writes (depth,
 // coverage 1) where there is fluid, 0 elsewhere.
-in vec2 uv;
 layout(location = 0) out vec4 result;
 layout(binding = 0) uniform sampler2D depth_texture;
 layout(location = 0) uniform ivec2 direction;
