@@ -50,43 +50,63 @@ void ReferenceSolver::for_each_candidate(const dvec3& xi, F&& visit) const {
 void ReferenceSolver::build_neighbours(const std::vector<dvec3>& at) {
   neighbours_.resize(at.size());
   for (size_t i = 0; i < at.size(); ++i) {
-    neighbours_[i].clear();
+    std::vector<Neighbour>& list = neighbours_[i];
+    list.clear();
     for_each_candidate(at[i], [&](size_t j) {
       dvec3 d = at[i] - at[j];
-      if (glm::dot(d, d) < d_.h * d_.h) neighbours_[i].push_back(j);
+      if (glm::dot(d, d) < d_.h * d_.h) list.push_back({j, 0});
     });
+    // An image lies farther than its particle: only the neighbours' can be within h.
+    const int axes = wall_axes(at[i]);
+    for (size_t n = list.size(), k = 0; k < n; ++k)
+      for (int image = 1; image < 8; ++image) {
+        if ((image & axes) != image) continue;
+        dvec3 d = at[i] - image_at(at[i], image).of(at[list[k].j]);
+        if (glm::dot(d, d) < d_.h * d_.h) list.push_back({list[k].j, image});
+      }
   }
   neighbours_current_ = true;
 }
 
 // As neighbours.glsl: i's list, or, where it holds more than the GPU's capacity, every
-// particle in the cells around i's position now (xi).
+// particle in the cells around i's position now (xi) with all its images behind the
+// walls near xi. visit(j, image): the image is placed from xi.
 template <class F>
 void ReferenceSolver::for_each_neighbour(size_t i, const dvec3& xi, F&& visit) const {
-  if (neighbours_.at(i).size() > d_.neighbour_capacity)
-    for_each_candidate(xi, visit);
-  else
-    for (size_t j : neighbours_[i]) visit(j);
+  if (neighbours_.at(i).size() > d_.neighbour_capacity) {
+    const WallImages walls = walls_near(xi);
+    for_each_candidate(xi, [&](size_t j) {
+      for (const WallImage& m : walls) visit(j, m);
+    });
+  } else {
+    for (const Neighbour& n : neighbours_[i]) visit(n.j, image_at(xi, n.image));
+  }
+}
+
+int ReferenceSolver::wall_axes(const dvec3& x) const {
+  int axes = 0;
+  for (int a = 0; a < 3; ++a)
+    if (std::min(x[a] - d_.domain_min[a], d_.domain_max[a] - x[a]) < d_.h) axes |= 1 << a;
+  return axes;
+}
+
+ReferenceSolver::WallImage ReferenceSolver::image_at(const dvec3& x, int axes) const {
+  WallImage m;
+  m.axes = axes;
+  for (int a = 0; a < 3; ++a)
+    if (axes >> a & 1) {
+      const double lo = x[a] - d_.domain_min[a], hi = d_.domain_max[a] - x[a];
+      m.sign[a] = -1;
+      m.offset[a] = 2 * (lo <= hi ? d_.domain_min[a] : d_.domain_max[a]);  // the nearer wall
+    }
+  return m;
 }
 
 ReferenceSolver::WallImages ReferenceSolver::walls_near(const dvec3& x) const {
-  glm::ivec3 side(0);  // per axis: 0 none, -1 the lower wall, +1 the upper one (the nearer, within h)
-  for (int a = 0; a < 3; ++a) {
-    double lo = x[a] - d_.domain_min[a], hi = d_.domain_max[a] - x[a];
-    side[a] = std::min(lo, hi) >= d_.h ? 0 : lo <= hi ? -1 : 1;
-  }
+  const int axes = wall_axes(x);
   WallImages w;
-  for (int k = 1; k < 8; ++k) {  // bit a of k: reflect across axis a's wall
-    dvec3 sign(1.0), offset(0.0);
-    bool valid = true;
-    for (int a = 0; a < 3; ++a)
-      if (k >> a & 1) {
-        valid = valid && side[a] != 0;
-        sign[a] = -1;
-        offset[a] = 2 * (side[a] < 0 ? d_.domain_min[a] : d_.domain_max[a]);
-      }
-    if (valid) w.image[w.count++] = {sign, offset};
-  }
+  for (int k = 1; k < 8; ++k)
+    if ((k & axes) == k) w.image[w.count++] = image_at(x, k);
   return w;
 }
 
@@ -99,13 +119,10 @@ void ReferenceSolver::build_grid(const std::vector<dvec3>& at) {
 void ReferenceSolver::density() {
   build_neighbours(state.x);
   for (size_t i = 0; i < state.x.size(); ++i) {
-    const WallImages walls = walls_near(state.x[i]);
     double sum = 0;
-    for_each_neighbour(i, state.x[i], [&](size_t j) {
-      for (const WallImage& m : walls) {
-        dvec3 d = state.x[i] - m.of(state.x[j]);
-        sum += kernels::poly6(glm::dot(d, d), d_.h);
-      }
+    for_each_neighbour(i, state.x[i], [&](size_t j, const WallImage& m) {
+      dvec3 d = state.x[i] - m.of(state.x[j]);
+      sum += kernels::poly6(glm::dot(d, d), d_.h);
     });
     state.rho[i] = d_.mass * sum;
   }
@@ -114,29 +131,24 @@ void ReferenceSolver::density() {
 dvec3 ReferenceSolver::correction_force(size_t i) const {
   auto rho = [&](size_t k) { return d_.solver.ldc_clamp ? std::max(state.rho[k], d_.rho0) : state.rho[k]; };
   const dvec3 xi = state.x[i];
-  const WallImages walls = walls_near(xi);
   // f = sum_j (rho_j - rho_ref) h (1 - r/h) d/r, rho_ref the particle's own density or the
   // neighbourhood's weighted mean (solver.ldc_mean_reference; correction_force.comp says why).
   auto neighbourhood_mean = [&] {
     double sum = 0, total = 0;
-    for_each_neighbour(i, xi, [&](size_t j) {
-      for (const WallImage& m : walls) {
-        const double w = kernels::smoothing_weight(xi - m.of(state.x[j]), d_.h);
-        sum += w * rho(j);
-        total += w;
-      }
+    for_each_neighbour(i, xi, [&](size_t j, const WallImage& m) {
+      const double w = kernels::smoothing_weight(xi - m.of(state.x[j]), d_.h);
+      sum += w * rho(j);
+      total += w;
     });
     return sum / total;
   };
   const double reference = d_.solver.ldc_mean_reference ? neighbourhood_mean() : rho(i);
   dvec3 f(0.0);
-  for_each_neighbour(i, xi, [&](size_t j) {
+  for_each_neighbour(i, xi, [&](size_t j, const WallImage& m) {
     const double difference = (rho(j) - reference) / d_.rho0;
-    for (const WallImage& m : walls) {
-      dvec3 d = m.of(state.x[j]) - xi;
-      double r = glm::length(d);
-      if (r > 0 && r < d_.h) f += difference * d_.h * (1 - r / d_.h) * (d / r);
-    }
+    dvec3 d = m.of(state.x[j]) - xi;
+    double r = glm::length(d);
+    if (r > 0 && r < d_.h) f += difference * d_.h * (1 - r / d_.h) * (d / r);
   });
   // correction_force.comp says why K is capped in squeezed fluid.
   const double squeeze = std::max(state.rho[i], d_.rho0) / d_.rho0;
@@ -165,29 +177,31 @@ void ReferenceSolver::predict() {
 void ReferenceSolver::constraint_lambda() {
   if (!neighbours_current_) build_neighbours(state.x_pred);  // the first pass after the grid build
   const double s = d_.mass / d_.rho0;
+  std::vector<dvec3> grad_j(state.x.size());  // -grad_j C_i, summed over j and its images
+  std::vector<size_t> moved;                    // the j != i it holds
   for (size_t i = 0; i < state.x.size(); ++i) {
     const dvec3 xi = state.x_pred[i];
-    const WallImages walls = walls_near(xi);
     double w_sum = 0, grad_sq = 0;
     dvec3 own(0.0);  // grad_i C_i
-    for_each_neighbour(i, xi, [&](size_t j) {
-      // grad_i C_i gains grad W for j and each of its images; grad_j C_i = -sum over them
-      // of the image's reflection times grad W (j moves its images, mirrored).
-      dvec3 g(0.0), g_j(0.0);
-      for (const WallImage& m : walls) {
-        dvec3 d = xi - m.of(state.x_pred[j]);
-        w_sum += kernels::poly6(glm::dot(d, d), d_.h);
-        dvec3 grad = s * kernels::spiky_grad(d, d_.h);
-        g += grad;
-        g_j += m.sign * grad;
-      }
+    // grad_i C_i gains grad W for j and each of its images; grad_j C_i = -sum over them
+    // of the image's reflection times grad W (j moves its images, mirrored).
+    for_each_neighbour(i, xi, [&](size_t j, const WallImage& m) {
+      dvec3 d = xi - m.of(state.x_pred[j]);
+      w_sum += kernels::poly6(glm::dot(d, d), d_.h);
+      dvec3 grad = s * kernels::spiky_grad(d, d_.h);
       if (j == i) {
-        own += 2.0 * g;  // i's images move with i, away from it
-      } else {
-        own += g;
-        grad_sq += glm::dot(g_j, g_j);
+        own += 2.0 * grad;  // i's images move with i, away from it
+        return;
       }
+      own += grad;
+      if (grad_j[j] == dvec3(0.0)) moved.push_back(j);  // listed twice: the first adds the sum, the next 0
+      grad_j[j] += m.sign * grad;
     });
+    for (size_t j : moved) {
+      grad_sq += glm::dot(grad_j[j], grad_j[j]);
+      grad_j[j] = dvec3(0.0);
+    }
+    moved.clear();
     double rho = d_.mass * w_sum;
     double c = std::max(rho / d_.rho0 - 1.0, 0.0);
     state.lambda[i] = -c / ((grad_sq + glm::dot(own, own) + d_.epsilon) * (1.0 + kCompressedGain * c));  // constraint_lambda.comp
@@ -200,14 +214,11 @@ void ReferenceSolver::constraint_smooth() {
     std::vector<double> mean(state.x.size());
     for (size_t i = 0; i < mean.size(); ++i) {
       const dvec3 xi = state.x_pred[i];
-      const WallImages walls = walls_near(xi);
       double total = 0;
-      for_each_neighbour(i, xi, [&](size_t j) {
-        for (const WallImage& m : walls) {  // j, then its images, each carrying j's lambda
-          const double w = kernels::smoothing_weight(xi - m.of(state.x_pred[j]), d_.h);
-          mean[i] += w * state.lambda[j];
-          total += w;
-        }
+      for_each_neighbour(i, xi, [&](size_t j, const WallImage& m) {  // an image carries j's lambda
+        const double w = kernels::smoothing_weight(xi - m.of(state.x_pred[j]), d_.h);
+        mean[i] += w * state.lambda[j];
+        total += w;
       });
       mean[i] /= total;
     }
@@ -220,15 +231,12 @@ void ReferenceSolver::constraint_apply(double relax) {
   const double inv_wdq = d_.scorr_inv_wdq, k = d_.scorr_scale, n = d_.solver.scorr_n;
   for (size_t i = 0; i < next.size(); ++i) {
     const dvec3 xi = state.x_pred[i];
-    const WallImages walls = walls_near(xi);
     dvec3 dp(0.0);
-    for_each_neighbour(i, xi, [&](size_t j) {
-      // An image carries its particle's lambda; i's own images push i away from the wall.
-      for (const WallImage& m : walls) {
-        dvec3 d = xi - m.of(state.x_pred[j]);
-        double s_corr = k > 0 ? -k * std::pow(kernels::poly6(glm::dot(d, d), d_.h) * inv_wdq, n) : 0.0;
-        dp += (state.lambda[i] + state.lambda[j] + s_corr) * kernels::spiky_grad(d, d_.h);
-      }
+    // An image carries its particle's lambda; i's own images push i away from the wall.
+    for_each_neighbour(i, xi, [&](size_t j, const WallImage& m) {
+      dvec3 d = xi - m.of(state.x_pred[j]);
+      double s_corr = k > 0 ? -k * std::pow(kernels::poly6(glm::dot(d, d), d_.h) * inv_wdq, n) : 0.0;
+      dp += (state.lambda[i] + state.lambda[j] + s_corr) * kernels::spiky_grad(d, d_.h);
     });
     next[i] = project_out_of_solids(xi + relax * (d_.mass / d_.rho0) * dp);
   }
@@ -248,20 +256,16 @@ void ReferenceSolver::viscosity_vorticity() {
   for (size_t i = 0; i < v_next.size(); ++i) {
     dvec3 smooth(0.0), curl(0.0), damp(0.0);  // viscosity_vorticity.comp says what each is
     const double rho_i = std::max(state.rho[i], d_.rho0);
-    const WallImages walls = walls_near(state.x[i]);
-    for_each_neighbour(i, state.x[i], [&](size_t j) {
-      dvec3 d = state.x[i] - state.x[j];
-      dvec3 vij = state.v[j] - state.v[i];
-      double r2 = glm::dot(d, d);
-      smooth += vij * kernels::poly6(r2, d_.h);
-      curl += glm::cross(vij, kernels::spiky_grad(d, d_.h));
-      const double c = std::min(d_.solver.damping, d_.damping_limit * d_.rho0 / std::max(rho_i, state.rho[j]));
-      for (const WallImage& m : walls) {  // j, then its images, which move as j mirrored
-        d = state.x[i] - m.of(state.x[j]);
-        r2 = glm::dot(d, d);
-        vij = m.sign * state.v[j] - state.v[i];
-        if (r2 > 0 && r2 < d_.h * d_.h) damp += c * (1 - std::sqrt(r2) / d_.h) * glm::dot(vij, d) / r2 * d;
+    for_each_neighbour(i, state.x[i], [&](size_t j, const WallImage& m) {
+      const dvec3 d = state.x[i] - m.of(state.x[j]);
+      const dvec3 vij = m.sign * state.v[j] - state.v[i];  // an image moves as j, mirrored
+      const double r2 = glm::dot(d, d);
+      if (m.axes == 0) {  // XSPH and the vorticity see the fluid only
+        smooth += vij * kernels::poly6(r2, d_.h);
+        curl += glm::cross(vij, kernels::spiky_grad(d, d_.h));
       }
+      const double c = std::min(d_.solver.damping, d_.damping_limit * d_.rho0 / std::max(rho_i, state.rho[j]));
+      if (r2 > 0 && r2 < d_.h * d_.h) damp += c * (1 - std::sqrt(r2) / d_.h) * glm::dot(vij, d) / r2 * d;
     });
     v_next[i] = state.v[i] + d_.solver.xsph * volume * smooth + damp;
     state.omega[i] = volume * curl;
@@ -272,8 +276,8 @@ void ReferenceSolver::viscosity_vorticity() {
 void ReferenceSolver::vorticity_force() {
   for (size_t i = 0; i < state.x.size(); ++i) {
     dvec3 eta(0.0);
-    for_each_neighbour(i, state.x[i], [&](size_t j) {
-      eta += glm::length(state.omega[j]) * kernels::spiky_grad(state.x[i] - state.x[j], d_.h);
+    for_each_neighbour(i, state.x[i], [&](size_t j, const WallImage& m) {
+      if (m.axes == 0) eta += glm::length(state.omega[j]) * kernels::spiky_grad(state.x[i] - state.x[j], d_.h);
     });
     double len = glm::length(eta);
     if (len > 1e-9) state.v[i] += (d_.solver.vorticity * d_.dt / len) * glm::cross(eta, state.omega[i]);

@@ -48,6 +48,7 @@ class ReferenceSolver : public Solver {
   // behind every wall, which pushed surface particles off the walls).
   struct WallImage {
     glm::dvec3 sign{1.0}, offset{0.0};  // the identity: the neighbour itself
+    int axes = 0;                       // bit a: reflected across axis a's wall (0: the identity)
     glm::dvec3 of(const glm::dvec3& x) const { return sign * x + offset; }
   };
   struct WallImages {  // the identity first, then one image per combination of near walls
@@ -57,6 +58,9 @@ class ReferenceSolver : public Solver {
     const WallImage* end() const { return image.data() + count; }
   };
   WallImages walls_near(const glm::dvec3& x) const;
+  int wall_axes(const glm::dvec3& x) const;  // bit a: axis a has a wall within h of x
+  // The reflection across the nearer wall of each axis in `axes`, seen from x (0: the identity).
+  WallImage image_at(const glm::dvec3& x, int axes) const;
 
   const Derived& derived() const { return d_; }
   ParticleState state;
@@ -64,7 +68,12 @@ class ReferenceSolver : public Solver {
  private:
   // The step's neighbour sets, as the GPU's lists (shaders/neighbour_lists.comp): built
   // after a grid build, at x for density or at x_pred for constraint_lambda, from the 27
-  // cells, keeping those within h; read by every pass of the step.
+  // cells, keeping those within h and then their images within h; read by every pass of
+  // the step, which places an image behind the walls near the particle's position then.
+  struct Neighbour {
+    size_t j;
+    int image;  // the walls' axes j is reflected across (WallImage::axes; 0: j itself)
+  };
   void build_neighbours(const std::vector<glm::dvec3>& at);
   template <class F>
   void for_each_candidate(const glm::dvec3& xi, F&& visit) const;
@@ -81,7 +90,7 @@ class ReferenceSolver : public Solver {
   Derived d_;
   long iterations_run_ = 0;  // constraint iterations in the current advance()
   std::vector<std::vector<size_t>> cells_;  // particles binned by cell at the last build_grid
-  std::vector<std::vector<size_t>> neighbours_;  // per particle: within h when the list was built
+  std::vector<std::vector<Neighbour>> neighbours_;  // per particle: within h when the list was built
   bool neighbours_current_ = false;              // built since the last build_grid
 };
 

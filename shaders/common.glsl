@@ -57,12 +57,16 @@ WallImages walls_near(vec3 x) {
   }
   return w;
 }
-// Every image of a neighbour: for (int k = w.axes; k != 0; k = next_image(w, k)) ...
-int next_image(WallImages w, int k) { return (k - 1) & w.axes; }
+// Every image of a neighbour: for (int k = w.axes; k != 0; k = next_image(w.axes, k)) ...
+int next_image(int axes, int k) { return (k - 1) & axes; }
 bvec3 reflected(int k) { return bvec3((k & 1) != 0, (k & 2) != 0, (k & 4) != 0); }
 vec3 mirror(WallImages w, int k, vec3 x) { return mix(x, w.plane2 - x, reflected(k)); }
 // The reflection's matrix (diagonal): maps a gradient at the image back to the neighbour.
 vec3 mirror_sign(int k) { return mix(vec3(1.0), vec3(-1.0), reflected(k)); }
+// A neighbour list's entry (neighbours.glsl): particle j's image k (0: j itself) in one
+// word, k in the top three bits, so a run holds at most 2^29 particles.
+const uint IMAGE_SHIFT = 29u, IMAGE_INDEX_MASK = (1u << IMAGE_SHIFT) - 1u;
+uint image_entry(uint j, int k) { return j | (uint(k) << IMAGE_SHIFT); }
 
 ivec3 cell_of(vec3 x) {
   // Clamp in float first (a far-away position must not overflow the int), then in int:

@@ -41,12 +41,11 @@ void main() {
   WallImages walls = walls_near(xi);
   float lambda_i = texelFetch(lambda, int(i)).x;
   vec3 dp = vec3(0.0);
-  FOR_EACH_NEIGHBOUR(i, xi, j) {
-    vec3 xj = texelFetch(x_pred, int(j)).xyz;
-    float lambda_ij = lambda_i + texelFetch(lambda, int(j)).x;
-    dp += pair_push(xi - xj, lambda_ij);
-    // An image behind a wall carries its particle's lambda; i's own images push i away.
-    for (int k = walls.axes; k != 0; k = next_image(walls, k)) dp += pair_push(xi - mirror(walls, k, xj), lambda_ij);
+  int image;
+  // An image behind a wall carries its particle's lambda; i's own images push i away.
+  FOR_EACH_NEIGHBOUR(i, xi, walls, j, image) {
+    vec3 xj = mirror(walls, image, texelFetch(x_pred, int(j)).xyz);
+    dp += pair_push(xi - xj, lambda_i + texelFetch(lambda, int(j)).x);
   }
   x_out[i] = vec4(project_out_of_solids(xi + sim.relax * (sim.mass / sim.rho0) * dp), 0.0);
 }

@@ -20,25 +20,33 @@ void main() {
   float w_sum = 0.0;
   vec3 grad_i = vec3(0.0);  // grad of C_i with respect to x_i, times rho0/m
   float grad_sq = 0.0;      // sum over j != i of |grad_j C_i|^2, times (rho0/m)^2
-  FOR_EACH_NEIGHBOUR(i, xi, j) {
-    vec3 xj = texelFetch(x_pred, int(j)).xyz, d = xi - xj;
+  // -grad_j C_i sums j's own term and its images' (j moves them too, reflected), so the
+  // images of one j, which follow each other in the list, are summed in g_j before
+  // squaring; g_j starts from j's own term, whose square the entry for j itself added.
+  uint image_of = i;  // the particle g_j belongs to (i: none yet)
+  vec3 g_j = vec3(0.0), g_own = vec3(0.0);
+  int image;
+  FOR_EACH_NEIGHBOUR(i, xi, walls, j, image) {
+    vec3 xj = texelFetch(x_pred, int(j)).xyz, d = xi - mirror(walls, image, xj);
     float r2 = dot(d, d);
     w_sum += poly6(r2);
     vec3 g = spiky_grad(d, sqrt(r2));  // zero for j = i
-    vec3 g_j = g;                      // -grad_j C_i: j moves its images too, reflected
-    for (int k = walls.axes; k != 0; k = next_image(walls, k)) {
-      d = xi - mirror(walls, k, xj);
-      r2 = dot(d, d);
-      w_sum += poly6(r2);
-      vec3 g_image = spiky_grad(d, sqrt(r2));
-      g += g_image;
-      g_j += mirror_sign(k) * g_image;
-    }
     // i's own images move with i, away from it: they count twice in grad_i C_i.
-    if (j == i) g *= 2.0;
-    else grad_sq += dot(g_j, g_j);
-    grad_i += g;
+    grad_i += j == i ? 2.0 * g : g;
+    if (j == i) continue;
+    if (image == 0) {
+      grad_sq += dot(g, g);
+      continue;
+    }
+    if (j != image_of) {  // the first image of j: close the last one's sum, open j's
+      grad_sq += dot(g_j, g_j) - dot(g_own, g_own);
+      vec3 dj = xi - xj;
+      g_own = g_j = spiky_grad(dj, sqrt(dot(dj, dj)));
+      image_of = j;
+    }
+    g_j += mirror_sign(image) * g;
   }
+  grad_sq += dot(g_j, g_j) - dot(g_own, g_own);
   float rho = sim.mass * w_sum;
   float s = sim.mass / sim.rho0;
   vec3 own = s * grad_i;  // grad_i C_i

@@ -29,10 +29,9 @@ void main() {
   vec3 xi = texelFetch(x_pred, int(i)).xyz;
   WallImages walls = walls_near(xi);
   float sum = 0.0, total = 0.0;
-  FOR_EACH_NEIGHBOUR(i, xi, j) {
-    vec3 xj = texelFetch(x_pred, int(j)).xyz;
-    float w = smoothing_weight(xi - xj);  // j, then its images, each carrying j's lambda
-    for (int k = walls.axes; k != 0; k = next_image(walls, k)) w += smoothing_weight(xi - mirror(walls, k, xj));
+  int image;
+  FOR_EACH_NEIGHBOUR(i, xi, walls, j, image) {  // an image carries its particle's lambda
+    float w = smoothing_weight(xi - mirror(walls, image, texelFetch(x_pred, int(j)).xyz));
     sum += w * texelFetch(lambda_in, int(j)).x;
     total += w;
   }

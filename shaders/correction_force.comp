@@ -47,16 +47,12 @@ void main() {
   float rho_i = ldc_density(i);
   vec3 by_difference = vec3(0.0), by_geometry = vec3(0.0);
   float mean_sum = 0.0, mean_weight = 0.0;
-  FOR_EACH_NEIGHBOUR(i, xi, j) {
+  int image;
+  FOR_EACH_NEIGHBOUR(i, xi, walls, j, image) {  // an image carries its particle's density
     float difference = ldc_density(j) - rho_i;
-    vec3 xj = texelFetch(x, int(j)).xyz;
+    vec3 xj = mirror(walls, image, texelFetch(x, int(j)).xyz);
     vec3 t = pair_term(xj - xi);
     float w = smoothing_weight(xi - xj);
-    for (int k = walls.axes; k != 0; k = next_image(walls, k)) {
-      vec3 image = mirror(walls, k, xj);
-      t += pair_term(image - xi);
-      w += smoothing_weight(xi - image);
-    }
     by_difference += difference * t;
     by_geometry += t;
     mean_sum += w * difference;

@@ -16,13 +16,10 @@ void main() {
   vec3 xi = texelFetch(x, int(i)).xyz;
   WallImages walls = walls_near(xi);
   float sum = 0.0;
-  FOR_EACH_NEIGHBOUR(i, xi, j) {
-    vec3 xj = texelFetch(x, int(j)).xyz, d = xi - xj;
+  int image;
+  FOR_EACH_NEIGHBOUR(i, xi, walls, j, image) {
+    vec3 d = xi - mirror(walls, image, texelFetch(x, int(j)).xyz);
     sum += poly6(dot(d, d));
-    for (int k = walls.axes; k != 0; k = next_image(walls, k)) {
-      d = xi - mirror(walls, k, xj);
-      sum += poly6(dot(d, d));
-    }
   }
   rho[i] = sim.mass * sum;
 }

@@ -10,6 +10,8 @@
 // variant redoes it in an indirect dispatch whose group counts this pass raises
 // (neighbours.glsl). Where there are no lists (capacity 0: they would not fit the device,
 // host/memory_estimate.hpp) this pass does not run.
+// Near a wall the list goes on with the neighbours' images within h (common.glsl,
+// image_entry), each neighbour's after each other, in the order the cell walkers yield them.
 // Layout, for the readers' coalesced uvec4 fetches: entries go in groups of four, group g
 // of particle i at texel g * count + i (neighbour-major: adjacent invocations read
 // adjacent texels), entry k in group k / 4, lane k % 4.
@@ -21,12 +23,14 @@ layout(local_size_x_id = 0) in;
 layout(binding = 1) uniform samplerBuffer x;  // the positions the lists are built at
 // count[0, n), then the overflow list's length and entries; the host zeroes the length.
 layout(std430, binding = 2) buffer NeighbourCount { uint neighbour_count[]; };
-layout(std430, binding = 3) writeonly buffer NeighbourList { uint neighbour_list[]; };
+layout(std430, binding = 3) buffer NeighbourList { uint neighbour_list[]; };
 // The cell walkers' VkDispatchIndirectCommand, reset by the host to (0, 1, 1). The
 // readers run this pass's workgroup size; a count past the device's x limit folds into y.
 layout(std430, binding = 4) buffer OverflowGroups { uint overflow_groups[3]; };
 layout(constant_id = 1) const uint NEIGHBOUR_CAPACITY = 64;  // Derived::neighbour_capacity (groups rounded up: list_words)
 layout(constant_id = 2) const uint MAX_GROUPS_X = 65535;     // maxComputeWorkGroupCount[0]
+
+uint entry_slot(uint i, uint k) { return 4u * ((k >> 2) * sim.count + i) + (k & 3u); }
 
 void main() {
   uint i = thread_index();
@@ -36,8 +40,23 @@ void main() {
   FOR_EACH_CANDIDATE(xi, j) {
     vec3 d = xi - texelFetch(x, int(j)).xyz;
     if (dot(d, d) >= sim.h * sim.h) continue;
-    if (listed < NEIGHBOUR_CAPACITY) neighbour_list[4u * ((listed >> 2) * sim.count + i) + (listed & 3u)] = j;
+    if (listed < NEIGHBOUR_CAPACITY) neighbour_list[entry_slot(i, listed)] = j;
     ++listed;
+  }
+  // The images, from the neighbours listed (an image lies farther than its particle, so
+  // only a neighbour's can be within h), in a second loop: inside the walk, llvmpipe
+  // would run the image loop for every candidate. A full list is walked by the readers.
+  WallImages walls = walls_near(xi);
+  uint neighbours = walls.axes != 0 && listed <= NEIGHBOUR_CAPACITY ? listed : 0u;
+  for (uint k = 0u; k < neighbours; ++k) {
+    uint j = neighbour_list[entry_slot(i, k)];
+    vec3 xj = texelFetch(x, int(j)).xyz;
+    for (int image = walls.axes; image != 0; image = next_image(walls.axes, image)) {
+      vec3 d = xi - mirror(walls, image, xj);
+      if (dot(d, d) >= sim.h * sim.h) continue;
+      if (listed < NEIGHBOUR_CAPACITY) neighbour_list[entry_slot(i, listed)] = image_entry(j, image);
+      ++listed;
+    }
   }
   neighbour_count[i] = listed;
   if (listed > NEIGHBOUR_CAPACITY) {

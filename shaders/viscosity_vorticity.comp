@@ -49,23 +49,22 @@ void main() {
   vec3 damp = vec3(0.0);
   float rho_i = max(texelFetch(rho, int(i)).x, sim.rho0);
   WallImages walls = walls_near(xi);
-  FOR_EACH_NEIGHBOUR(i, xi, j) {
-    vec3 xj = texelFetch(x, int(j)).xyz, d = xi - xj;
+  int image;
+  FOR_EACH_NEIGHBOUR(i, xi, walls, j, image) {
+    vec3 d = xi - mirror(walls, image, texelFetch(x, int(j)).xyz);
     float r2 = dot(d, d);
-    if (r2 >= sim.h * sim.h) continue;  // and so are its images, which lie farther
-    vec3 vj = texelFetch(v, int(j)).xyz, vij = vj - vi;
-    smooth_v += vij * poly6(r2);
-    curl += cross(vij, spiky_grad(d, sqrt(r2)));
+    if (r2 >= sim.h * sim.h) continue;
+    vec3 vij = mirror_sign(image) * texelFetch(v, int(j)).xyz - vi;  // an image moves as j, mirrored
+    if (image == 0) {  // XSPH and the vorticity see the fluid only
+      smooth_v += vij * poly6(r2);
+      curl += cross(vij, spiky_grad(d, sqrt(r2)));
+    }
     // The dashpot's largest eigenvalue grows with the neighbours inside h, images included
     // (by less than rho/rho0 on a squeezed lattice): a pair is damped by at most
     // DAMPING_LIMIT times the denser one's rho0/rho, so no mode is driven (2.4x at 3x rho0
     // drove them: blow-up).
     float c = min(DAMPING, DAMPING_LIMIT * sim.rho0 / max(rho_i, texelFetch(rho, int(j)).x));
     damp += dashpot(d, vij, c);
-    for (int k = walls.axes; k != 0; k = next_image(walls, k)) {
-      d = xi - mirror(walls, k, xj);
-      damp += dashpot(d, mirror_sign(k) * vj - vi, c);
-    }
   }
   float volume = sim.mass / sim.rho0;
   v_out[i] = vec4(vi + (sim.xsph_c * volume) * smooth_v + damp, 0.0);

@@ -17,9 +17,10 @@ void main() {
   if (!neighbour_pass_particle(i)) return;
   vec3 xi = texelFetch(x, int(i)).xyz;
   vec3 eta = vec3(0.0);
-  FOR_EACH_NEIGHBOUR(i, xi, j) {
+  int image;
+  FOR_EACH_NEIGHBOUR(i, xi, walls_near(xi), j, image) {
     vec3 d = xi - texelFetch(x, int(j)).xyz;
-    if (dot(d, d) >= sim.h * sim.h) continue;
+    if (image != 0 || dot(d, d) >= sim.h * sim.h) continue;  // the fluid only
     eta += length(texelFetch(omega, int(j)).xyz) * spiky_grad(d, length(d));
   }
   float len = length(eta);
