@@ -122,6 +122,7 @@ void GpuSolver::upload(const ParticleState& s) {
   std::iota(ids.begin(), ids.end(), 0u);
   id_[id_current_].upload(std::span<const uint32_t>(ids));
   density_current_ = false;
+  lists_built_ = false;
 }
 
 ParticleState GpuSolver::download() const {
@@ -386,7 +387,10 @@ void GpuSolver::end_of(PassGroup group) {
 void GpuSolver::record_step() {
   if (correction_pass_) {
     if (!density_current_) {
-      grid_at_positions();
+      // The last step's lists, built at its x* (DESIGN.md step 5: once per step), serve
+      // the density at x, as they served its iterations and XSPH; only the first step
+      // after an upload bins and lists the particles at x.
+      if (!lists_built_) grid_at_positions();
       density();
       end_of(PassGroup::Density);
     }
@@ -411,6 +415,7 @@ void GpuSolver::record_step() {
     if (vorticity_pass_) vorticity_force();
   }
   density_current_ = false;
+  lists_built_ = true;
   watch();
   // The watch counts with the step's last group, so that the groups cover the whole step.
   end_of(viscosity ? PassGroup::Viscosity : PassGroup::Velocity);

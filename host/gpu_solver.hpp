@@ -89,6 +89,7 @@ class GpuSolver : public Solver {
   uint32_t n_;
   bool viscosity_pass_, vorticity_pass_, correction_pass_;
   bool density_current_ = false;  // rho and the grid already match x (measures were just taken)
+  bool lists_built_ = false;      // the grid and lists follow the particles' order (built since the upload)
 
   vk::Program lists_, predict_, velocity_;
   NeighbourPass density_, correction_, lambda_, smooth_, apply_, viscosity_, vorticity_;

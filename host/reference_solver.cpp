@@ -27,6 +27,7 @@ void ReferenceSolver::upload(const ParticleState& s) {
   state.x = s.x;
   state.v = s.v;
   state.x_pred = s.x_pred;
+  neighbours_built_ = false;
 }
 
 glm::ivec3 ReferenceSolver::cell_of(const dvec3& x) const {
@@ -65,7 +66,7 @@ void ReferenceSolver::build_neighbours(const std::vector<dvec3>& at) {
         if (glm::dot(d, d) < d_.h * d_.h) list.push_back({list[k].j, image});
       }
   }
-  neighbours_current_ = true;
+  neighbours_current_ = neighbours_built_ = true;
 }
 
 // As neighbours.glsl: i's list, or, where it holds more than the GPU's capacity, every
@@ -117,7 +118,7 @@ void ReferenceSolver::build_grid(const std::vector<dvec3>& at) {
 }
 
 void ReferenceSolver::density() {
-  build_neighbours(state.x);
+  if (!neighbours_current_) build_neighbours(state.x);  // else the last step's, built at its x_pred
   for (size_t i = 0; i < state.x.size(); ++i) {
     double sum = 0;
     for_each_neighbour(i, state.x[i], [&](size_t j, const WallImage& m) {
@@ -287,7 +288,7 @@ void ReferenceSolver::vorticity_force() {
 void ReferenceSolver::step() {
   const SolverParams& p = d_.solver;
   if (p.method == Method::Ldc) {
-    build_grid(state.x);
+    if (!neighbours_built_) build_grid(state.x);  // as the GPU: the last step's lists serve the density
     density();
     correction();
   }

@@ -26,7 +26,7 @@ class ReferenceSolver : public Solver {
 
   // The passes of one step (DESIGN.md), public so that tests can run them one by one.
   void build_grid(const std::vector<glm::dvec3>& at);  // bins particles by cell
-  void density();                                      // rho at x
+  void density();                                      // rho at x, from the lists of the last build (at x after build_grid)
   void correction();                                   // v += f_LDC dt
   void predict();                                      // v += g dt, x_pred
   void constraint_lambda();                            // lambda at x_pred
@@ -92,6 +92,7 @@ class ReferenceSolver : public Solver {
   std::vector<std::vector<size_t>> cells_;  // particles binned by cell at the last build_grid
   std::vector<std::vector<Neighbour>> neighbours_;  // per particle: within h when the list was built
   bool neighbours_current_ = false;              // built since the last build_grid
+  bool neighbours_built_ = false;                // built since the particles were set (GpuSolver::lists_built_)
 };
 
 }  // namespace pbflow
