@@ -64,7 +64,9 @@ vec3 mirror(WallImages w, int k, vec3 x) { return mix(x, w.plane2 - x, reflected
 // The reflection's matrix (diagonal): maps a gradient at the image back to the neighbour.
 vec3 mirror_sign(int k) { return mix(vec3(1.0), vec3(-1.0), reflected(k)); }
 // A neighbour list's entry (neighbours.glsl): particle j's image k (0: j itself) in one
-// word, k in the top three bits, so a run holds at most 2^29 particles.
+// word, k in the top three bits. 2^29 particles would fit; a run holds fewer than 2^28,
+// as a storage buffer's range (a 32-bit size) ends there for the vec4 arrays
+// (check_device_memory).
 const uint IMAGE_SHIFT = 29u, IMAGE_INDEX_MASK = (1u << IMAGE_SHIFT) - 1u;
 uint image_entry(uint j, int k) { return j | (uint(k) << IMAGE_SHIFT); }
 

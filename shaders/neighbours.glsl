@@ -37,7 +37,7 @@ bool neighbour_pass_particle(out uint i) {
 // (image_entry, common.glsl). The images are entries, not a loop in every reader's body: on
 // llvmpipe a loop runs at least once per neighbour, masked, even where no particle of the
 // SIMD group is near a wall, and the image loop was a third of the constraint passes on
-// the peer scene (6.1 against 4.1 ms per step without walls).
+// the peer scene (6.1 ms against 4.1 without walls).
 struct Neighbours {
   uint i, k, n;        // the particle, entries read, entries listed
   uvec4 group;         // the four entries from k & ~3 on
@@ -75,7 +75,8 @@ bool next_neighbour(inout Neighbours w, out uint j, out int image) {
     return true;
   }
   // The last candidate's next image (its images follow it: 0 first, then every subset of
-  // the axes), as the lists pass would list them, beyond h or not.
+  // the axes), as the lists pass would list them, beyond h or not. end > 0 once a
+  // candidate was yielded: a row is only left open with one taken from it.
   int next = w.image == 0 ? w.axes : next_image(w.axes, w.image);
   if (w.end > 0u && next != 0) {
     j = w.j - 1u;
