@@ -460,7 +460,8 @@ FrameStats GpuSolver::read_measures() const {
 
 FrameStats GpuSolver::advance(int steps) {
   auto start = std::chrono::steady_clock::now();
-  // While profiling a step marks the end of each pass group, the grid and lists twice for ldc.
+  // While profiling a step marks the end of each pass group, the grid and lists twice in
+  // an ldc step that bins at x (the first after an upload).
   const uint32_t marks = 2 + (profiling_ ? uint32_t(steps) * (kPassGroups + 2) : 0);
   if (timer_->capacity() < marks) timer_ = std::make_unique<vk::GpuTimer>(ctx_, marks);
   segments_.clear();

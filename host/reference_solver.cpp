@@ -58,12 +58,11 @@ void ReferenceSolver::build_neighbours(const std::vector<dvec3>& at) {
       if (glm::dot(d, d) < d_.h * d_.h) list.push_back({j, 0});
     });
     // An image lies farther than its particle: only the neighbours' can be within h.
-    const int axes = wall_axes(at[i]);
+    const WallImages walls = walls_near(at[i]);
     for (size_t n = list.size(), k = 0; k < n; ++k)
-      for (int image = 1; image < 8; ++image) {
-        if ((image & axes) != image) continue;
-        dvec3 d = at[i] - image_at(at[i], image).of(at[list[k].j]);
-        if (glm::dot(d, d) < d_.h * d_.h) list.push_back({list[k].j, image});
+      for (const WallImage* m = walls.begin() + 1; m != walls.end(); ++m) {  // past the identity
+        dvec3 d = at[i] - m->of(at[list[k].j]);
+        if (glm::dot(d, d) < d_.h * d_.h) list.push_back({list[k].j, m->axes});
       }
   }
   neighbours_current_ = neighbours_built_ = true;

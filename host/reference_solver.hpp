@@ -58,9 +58,6 @@ class ReferenceSolver : public Solver {
     const WallImage* end() const { return image.data() + count; }
   };
   WallImages walls_near(const glm::dvec3& x) const;
-  int wall_axes(const glm::dvec3& x) const;  // bit a: axis a has a wall within h of x
-  // The reflection across the nearer wall of each axis in `axes`, seen from x (0: the identity).
-  WallImage image_at(const glm::dvec3& x, int axes) const;
 
   const Derived& derived() const { return d_; }
   ParticleState state;
@@ -80,6 +77,9 @@ class ReferenceSolver : public Solver {
   template <class F>
   void for_each_neighbour(size_t i, const glm::dvec3& xi, F&& visit) const;
 
+  int wall_axes(const glm::dvec3& x) const;  // bit a: axis a has a wall within h of x
+  // The reflection across the nearer wall of each axis in `axes`, seen from x (0: the identity).
+  WallImage image_at(const glm::dvec3& x, int axes) const;
   glm::ivec3 cell_of(const glm::dvec3& x) const;
   size_t cell_id(const glm::ivec3& c) const { return (size_t(c.z) * d_.grid.y + c.y) * d_.grid.x + c.x; }
   glm::dvec3 project_out_of_solids(glm::dvec3 x) const;  // out of the obstacles, then into the walls
