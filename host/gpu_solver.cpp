@@ -64,9 +64,9 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
                                   d.solver.ldc_mean_reference ? 1u : 0u},
                                  4, {{1, kVec4}, {2, kFloat}})),
       lambda_(neighbour_pass("constraint_lambda", 6, {}, 4, {{1, kVec4}})),
-      smooth_(neighbour_pass("constraint_smooth", 6, {}, 4, {{1, kVec4}, {2, kFloat}})),
-      apply_(neighbour_pass("constraint_apply", 7, {std::bit_cast<uint32_t>(float(d.solver.scorr_n))},
-                            5, {{1, kVec4}, {2, kFloat}})),
+      smooth_(neighbour_pass("constraint_smooth", 5, {}, 3, {{1, kVec4}})),
+      apply_(neighbour_pass("constraint_apply", 6, {std::bit_cast<uint32_t>(float(d.solver.scorr_n))}, 4,
+                            {{1, kVec4}})),
       viscosity_(neighbour_pass("viscosity_vorticity", 8,
                                 {std::bit_cast<uint32_t>(float(d.solver.damping)),
                                  std::bit_cast<uint32_t>(float(d.damping_limit))},
@@ -81,7 +81,7 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
       rho_(ctx, n_ * sizeof(float)),
       neighbour_count_(ctx, (2 * size_t(n_) + 1) * sizeof(uint32_t)),  // counts, then the overflow list
       neighbour_list_(ctx, size_t(n_) * list_words(d.neighbour_capacity) * sizeof(uint32_t)),
-      lambda_buf_(ctx, n_ * sizeof(float)),
+      x_lambda_(ctx, n_ * sizeof(glm::vec4)),
       partials_(ctx, 2 * partial_count(n_) * sizeof(glm::vec4)),
       result_(ctx, 5 * sizeof(glm::vec4), vk::Memory::Host),  // measures (2 vec4), adaptive count, watch (2 vec4)
       obstacles_(ctx, pack_obstacles(d.obstacles).size() * sizeof(glm::vec4)),
@@ -99,7 +99,7 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
   for (auto& b : id_) b = vk::Buffer(ctx, n_ * sizeof(uint32_t));
   // Model no more than the scene needs: vorticity storage only when a pass uses it.
   if (viscosity_pass_) omega_ = vk::Buffer(ctx, n_ * sizeof(glm::vec4));
-  if (d.solver.lambda_smoothing > 0) lambda_spare_ = vk::Buffer(ctx, n_ * sizeof(float));
+  if (d.solver.lambda_smoothing > 0) x_lambda_spare_ = vk::Buffer(ctx, n_ * sizeof(glm::vec4));
   ParticleState s;
   s.x = x0;
   s.v.assign(n_, glm::dvec3(0.0));
@@ -133,8 +133,7 @@ ParticleState GpuSolver::download() const {
     for (uint32_t i = 0; i < n_; ++i) out[ids[i]] = glm::dvec3(glm::vec3(raw[i]));
     return out;
   };
-  auto unpack1 = [&](const vk::Buffer& b) {
-    auto raw = b.download<float>(n_);
+  auto unpack1 = [&](const std::vector<float>& raw) {
     std::vector<double> out(n_);
     for (uint32_t i = 0; i < n_; ++i) out[ids[i]] = raw[i];
     return out;
@@ -144,8 +143,10 @@ ParticleState GpuSolver::download() const {
   s.v = unpack3(at(V));
   s.x_pred = unpack3(at(XPred));
   if (viscosity_pass_) s.omega = unpack3(omega_);
-  s.rho = unpack1(rho_);
-  s.lambda = unpack1(lambda_buf_);
+  s.rho = unpack1(rho_.download<float>(n_));
+  std::vector<float> lambda;
+  for (const glm::vec4& xl : x_lambda_.download<glm::vec4>(n_)) lambda.push_back(xl.w);
+  s.lambda = unpack1(lambda);
   return s;
 }
 
@@ -280,7 +281,7 @@ void GpuSolver::run_particle_pass(const vk::Buffer* indirect) {
 void GpuSolver::constraint_lambda(const vk::Buffer* indirect) {
   run_neighbour_pass(lambda_, indirect, [&] {
     cmd_.bind(1, at(XPred));
-    cmd_.bind(2, lambda_buf_);
+    cmd_.bind(2, x_lambda_);
     cmd_.bind(3, rho_);
   });
 }
@@ -290,9 +291,8 @@ void GpuSolver::constraint_smooth(const vk::Buffer* indirect) {
   for (int pass = 0; pass < d_.solver.lambda_smoothing; ++pass) {
     const bool back = pass % 2;
     run_neighbour_pass(smooth_, indirect, [&] {
-      cmd_.bind(1, at(XPred));
-      cmd_.bind(2, back ? lambda_spare_ : lambda_buf_);
-      cmd_.bind(3, back ? lambda_buf_ : lambda_spare_);
+      cmd_.bind(1, back ? x_lambda_spare_ : x_lambda_);
+      cmd_.bind(2, back ? x_lambda_ : x_lambda_spare_);
     });
   }
 }
@@ -301,10 +301,9 @@ void GpuSolver::constraint_apply(double relax, const vk::Buffer* indirect) {
   // Jacobi: every particle reads the same x_pred, so the result goes to a spare array.
   sim_.relax = float(relax);
   run_neighbour_pass(apply_, indirect, [&] {
-    cmd_.bind(1, at(XPred));
-    cmd_.bind(2, lambda_buf_);
-    cmd_.bind(3, at(Spare0));
-    cmd_.bind(4, obstacles_);
+    cmd_.bind(1, x_lambda_);  // x_pred, with lambda beside it
+    cmd_.bind(2, at(Spare0));
+    cmd_.bind(3, obstacles_);
   });
   swap_roles(XPred, Spare0);
 }
@@ -432,7 +431,10 @@ void GpuSolver::watch() {
 }
 
 void GpuSolver::record_measures() {
-  grid_at_positions();
+  // The density at x reads the last step's lists (built at its x*), as an ldc step's does:
+  // a pair that came within h in the projection adds W(r ~ h) ~ 0 (poly6 is flat there),
+  // and a grid build and list pass per frame cost more than the density itself.
+  if (!lists_built_) grid_at_positions();
   density();
   reduce_measures(result_);
   if (d_.solver.target_compression > 0) {  // the frame's adaptive iteration count, beside the measures

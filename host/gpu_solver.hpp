@@ -100,7 +100,8 @@ class GpuSolver : public Solver {
   std::array<vk::Buffer, 2> id_;
   int id_current_ = 0;
   vk::Buffer rho_, neighbour_count_, neighbour_list_;
-  vk::Buffer lambda_buf_, lambda_spare_, omega_, partials_, result_, obstacles_;
+  vk::Buffer x_lambda_, x_lambda_spare_;  // (x_pred, lambda) and its smoothing spare (constraint_lambda.comp)
+  vk::Buffer omega_, partials_, result_, obstacles_;
   vk::Buffer check_, indirect_;
   // The cell walkers' dispatch (neighbour_lists.comp), and its copy for an adaptive
   // iteration pair: zero where the pair does not run (check_converged.comp).

@@ -15,11 +15,11 @@ namespace pbflow {
 namespace {
 
 // Bytes per particle, counted from the arrays each solver allocates (rounded up):
-// GPU: five vec4 arrays, two id arrays, rho, lambda and its smoothing spare, the vorticity vec4 and the grid's cell
+// GPU: five vec4 arrays, two id arrays, rho, (x_pred, lambda) and its smoothing spare (vec4s), the vorticity vec4 and the grid's cell
 // and rank, then the neighbour lists, their counts and the overflow list (4 bytes an entry); host: the initial
 // lattice (dvec3), the state uploaded once (x, v, x_pred) and a frame read back for
 // rendering or export (x, v, rho, id).
-constexpr double kGpuPerParticle = 128, kGpuPerCell = 4.5;
+constexpr double kGpuPerParticle = 152, kGpuPerCell = 4.5;
 constexpr double kHostPerParticleGpuRun = 24 + 72 + 48 + 40;
 // Reference: x, v, x_pred, omega (dvec3), rho, lambda, its cell lists, two scratch dvec3
 // arrays, the initial lattice, a frame read back, and its neighbour lists (~40 entries of 8 bytes).

@@ -22,7 +22,7 @@ class ReferenceSolver : public Solver {
   std::string device_name() const override { return "cpu (C++ reference)"; }
 
   void step();
-  FrameStats measure();  // grid and density at x, then the measures
+  FrameStats measure();  // density at x (from the last step's lists, as the GPU), then the measures
 
   // The passes of one step (DESIGN.md), public so that tests can run them one by one.
   void build_grid(const std::vector<glm::dvec3>& at);  // bins particles by cell

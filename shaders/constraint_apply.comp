@@ -7,13 +7,12 @@
 layout(local_size_x_id = 0) in;
 #include "common.glsl"
 
-layout(binding = 1) uniform samplerBuffer x_pred;
-layout(binding = 2) uniform samplerBuffer lambda;
-layout(std430, binding = 3) writeonly buffer XOut { vec4 x_out[]; };
-#define OBSTACLES_BINDING 4
+layout(binding = 1) uniform samplerBuffer x_lambda;  // (x*, lambda), constraint_lambda.comp
+layout(std430, binding = 2) writeonly buffer XOut { vec4 x_out[]; };
+#define OBSTACLES_BINDING 3
 #include "obstacles.glsl"
 layout(constant_id = 1) const float TENSILE_N = 4.0;  // solver.scorr_n
-#define NEIGHBOUR_BINDING 5
+#define NEIGHBOUR_BINDING 4
 #define NEIGHBOUR_CAPACITY_ID 2
 #include "neighbours.glsl"
 
@@ -37,15 +36,16 @@ vec3 pair_push(vec3 d, float lambda_ij) {
 void main() {
   uint i;
   if (!neighbour_pass_particle(i)) return;
-  vec3 xi = texelFetch(x_pred, int(i)).xyz;
+  vec4 own = texelFetch(x_lambda, int(i));
+  vec3 xi = own.xyz;
   WallImages walls = walls_near(xi);
-  float lambda_i = texelFetch(lambda, int(i)).x;
+  float lambda_i = own.w;
   vec3 dp = vec3(0.0);
   int image;
   // An image behind a wall carries its particle's lambda; i's own images push i away.
   FOR_EACH_NEIGHBOUR(i, xi, walls, j, image) {
-    vec3 xj = mirror(walls, image, texelFetch(x_pred, int(j)).xyz);
-    dp += pair_push(xi - xj, lambda_i + texelFetch(lambda, int(j)).x);
+    vec4 xj = texelFetch(x_lambda, int(j));
+    dp += pair_push(xi - mirror(walls, image, xj.xyz), lambda_i + xj.w);
   }
   x_out[i] = vec4(project_out_of_solids(xi + sim.relax * (sim.mass / sim.rho0) * dp), 0.0);
 }

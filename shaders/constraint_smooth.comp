@@ -16,24 +16,24 @@
 layout(local_size_x_id = 0) in;
 #include "common.glsl"
 
-layout(binding = 1) uniform samplerBuffer x_pred;
-layout(binding = 2) uniform samplerBuffer lambda_in;
-layout(std430, binding = 3) writeonly buffer LambdaOut { float lambda_out[]; };
-#define NEIGHBOUR_BINDING 4
+layout(binding = 1) uniform samplerBuffer x_lambda_in;  // (x*, lambda), constraint_lambda.comp
+layout(std430, binding = 2) writeonly buffer XLambdaOut { vec4 x_lambda_out[]; };
+#define NEIGHBOUR_BINDING 3
 #define NEIGHBOUR_CAPACITY_ID 1
 #include "neighbours.glsl"
 
 void main() {
   uint i;
   if (!neighbour_pass_particle(i)) return;
-  vec3 xi = texelFetch(x_pred, int(i)).xyz;
+  vec3 xi = texelFetch(x_lambda_in, int(i)).xyz;
   WallImages walls = walls_near(xi);
   float sum = 0.0, total = 0.0;
   int image;
   FOR_EACH_NEIGHBOUR(i, xi, walls, j, image) {  // an image carries its particle's lambda
-    float w = smoothing_weight(xi - mirror(walls, image, texelFetch(x_pred, int(j)).xyz));
-    sum += w * texelFetch(lambda_in, int(j)).x;
+    vec4 xj = texelFetch(x_lambda_in, int(j));
+    float w = smoothing_weight(xi - mirror(walls, image, xj.xyz));
+    sum += w * xj.w;
     total += w;
   }
-  lambda_out[i] = sum / total;  // total >= 1: i is its own neighbour at r = 0
+  x_lambda_out[i] = vec4(xi, sum / total);  // total >= 1: i is its own neighbour at r = 0
 }
