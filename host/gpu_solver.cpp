@@ -57,7 +57,7 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
              std::array<uint32_t, 2>{d.neighbour_capacity, ctx.limits().maxComputeWorkGroupCount[0]},
              std::array<vk::TexelBinding, 2>{{{0, kUint}, {1, kVec4}}}),
       predict_(ctx, "predict", 4, sizeof(SimConstants)),
-      velocity_(ctx, "velocity_update", 3, sizeof(SimConstants)),
+      velocity_(ctx, "velocity_update", 4, sizeof(SimConstants)),
       density_(neighbour_pass("density", 5, {}, 3, {{1, kVec4}})),
       correction_(neighbour_pass("correction_force", 6,
                                  {d.solver.ldc_clamp ? 1u : 0u, std::bit_cast<uint32_t>(float(d.ldc_room)),
@@ -67,10 +67,10 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
       smooth_(neighbour_pass("constraint_smooth", 5, {}, 3, {{1, kVec4}})),
       apply_(neighbour_pass("constraint_apply", 6, {std::bit_cast<uint32_t>(float(d.solver.scorr_n))}, 4,
                             {{1, kVec4}})),
-      viscosity_(neighbour_pass("viscosity_vorticity", 8,
+      viscosity_(neighbour_pass("viscosity_vorticity", 7,
                                 {std::bit_cast<uint32_t>(float(d.solver.damping)),
                                  std::bit_cast<uint32_t>(float(d.damping_limit))},
-                                6, {{1, kVec4}, {2, kVec4}, {5, kFloat}})),
+                                5, {{1, kVec4}, {2, kVec4}})),
       vorticity_(neighbour_pass("vorticity_force", 6, {}, 4, {{1, kVec4}, {2, kVec4}})),
       reduce_(ctx, "reduce_stats", 4, sizeof(SimConstants), kReduceThreads),
       reduce_final_(ctx, "reduce_final", 2, sizeof(ReduceFinalPush), kReduceThreads),
@@ -110,14 +110,18 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
 std::string GpuSolver::device_name() const { return ctx_.info().name; }
 
 void GpuSolver::upload(const ParticleState& s) {
-  auto pack = [&](const std::vector<glm::dvec3>& a) {
+  std::vector<float> rho(n_, 0.0f);
+  for (uint32_t i = 0; i < n_ && i < s.rho.size(); ++i) rho[i] = float(s.rho[i]);
+  auto pack = [&](const std::vector<glm::dvec3>& a, const std::vector<float>& w) {
     std::vector<glm::vec4> out(n_, glm::vec4(0.0f));
-    for (uint32_t i = 0; i < n_ && i < a.size(); ++i) out[i] = glm::vec4(glm::vec3(a[i]), 0.0f);
+    for (uint32_t i = 0; i < n_ && i < a.size(); ++i) out[i] = glm::vec4(glm::vec3(a[i]), w[i]);
     return out;
   };
-  vec4_[role_[X]].upload(std::span<const glm::vec4>(pack(s.x)));
-  vec4_[role_[V]].upload(std::span<const glm::vec4>(pack(s.v)));
-  vec4_[role_[XPred]].upload(std::span<const glm::vec4>(pack(s.x_pred)));
+  const std::vector<float> zero(n_, 0.0f);
+  vec4_[role_[X]].upload(std::span<const glm::vec4>(pack(s.x, zero)));
+  vec4_[role_[V]].upload(std::span<const glm::vec4>(pack(s.v, rho)));  // w: the dashpot's rho (velocity_update.comp)
+  vec4_[role_[XPred]].upload(std::span<const glm::vec4>(pack(s.x_pred, zero)));
+  rho_.upload(std::span<const float>(rho));
   std::vector<uint32_t> ids(n_);
   std::iota(ids.begin(), ids.end(), 0u);
   id_[id_current_].upload(std::span<const uint32_t>(ids));
@@ -354,6 +358,7 @@ void GpuSolver::velocity_update() {
   cmd_.bind(0, at(X));
   cmd_.bind(1, at(XPred));
   cmd_.bind(2, at(V));
+  cmd_.bind(3, rho_);  // into v's w, for viscosity_vorticity
   cmd_.dispatch(n_);
   swap_roles(X, XPred);  // x = x_pred, without a copy
 }
@@ -364,7 +369,6 @@ void GpuSolver::viscosity_vorticity() {
     cmd_.bind(2, at(V));
     cmd_.bind(3, at(Spare0));
     cmd_.bind(4, omega_);
-    cmd_.bind(5, rho_);
   });
   swap_roles(V, Spare0);
 }

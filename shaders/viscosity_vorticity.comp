@@ -23,11 +23,10 @@ layout(constant_id = 1) const float DAMPING = 0.2;         // solver.damping
 layout(constant_id = 2) const float DAMPING_LIMIT = 0.3;   // Derived::damping_limit
 
 layout(binding = 1) uniform samplerBuffer x;
-layout(binding = 2) uniform samplerBuffer v;
+layout(binding = 2) uniform samplerBuffer v_rho;  // v, and in w the last lambda pass's rho (velocity_update.comp)
 layout(std430, binding = 3) writeonly buffer VOut { vec4 v_out[]; };
 layout(std430, binding = 4) writeonly buffer Omega { vec4 omega[]; };
-layout(binding = 5) uniform samplerBuffer rho;  // the last lambda pass's
-#define NEIGHBOUR_BINDING 6
+#define NEIGHBOUR_BINDING 5
 #define NEIGHBOUR_CAPACITY_ID 3
 #include "neighbours.glsl"
 
@@ -43,18 +42,20 @@ void main() {
   uint i;
   if (!neighbour_pass_particle(i)) return;
   vec3 xi = texelFetch(x, int(i)).xyz;
-  vec3 vi = texelFetch(v, int(i)).xyz;
+  vec4 own = texelFetch(v_rho, int(i));
+  vec3 vi = own.xyz;
   vec3 smooth_v = vec3(0.0);
   vec3 curl = vec3(0.0);
   vec3 damp = vec3(0.0);
-  float rho_i = max(texelFetch(rho, int(i)).x, sim.rho0);
+  float rho_i = max(own.w, sim.rho0);
   WallImages walls = walls_near(xi);
   int image;
   FOR_EACH_NEIGHBOUR(i, xi, walls, j, image) {
     vec3 d = xi - mirror(walls, image, texelFetch(x, int(j)).xyz);
     float r2 = dot(d, d);
     if (r2 >= sim.h * sim.h) continue;
-    vec3 vij = mirror_sign(image) * texelFetch(v, int(j)).xyz - vi;  // an image moves as j, mirrored
+    vec4 vj = texelFetch(v_rho, int(j));
+    vec3 vij = mirror_sign(image) * vj.xyz - vi;  // an image moves as j, mirrored
     if (image == 0) {  // XSPH and the vorticity see the fluid only
       smooth_v += vij * poly6(r2);
       curl += cross(vij, spiky_grad(d, sqrt(r2)));
@@ -63,7 +64,7 @@ void main() {
     // (by less than rho/rho0 on a squeezed lattice): a pair is damped by at most
     // DAMPING_LIMIT times the denser one's rho0/rho, so no mode is driven (2.4x at 3x rho0
     // drove them: blow-up).
-    float c = min(DAMPING, DAMPING_LIMIT * sim.rho0 / max(rho_i, texelFetch(rho, int(j)).x));
+    float c = min(DAMPING, DAMPING_LIMIT * sim.rho0 / max(rho_i, vj.w));
     damp += dashpot(d, vij, c);
   }
   float volume = sim.mass / sim.rho0;

@@ -2,6 +2,8 @@
 // Tolerances: the GPU computes in float (relative precision 6e-8); sums of ~30
 // neighbour terms and the cancellation in differences like x_pred - x cost a few
 // hundred ulps at most, so a pass agrees to a relative 1e-4 of the field's scale.
+#include <random>
+
 #include "gpu_solver.hpp"
 #include "reference_solver.hpp"
 #include "support.hpp"
@@ -152,16 +154,24 @@ TEST_P(PassTest, VelocityUpdate) {
   expect_close(test::compare(g.x, ref.state.x, "velocity update x = x_pred"));
 }
 
-// The dashpot reads the densities (squeezed pairs are damped less): the jittered state
-// has particles above rho0 to exercise that.
+// The dashpot reads the last lambda pass's densities (squeezed pairs are damped less),
+// on the GPU from v's w, which the upload fills from rho: densities from 0.9 to 2.1 rho0
+// put some pairs past the cap (DAMPING_LIMIT rho0 / max(rho_i, rho_j) < DAMPING from
+// ~1.5 rho0 on) and leave others under it.
 TEST_P(PassTest, ViscosityAndVorticity) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> squeeze(0.9, 2.1);
+  for (double& r : input.rho) r = d.rho0 * squeeze(rng);
+  ASSERT_LT(d.damping_limit / 2.1, d.solver.damping) << "no pair reaches the cap";
+  gpu.upload(input);
+  ref.state = input;
   ParticleState g = run_gpu([&] {
     gpu.grid_at_positions();
-    gpu.density();
     gpu.viscosity_vorticity();
   });
   ref.build_grid(ref.state.x);
-  ref.density();
+  ref.density();  // for its lists at x (the GPU's grid_at_positions builds them); the dashpot
+  ref.state.rho = input.rho;  // reads the uploaded densities, as on the GPU
   ref.viscosity_vorticity();
   expect_close(test::compare(test::difference(g.v, input.v), test::difference(ref.state.v, input.v), "XSPH and damping dv"));
   expect_close(test::compare(g.omega, ref.state.omega, "vorticity omega"));
