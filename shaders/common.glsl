@@ -57,6 +57,8 @@ WallImages walls_near(vec3 x) {
   }
   return w;
 }
+// For a pass that sees the fluid only: the cell walk then yields no images.
+WallImages no_walls() { return WallImages(0, vec3(0.0)); }
 // Every image of a neighbour: for (int k = w.axes; k != 0; k = next_image(w.axes, k)) ...
 int next_image(int axes, int k) { return (k - 1) & axes; }
 bvec3 reflected(int k) { return bvec3((k & 1) != 0, (k & 2) != 0, (k & 4) != 0); }

@@ -18,9 +18,9 @@ void main() {
   vec3 xi = texelFetch(x, int(i)).xyz;
   vec3 eta = vec3(0.0);
   int image;
-  FOR_EACH_NEIGHBOUR(i, xi, walls_near(xi), j, image) {
+  FOR_EACH_NEIGHBOUR(i, xi, no_walls(), j, image) {
     vec3 d = xi - texelFetch(x, int(j)).xyz;
-    if (image != 0 || dot(d, d) >= sim.h * sim.h) continue;  // the fluid only
+    if (image != 0 || dot(d, d) >= sim.h * sim.h) continue;  // the fluid only (a list holds images too)
     eta += length(texelFetch(omega, int(j)).xyz) * spiky_grad(d, length(d));
   }
   float len = length(eta);
