@@ -3,7 +3,8 @@
 // rho_i is kept too: adaptive iterations measure the compression from it (check_converged).
 // lambda_i goes out beside x*_i, as (x*_i, lambda_i): the passes after it gather both for
 // every neighbour, and on llvmpipe each gather is a call that spills the live registers,
-// so one fetch instead of two is a fifth of their time.
+// so one fetch instead of two saves each a few per cent (an extra fetch per neighbour
+// costs ~15 % of a lambda average: bench/results/throughput_lavapipe.md).
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x_id = 0) in;
 #include "common.glsl"
