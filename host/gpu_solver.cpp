@@ -390,11 +390,7 @@ void GpuSolver::end_of(PassGroup group) {
 void GpuSolver::record_step() {
   if (correction_pass_) {
     if (!density_current_) {
-      // The last step's lists, built at its x* (DESIGN.md step 5: once per step), serve
-      // the density at x, as they served its iterations and XSPH; only the first step
-      // after an upload bins and lists the particles at x.
-      if (!lists_built_) grid_at_positions();
-      density();
+      density_at_positions();
       end_of(PassGroup::Density);
     }
     correction();
@@ -434,12 +430,18 @@ void GpuSolver::watch() {
   ++step_in_frame_;
 }
 
-void GpuSolver::record_measures() {
-  // The density at x reads the last step's lists (built at its x*), as an ldc step's does:
-  // a pair that came within h in the projection adds W(r ~ h) ~ 0 (poly6 is flat there),
-  // and a grid build and list pass per frame cost more than the density itself.
+void GpuSolver::density_at_positions() {
+  // The last step's lists, built at its x* (DESIGN.md step 5: once per step), serve the
+  // density at x, as they served its iterations and XSPH: a pair that came within h in
+  // the projection adds W(r ~ h) ~ 0 (poly6 is flat there), and a grid build and list
+  // pass would cost more than the density itself. Only before the first step after an
+  // upload are the particles binned and listed at x.
   if (!lists_built_) grid_at_positions();
   density();
+}
+
+void GpuSolver::record_measures() {
+  density_at_positions();
   reduce_measures(result_);
   if (d_.solver.target_compression > 0) {  // the frame's adaptive iteration count, beside the measures
     VkBufferCopy count{3 * sizeof(uint32_t), 2 * sizeof(glm::vec4), sizeof(uint32_t)};

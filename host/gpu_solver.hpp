@@ -76,6 +76,7 @@ class GpuSolver : public Solver {
   void bind_particle_pass(const vk::Program& p);
   void bind_neighbours(uint32_t lists);
   void neighbour_lists(const vk::Buffer& x);
+  void density_at_positions();  // rho at x for the LDC force and the measures, from the last step's lists
   FrameStats read_measures() const;
   void end_of(PassGroup group);  // closes a timed segment while profiling
   void run_particle_pass(const vk::Buffer* indirect);
@@ -88,7 +89,7 @@ class GpuSolver : public Solver {
   SimConstants sim_;
   uint32_t n_;
   bool viscosity_pass_, vorticity_pass_, correction_pass_;
-  bool density_current_ = false;  // rho and the grid already match x (measures were just taken)
+  bool density_current_ = false;  // rho already matches x (measures were just taken)
   bool lists_built_ = false;      // the grid and lists follow the particles' order (built since the upload)
 
   vk::Program lists_, predict_, velocity_;

@@ -287,8 +287,7 @@ void ReferenceSolver::vorticity_force() {
 void ReferenceSolver::step() {
   const SolverParams& p = d_.solver;
   if (p.method == Method::Ldc) {
-    if (!neighbours_built_) build_grid(state.x);  // as the GPU: the last step's lists serve the density
-    density();
+    density_at_positions();
     correction();
   }
   predict();
@@ -340,9 +339,13 @@ double ReferenceSolver::mean_compression() const {
   return sum / double(std::max<size_t>(state.rho.size(), 1));
 }
 
-FrameStats ReferenceSolver::measure() {
+void ReferenceSolver::density_at_positions() {
   if (!neighbours_built_) build_grid(state.x);  // as the GPU: the last step's lists serve the density
   density();
+}
+
+FrameStats ReferenceSolver::measure() {
+  density_at_positions();
   FrameStats s;
   // The domain's lowest corner along g (shaders/reduce_stats.comp).
   const dvec3 lowest = glm::mix(d_.domain_min, d_.domain_max, glm::dvec3(glm::greaterThan(d_.gravity, dvec3(0.0))));

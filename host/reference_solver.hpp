@@ -72,6 +72,7 @@ class ReferenceSolver : public Solver {
     int image;  // the walls' axes j is reflected across (WallImage::axes; 0: j itself)
   };
   void build_neighbours(const std::vector<glm::dvec3>& at);
+  void density_at_positions();  // rho at x, from the last step's lists (GpuSolver::density_at_positions)
   template <class F>
   void for_each_candidate(const glm::dvec3& xi, F&& visit) const;
   template <class F>
