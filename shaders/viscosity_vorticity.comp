@@ -52,8 +52,7 @@ void main() {
   int image;
   FOR_EACH_NEIGHBOUR(i, xi, walls, j, image) {
     vec3 d = xi - mirror(walls, image, texelFetch(x, int(j)).xyz);
-    float r2 = dot(d, d);
-    if (r2 >= sim.h * sim.h) continue;
+    float r2 = dot(d, d);  // every term below is zero from r = h on
     vec4 vj = texelFetch(v_rho, int(j));
     vec3 vij = mirror_sign(image) * vj.xyz - vi;  // an image moves as j, mirrored
     if (image == 0) {  // XSPH and the vorticity see the fluid only

@@ -19,9 +19,8 @@ void main() {
   vec3 eta = vec3(0.0);
   int image;
   FOR_EACH_NEIGHBOUR(i, xi, no_walls(), j, image) {
-    vec3 d = xi - texelFetch(x, int(j)).xyz;
-    if (image != 0 || dot(d, d) >= sim.h * sim.h) continue;  // the fluid only (a list holds images too)
-    eta += length(texelFetch(omega, int(j)).xyz) * spiky_grad(d, length(d));
+    vec3 d = xi - texelFetch(x, int(j)).xyz;  // spiky_grad is zero from r = h on
+    if (image == 0) eta += length(texelFetch(omega, int(j)).xyz) * spiky_grad(d, length(d));  // the fluid only (a list holds images too)
   }
   float len = length(eta);
   if (len > 1e-9) v[i].xyz += (sim.vorticity_eps * sim.dt / len) * cross(eta, texelFetch(omega, int(i)).xyz);
