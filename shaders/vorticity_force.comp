@@ -19,8 +19,9 @@ void main() {
   vec3 eta = vec3(0.0);
   int image;
   FOR_EACH_NEIGHBOUR(i, xi, no_walls(), j, image) {
-    vec3 d = xi - texelFetch(x, int(j)).xyz;  // spiky_grad is zero from r = h on
-    if (image == 0) eta += length(texelFetch(omega, int(j)).xyz) * spiky_grad(d, length(d));  // the fluid only (a list holds images too)
+    // The fluid only (a list holds images too); spiky_grad is zero from r = h on.
+    vec3 d = xi - texelFetch(x, int(j)).xyz;
+    if (image == 0) eta += length(texelFetch(omega, int(j)).xyz) * spiky_grad(d, length(d));
   }
   float len = length(eta);
   if (len > 1e-9) v[i].xyz += (sim.vorticity_eps * sim.dt / len) * cross(eta, texelFetch(omega, int(i)).xyz);
