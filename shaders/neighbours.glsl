@@ -92,7 +92,7 @@ bool next_candidate(inout Neighbours w, out uint j, out int image) {
 // reader's round is the four entries of one fetch, a cell walker's one candidate. The
 // rounds' inner loop has a constant trip count, so the compiler unrolls it: on llvmpipe
 // every loop iteration costs a mask update and an all-lanes test, and a list pass took
-// ~a third less time without them (peer scene, GPU time per pass, four rounds alternated:
+// 16-26 % less time without them (peer scene, GPU time per pass, four rounds alternated:
 // λ averages 1.63 -> 1.20 ms a step, Δp 1.41 -> 1.18, bench/results). A body must not use
 // `continue`: it keeps the loop from being unrolled (the λ pass's did: 1.88 -> 2.21 ms,
 // then 1.42 without it).
