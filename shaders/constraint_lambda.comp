@@ -37,15 +37,18 @@ void main() {
     vec3 g = spiky_grad(d, sqrt(r2));  // zero for j = i
     // i's own images move with i, away from it: they count twice in grad_i C_i.
     grad_i += j == i ? 2.0 * g : g;
-    if (j != i && image == 0) grad_sq += dot(g, g);
-    if (j != i && image != 0) {
-      if (j != image_of) {  // the first image of j: close the last one's sum, open j's
-        grad_sq += dot(g_j, g_j) - dot(g_own, g_own);
-        vec3 dj = xi - xj;
-        g_own = g_j = spiky_grad(dj, sqrt(dot(dj, dj)));
-        image_of = j;
+    if (j != i) {  // no `continue` here: it would keep the loop from unrolling (neighbours.glsl)
+      if (image == 0) {
+        grad_sq += dot(g, g);
+      } else {
+        if (j != image_of) {  // the first image of j: close the last one's sum, open j's
+          grad_sq += dot(g_j, g_j) - dot(g_own, g_own);
+          vec3 dj = xi - xj;
+          g_own = g_j = spiky_grad(dj, sqrt(dot(dj, dj)));
+          image_of = j;
+        }
+        g_j += mirror_sign(image) * g;
       }
-      g_j += mirror_sign(image) * g;
     }
   }
   grad_sq += dot(g_j, g_j) - dot(g_own, g_own);
