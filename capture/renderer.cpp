@@ -14,7 +14,8 @@ namespace {
 constexpr int kPassShaded = 0, kPassSurface = 1, kPassSolid = 2;  // render_common.glsl
 constexpr float kNoFluid = 1e30f;                                   // NO_FLUID there
 constexpr int kSmoothingRounds = 3;  // bilateral x then y, thrice
-constexpr int kTile = 8;             // surface texels on a side of a shading tile: TILE in fluid_tiles.vert
+constexpr int kTile = 8;             // surface texels on a side of a tile: TILE in render_common.glsl
+constexpr int kTilesHoldingFluid = 0, kTilesNearFluid = 1;  // tile_mask.frag's channels
 
 }  // namespace
 
@@ -61,14 +62,18 @@ Renderer::Renderer(const View& view)
   scene_depth_ = gl::make_texture(GL_DEPTH_COMPONENT32F, w, h);
   scene_fb_ = gl::make_framebuffer({scene_colour_}, scene_depth_);
   if (view.style == Style::Fluid) {
-    smooth_ = gl::make_program("fullscreen.vert", "smooth_depth.frag");
-    fluid_ = gl::make_program("fluid_tiles.vert", "fluid_shade.frag");
+    tile_mask_ = gl::make_program("fullscreen.vert", "tile_mask.frag");
+    smooth_ = gl::make_program("surface_tiles.vert", "smooth_depth.frag");
+    fluid_ = gl::make_program("surface_tiles.vert", "fluid_shade.frag");
     // The smoothed surface holds (linear eye depth, coverage 1) where there is fluid and 0
     // elsewhere, so that the shading's bilinear read at full size, r/g, blends only depths
     // of fluid and g says how much of the pixel the fluid covers. (The surface pass's raw
     // depth, before smoothing, is NO_FLUID where no sphere was drawn.)
     const int sw = surface_size_.x, sh = surface_size_.y;
     for (auto& t : fluid_depth_) t = gl::make_texture(GL_RG32F, sw, sh, GL_LINEAR);
+    tiles_ = (surface_size_ + kTile - 1) / kTile;
+    tile_marks_ = gl::make_texture(GL_RG8, tiles_.x, tiles_.y);
+    tile_marks_fb_ = gl::make_framebuffer({tile_marks_}, 0);
     thickness_ = gl::make_texture(GL_R32F, sw, sh, GL_LINEAR);
     output_colour_ = gl::make_texture(GL_RGBA8, w, h);
     // The tank's depth at the surface's size: fluid behind an obstacle stays hidden.
@@ -221,19 +226,32 @@ void Renderer::fluid_surface(uint32_t count) {
   glDepthMask(GL_TRUE);
   glDisable(GL_DEPTH_TEST);
 
-  // 2. Smoothing, ping-ponging between the two depth textures; ends in fluid_depth_[0].
+  // 2. The tiles that hold fluid and those near it (tile_mask.frag), where the smoothing
+  //    and the shading run (surface_tiles.vert).
+  glViewport(0, 0, tiles_.x, tiles_.y);
+  glBindFramebuffer(GL_FRAMEBUFFER, tile_marks_fb_);
+  glUseProgram(tile_mask_);
+  glBindTextureUnit(0, fluid_depth_[0]);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindTextureUnit(4, tile_marks_);
+
+  // 3. Smoothing, ping-ponging between the two depth textures; ends in fluid_depth_[0].
+  //    Away from the fluid the smoothed surface reads 0: each target is cleared before
+  //    its first round (fluid_depth_[0] once the first round has read the splat), and
+  //    every round writes the same tiles.
+  glViewport(0, 0, size.x, size.y);
   upload(uniforms(count, kPassShaded, size));
   glUseProgram(smooth_);
   for (int round = 0; round < kSmoothingRounds; ++round)
     for (int axis = 0; axis < 2; ++axis) {
+      if (round == 0) glClearNamedFramebufferfv(smooth_fb_[axis], GL_COLOR, 0, zero);
       glBindFramebuffer(GL_FRAMEBUFFER, smooth_fb_[axis]);
       glBindTextureUnit(0, fluid_depth_[axis]);
       glUniform2i(0, axis == 0 ? 1 : 0, axis == 0 ? 0 : 1);
-      glDrawArrays(GL_TRIANGLES, 0, 3);
+      draw_tiles(kTilesHoldingFluid, glm::vec2(1.0f));
     }
 
-  // 3. Shading over a copy of the tank, at the image's size, on the tiles of the image
-  //    that the fluid may touch (fluid_tiles.vert, kTile).
+  // 4. Shading over a copy of the tank, at the image's size, on the tiles near the fluid.
   glViewport(0, 0, image_size_.x, image_size_.y);
   glCopyImageSubData(scene_colour_, GL_TEXTURE_2D, 0, 0, 0, 0, output_colour_, GL_TEXTURE_2D, 0, 0, 0, 0,
                      image_size_.x, image_size_.y, 1);
@@ -244,8 +262,15 @@ void Renderer::fluid_surface(uint32_t count) {
   glBindTextureUnit(1, fluid_depth_[0]);
   glBindTextureUnit(2, thickness_);
   glBindTextureUnit(3, scene_depth_);
-  const glm::ivec2 tiles = (size + kTile - 1) / kTile;
-  glDrawArrays(GL_POINTS, 0, tiles.x * tiles.y);
+  draw_tiles(kTilesNearFluid, glm::vec2(image_size_) / glm::vec2(size));
+}
+
+// One point per tile of the surface (surface_tiles.vert) with the current program, drawn
+// where tile_marks_ holds `channel`; `scale`: the viewport's pixels per surface texel.
+void Renderer::draw_tiles(int channel, glm::vec2 scale) {
+  glUniform1i(1, channel);
+  glUniform2f(2, scale.x, scale.y);
+  glDrawArrays(GL_POINTS, 0, tiles_.x * tiles_.y);
 }
 
 }  // namespace pbflow::capture

@@ -56,16 +56,19 @@ class Renderer {
   void draw_spheres(uint32_t count, int pass, glm::ivec2 viewport);
   void draw_tank_and_obstacles();  // into scene_fb_, and for the fluid style its depth into surface_fb_
   void fluid_surface(uint32_t count);
+  void draw_tiles(int channel, glm::vec2 scale);
 
   View view_;
   glm::ivec2 image_size_, surface_size_;  // the fluid surface's passes run at surface_size_
   gl::Object vao_, frame_ubo_;
-  gl::Object sphere_, box_, smooth_, fluid_;
+  gl::Object sphere_, box_, tile_mask_, smooth_, fluid_;
   gl::Object scene_colour_, scene_depth_, scene_fb_;
   gl::Object fluid_depth_[2], surface_zbuffer_, thickness_, output_colour_;
   Image image_;  // what render() returns
   std::vector<gl::Object> obstacle_spheres_;  // one particle each (frame layout), drawn at its radius
   gl::Object surface_fb_, smooth_fb_[2], output_fb_;
+  glm::ivec2 tiles_{0};  // the surface's tiles of TILE x TILE texels (render_common.glsl)
+  gl::Object tile_marks_, tile_marks_fb_;  // tile_mask.frag's marks, one texel per tile
   bool tank_drawn_ = false;
 };
 
