@@ -57,6 +57,7 @@ Renderer::Renderer(const View& view)
   glEnable(GL_PROGRAM_POINT_SIZE);  // sphere.vert sizes each particle's sprite
   frame_ubo_ = gl::make_buffer(sizeof(FrameUniforms));
   sphere_ = gl::make_program("sphere.vert", "sphere.frag");
+  sphere_surface_ = gl::make_program("sphere.vert", "sphere_surface.frag");
   box_ = gl::make_program("box.vert", "box.frag");
   scene_colour_ = gl::make_texture(GL_RGBA8, w, h);
   scene_depth_ = gl::make_texture(GL_DEPTH_COMPONENT32F, w, h);
@@ -129,7 +130,7 @@ void Renderer::upload(const FrameUniforms& u) {
 void Renderer::draw_spheres(uint32_t count, int pass, glm::ivec2 viewport) {
   if (count == 0) return;
   upload(uniforms(count, pass, viewport));
-  glUseProgram(sphere_);
+  glUseProgram(pass == kPassSurface ? sphere_surface_ : sphere_);
   glDrawArrays(GL_POINTS, 0, GLsizei(count));
 }
 

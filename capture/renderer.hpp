@@ -61,7 +61,7 @@ class Renderer {
   View view_;
   glm::ivec2 image_size_, surface_size_;  // the fluid surface's passes run at surface_size_
   gl::Object vao_, frame_ubo_;
-  gl::Object sphere_, box_, tile_mask_, smooth_, fluid_;
+  gl::Object sphere_, sphere_surface_, box_, tile_mask_, smooth_, fluid_;
   gl::Object scene_colour_, scene_depth_, scene_fb_;
   gl::Object fluid_depth_[2], surface_zbuffer_, thickness_, output_colour_;
   Image image_;  // what render() returns

@@ -22,10 +22,7 @@ float tank_depth(ivec2 p) {
   return proj[3][2] / (z_ndc + proj[2][2]);
 }
 
-vec3 view_position(ivec2 p, float d) {
-  vec2 ndc = (vec2(p) + 0.5) / viewport * 2.0 - 1.0;
-  return vec3(ndc.x / proj[0][0], ndc.y / proj[1][1], -1.0) * d;
-}
+vec3 view_position(ivec2 p, float d) { return view_ray(vec2(p) + 0.5) * d; }
 
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);

@@ -34,6 +34,20 @@ vec3 particle_v(int i) {
 }
 float particle_rho(int i) { return particle_data[8 * count + i]; }
 
+// The view-space ray through a point of the viewport (pixels): the point at linear eye
+// depth d on it is d times the ray (its z is -1; the projection is symmetric).
+vec3 view_ray(vec2 pixel) {
+  vec2 ndc = pixel / viewport * 2.0 - 1.0;
+  return vec3(ndc.x / proj[0][0], ndc.y / proj[1][1], -1.0);
+}
+
+// Where t * ray meets the sphere (centre, r): t = (b -+ sqrt(disc)) / a, with
+// a = |ray|^2, b = ray . centre and disc = b^2 - a (|centre|^2 - r^2); a miss where disc < 0.
+float sphere_disc(vec3 ray, vec3 centre, float r) {
+  float b = dot(ray, centre);
+  return b * b - dot(ray, ray) * (dot(centre, centre) - r * r);
+}
+
 // Sky seen along a view-space direction: light near the horizon, deeper blue above.
 vec3 sky(vec3 dir_view) {
   vec3 up = normalize(mat3(view) * vec3(0.0, 1.0, 0.0));

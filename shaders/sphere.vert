@@ -30,6 +30,9 @@ void main() {
     float secant = d / max(-centre_view.z, 1e-9);
     float pixels = 0.5 * viewport.y * proj[1][1] * half_size / max(-centre_view.z, 1e-9) * secant * secant;
     gl_PointSize = 2.0 * pixels + 2.0;
+    // At the sphere's nearest point, on the ray through the centre: the sprite's depth,
+    // which the splat's depth test reads (sphere_surface.frag).
+    corner *= 1.0 - radius / d;
   }
   // An eye inside a sphere sees nothing of it: it is moved out of the clip volume.
   gl_Position = d > radius ? proj * vec4(corner, 1.0) : vec4(2.0, 2.0, 2.0, 1.0);
