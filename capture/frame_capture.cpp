@@ -9,6 +9,10 @@ namespace pbflow::capture {
 FrameCapture::FrameCapture(const CaptureOptions& options, const Solver& solver, const vk::Context* vk)
     : options_(options), gl_(gl::Context::Options{options.debug}), renderer_(options.view) {
   transfer_ = make_particle_transfer(solver, vk, gl_, options.allow_shared);
+  // llvmpipe compiles a GL program's shaders at its first draw (~130 ms for the fluid
+  // style at 720p) where the solver's pipelines are compiled as it is made: one render of
+  // the particles, never written, does it here, before the run's first frame and clock.
+  renderer_.render(transfer_->update(solver), uint32_t(solver.particle_count()));
   if (!options.video.empty())
     video_ = std::make_unique<VideoEncoder>(options.video, options.view.width, options.view.height, options.fps);
 }
