@@ -1,7 +1,7 @@
 // Screen-space fluid: a surface from the smoothed depth, normals from its slopes,
 // Fresnel mix of the sky's reflection and the scene refracted and absorbed through
 // the fluid's thickness, and a specular highlight. Drawn on the tiles that the fluid may
-// touch (fluid_tiles.vert) over a copy of the tank's image.
+// touch (surface_tiles.vert) over a copy of the tank's image.
 layout(location = 0) out vec4 result;
 layout(binding = 0) uniform sampler2D scene_texture;
 // Both at the surface's size, read bilinearly at the image's.

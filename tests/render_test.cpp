@@ -117,10 +117,10 @@ TEST_F(RenderTest, SpheresCoverTheirProjectedDiscsAndNothingElse) {
   EXPECT_EQ(c.outside_drawn, 0) << "pixels outside every projected sphere were drawn";
 }
 
-// The fluid style shades only the tiles of the image that the fluid may touch
-// (fluid_tiles.vert): lone drops in the corners and at the edges of an image whose size
-// is no multiple of a tile are shaded whole, at either surface size, and the tank away
-// from them is left as it was.
+// The fluid style smooths and shades only the tiles of the surface that the fluid may
+// touch (tile_mask.frag, surface_tiles.vert): lone drops in the corners and at the edges
+// of an image whose size is no multiple of a tile are shaded whole, at either surface
+// size, and the tank away from them is left as it was.
 TEST_F(RenderTest, FluidShadingTilesMissNoDropAtTheImagesEdges) {
   const double r = 0.15;
   const std::vector<glm::vec3> drops = {{-1.95f, -1.15f, 0}, {1.95f, -1.15f, 0}, {-1.95f, 1.15f, 0}, {1.95f, 1.15f, 0},
