@@ -27,6 +27,9 @@ void ReferenceSolver::upload(const ParticleState& s) {
   state.x = s.x;
   state.v = s.v;
   state.x_pred = s.x_pred;
+  // rho as GpuSolver::upload takes it (0 where s has none): the dashpot's until a step measures it.
+  state.rho.assign(state.x.size(), 0.0);
+  std::copy_n(s.rho.begin(), std::min(s.rho.size(), state.rho.size()), state.rho.begin());
   neighbours_built_ = false;
 }
 

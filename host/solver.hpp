@@ -89,7 +89,7 @@ class Solver {
   virtual FrameStats advance(int steps) = 0;
   virtual ParticleFrame read_frame() const = 0;  // the state after the last advance()
   virtual ParticleState download() const = 0;     // everything, in id order
-  virtual void upload(const ParticleState& s) = 0;  // x, v, x_pred, in id order
+  virtual void upload(const ParticleState& s) = 0;  // x, v, x_pred and rho, in id order
   virtual size_t particle_count() const = 0;
   virtual std::string device_name() const = 0;
 };
