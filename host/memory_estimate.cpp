@@ -24,7 +24,8 @@ constexpr double kHostPerParticleGpuRun = 24 + 72 + 48 + 40;
 // Reference: x, v, x_pred, omega (dvec3), rho, lambda, its cell lists, two scratch dvec3
 // arrays, the initial lattice, a frame read back, and its neighbour lists (~40 entries of 8 bytes).
 constexpr double kHostPerParticleCpuRun = 96 + 16 + 8 + 48 + 24 + 40 + 24 + 320, kHostPerCellCpuRun = 24;
-// Framebuffers and the image read back: colour, depth, two smoothing targets, RGB copies.
+// Framebuffers and the image read back: colour and depth for the tank and for a frame (16),
+// the fluid's surface targets (24 at full size: two RG32F, R32F, depth), RGB copies.
 constexpr double kBytesPerPixel = 48;
 
 double gib(uint64_t bytes) { return double(bytes) / double(1ULL << 30); }
