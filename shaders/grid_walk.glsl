@@ -10,12 +10,3 @@ ivec3 last_cell(vec3 xi) { return min(cell_of(xi) + 1, sim.grid - 1); }
 // y, z) is one contiguous range of the sorted particles: nine ranges instead of 27.
 uint row_begin(ivec3 first, int y, int z) { return texelFetch(cell_start, int(cell_id(ivec3(first.x, y, z)))).x; }
 uint row_end(ivec3 last, int y, int z) { return texelFetch(cell_start, int(cell_id(ivec3(last.x, y, z)) + 1u)).x; }
-
-// Loops j over every particle binned in the 27 cells around position xi (the body tests
-// the distance).
-#define FOR_EACH_CANDIDATE(xi, j)                                                          \
-  ivec3 first_##j = first_cell(xi), last_##j = last_cell(xi);                              \
-  for (int z_##j = first_##j.z; z_##j <= last_##j.z; ++z_##j)                              \
-    for (int y_##j = first_##j.y; y_##j <= last_##j.y; ++y_##j)                            \
-      for (uint j = row_begin(first_##j, y_##j, z_##j), end_##j = row_end(last_##j, y_##j, z_##j); \
-           j < end_##j; ++j)

@@ -75,7 +75,7 @@ bool next_candidate(inout Neighbours w, out uint j, out int image) {
     image = w.image = next;
     return true;
   }
-  while (w.j >= w.end) {  // the next row of three cells (FOR_EACH_CANDIDATE's order)
+  while (w.j >= w.end) {  // the next row of three cells (neighbour_lists.comp's order)
     if (++w.y > w.last.y) {
       w.y = w.first.y;
       if (++w.z > w.last.z) return false;
