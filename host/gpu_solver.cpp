@@ -69,7 +69,7 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
                             {{1, kVec4}})),
       viscosity_(neighbour_pass("viscosity_vorticity", 7,
                                 {std::bit_cast<uint32_t>(float(d.solver.damping)),
-                                 std::bit_cast<uint32_t>(float(d.damping_limit))},
+                                 std::bit_cast<uint32_t>(float(d.damping_limit)), vorticity_pass_ ? 1u : 0u},
                                 5, {{1, kVec4}, {2, kVec4}})),
       vorticity_(neighbour_pass("vorticity_force", 6, {}, 4, {{1, kVec4}, {2, kVec4}})),
       reduce_(ctx, "reduce_stats", 4, sizeof(SimConstants), kReduceThreads),
@@ -98,7 +98,7 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
   overflow_groups_ = vk::Buffer(ctx, 4 * sizeof(uint32_t));
   for (auto& b : id_) b = vk::Buffer(ctx, n_ * sizeof(uint32_t));
   // Model no more than the scene needs: vorticity storage only when a pass uses it.
-  if (viscosity_pass_) omega_ = vk::Buffer(ctx, n_ * sizeof(glm::vec4));
+  if (vorticity_pass_) omega_ = vk::Buffer(ctx, n_ * sizeof(glm::vec4));
   if (d.solver.lambda_smoothing > 0) x_lambda_spare_ = vk::Buffer(ctx, n_ * sizeof(glm::vec4));
   ParticleState s;
   s.x = x0;
@@ -146,7 +146,7 @@ ParticleState GpuSolver::download() const {
   s.x = unpack3(at(X));
   s.v = unpack3(at(V));
   s.x_pred = unpack3(at(XPred));
-  if (viscosity_pass_) s.omega = unpack3(omega_);
+  if (vorticity_pass_) s.omega = unpack3(omega_);
   s.rho = unpack1(rho_.download<float>(n_));
   std::vector<float> lambda;
   for (const glm::vec4& xl : x_lambda_.download<glm::vec4>(n_)) lambda.push_back(xl.w);
@@ -368,7 +368,8 @@ void GpuSolver::viscosity_vorticity() {
     cmd_.bind(1, at(X));
     cmd_.bind(2, at(V));
     cmd_.bind(3, at(Spare0));
-    cmd_.bind(4, omega_);
+    // Without vorticity the shader never touches omega (VORTICITY): any buffer fills the slot.
+    cmd_.bind(4, vorticity_pass_ ? omega_ : at(Spare0));
   });
   swap_roles(V, Spare0);
 }

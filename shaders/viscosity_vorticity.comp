@@ -21,13 +21,17 @@ layout(local_size_x_id = 0) in;
 
 layout(constant_id = 1) const float DAMPING = 0.2;         // solver.damping
 layout(constant_id = 2) const float DAMPING_LIMIT = 0.3;   // Derived::damping_limit
+// solver.vorticity > 0: omega is wanted (vorticity_force.comp). Without it the curl, a
+// cross product and a kernel gradient per neighbour, is not computed: XSPH/dashpot took
+// 22 % less time (dam break ldc@1, 94 608 particles: 9.3-9.6 -> 7.2-7.4 ms a step).
+layout(constant_id = 3) const bool VORTICITY = true;
 
 layout(binding = 1) uniform samplerBuffer x;
 layout(binding = 2) uniform samplerBuffer v_rho;  // v, and in w the last lambda pass's rho (velocity_update.comp)
 layout(std430, binding = 3) writeonly buffer VOut { vec4 v_out[]; };
-layout(std430, binding = 4) writeonly buffer Omega { vec4 omega[]; };
+layout(std430, binding = 4) writeonly buffer Omega { vec4 omega[]; };  // VORTICITY only
 #define NEIGHBOUR_BINDING 5
-#define NEIGHBOUR_CAPACITY_ID 3
+#define NEIGHBOUR_CAPACITY_ID 4
 #include "neighbours.glsl"
 
 // The velocity change of i from a dashpot of coefficient c to a partner at x_i - d moving
@@ -57,7 +61,7 @@ void main() {
     vec3 vij = mirror_sign(image) * vj.xyz - vi;  // an image moves as j, mirrored
     if (image == 0) {  // XSPH and the vorticity see the fluid only
       smooth_v += vij * poly6(r2);
-      curl += cross(vij, spiky_grad(d, sqrt(r2)));
+      if (VORTICITY) curl += cross(vij, spiky_grad(d, sqrt(r2)));
     }
     // The dashpot's largest eigenvalue grows with the neighbours inside h, images included
     // (by less than rho/rho0 on a squeezed lattice): a pair is damped by at most
@@ -68,5 +72,5 @@ void main() {
   }
   float volume = sim.mass / sim.rho0;
   v_out[i] = vec4(vi + (sim.xsph_c * volume) * smooth_v + damp, 0.0);
-  omega[i] = vec4(volume * curl, 0.0);
+  if (VORTICITY) omega[i] = vec4(volume * curl, 0.0);
 }

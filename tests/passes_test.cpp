@@ -177,6 +177,29 @@ TEST_P(PassTest, ViscosityAndVorticity) {
   expect_close(test::compare(g.omega, ref.state.omega, "vorticity omega"));
 }
 
+// Without vorticity the pass skips the curl (a specialisation constant) and keeps no
+// omega: the velocity change must still be the reference's.
+TEST_P(PassTest, ViscosityWithoutVorticity) {
+  Derived plain = d;
+  plain.solver.vorticity = 0.0;
+  GpuSolver gpu_plain{test::gpu(), plain, input.x};
+  ReferenceSolver ref_plain{plain, input.x};
+  gpu_plain.upload(input);
+  ref_plain.state = input;
+  gpu_plain.begin();
+  gpu_plain.grid_at_positions();
+  gpu_plain.viscosity_vorticity();
+  gpu_plain.finish();
+  ParticleState g = gpu_plain.download();
+  ref_plain.build_grid(ref_plain.state.x);
+  ref_plain.density();
+  ref_plain.state.rho = input.rho;
+  ref_plain.viscosity_vorticity();
+  expect_close(test::compare(test::difference(g.v, input.v), test::difference(ref_plain.state.v, input.v),
+                             "XSPH and damping dv, no vorticity"));
+  EXPECT_TRUE(g.omega.empty()) << "no vorticity storage without vorticity";
+}
+
 TEST_P(PassTest, VorticityForce) {
   ParticleState before = run_gpu([&] {
     gpu.grid_at_positions();
