@@ -44,6 +44,23 @@ class PassTest : public test::GpuTest, public ::testing::WithParamInterface<List
     gpu.finish();
     return gpu.download();
   }
+  // One viscosity_vorticity pass at x from `input`, its densities uploaded, on the GPU
+  // and on the reference.
+  ParticleState gpu_viscosity(GpuSolver& g) {
+    g.upload(input);
+    g.begin();
+    g.grid_at_positions();
+    g.viscosity_vorticity();
+    g.finish();
+    return g.download();
+  }
+  void reference_viscosity(ReferenceSolver& r) {
+    r.state = input;
+    r.build_grid(r.state.x);
+    r.density();  // for its lists at x (the GPU's grid_at_positions builds them); the dashpot
+    r.state.rho = input.rho;  // reads the uploaded densities, as on the GPU
+    r.viscosity_vorticity();
+  }
   static Derived with_capacity(Derived d, int capacity) {
     if (capacity >= 0) d.neighbour_capacity = uint32_t(capacity);
     return d;
@@ -163,16 +180,8 @@ TEST_P(PassTest, ViscosityAndVorticity) {
   std::uniform_real_distribution<double> squeeze(0.9, 2.1);
   for (double& r : input.rho) r = d.rho0 * squeeze(rng);
   ASSERT_LT(d.damping_limit / 2.1, d.solver.damping) << "no pair reaches the cap";
-  gpu.upload(input);
-  ref.state = input;
-  ParticleState g = run_gpu([&] {
-    gpu.grid_at_positions();
-    gpu.viscosity_vorticity();
-  });
-  ref.build_grid(ref.state.x);
-  ref.density();  // for its lists at x (the GPU's grid_at_positions builds them); the dashpot
-  ref.state.rho = input.rho;  // reads the uploaded densities, as on the GPU
-  ref.viscosity_vorticity();
+  ParticleState g = gpu_viscosity(gpu);
+  reference_viscosity(ref);
   expect_close(test::compare(test::difference(g.v, input.v), test::difference(ref.state.v, input.v), "XSPH and damping dv"));
   expect_close(test::compare(g.omega, ref.state.omega, "vorticity omega"));
 }
@@ -184,17 +193,8 @@ TEST_P(PassTest, ViscosityWithoutVorticity) {
   plain.solver.vorticity = 0.0;
   GpuSolver gpu_plain{test::gpu(), plain, input.x};
   ReferenceSolver ref_plain{plain, input.x};
-  gpu_plain.upload(input);
-  ref_plain.state = input;
-  gpu_plain.begin();
-  gpu_plain.grid_at_positions();
-  gpu_plain.viscosity_vorticity();
-  gpu_plain.finish();
-  ParticleState g = gpu_plain.download();
-  ref_plain.build_grid(ref_plain.state.x);
-  ref_plain.density();
-  ref_plain.state.rho = input.rho;
-  ref_plain.viscosity_vorticity();
+  ParticleState g = gpu_viscosity(gpu_plain);
+  reference_viscosity(ref_plain);
   expect_close(test::compare(test::difference(g.v, input.v), test::difference(ref_plain.state.v, input.v),
                              "XSPH and damping dv, no vorticity"));
   EXPECT_TRUE(g.omega.empty()) << "no vorticity storage without vorticity";
