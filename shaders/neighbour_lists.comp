@@ -21,7 +21,8 @@ layout(local_size_x_id = 0) in;
 #include "grid_walk.glsl"
 
 layout(binding = 1) uniform samplerBuffer x;  // the positions the lists are built at
-// count[0, n), then the overflow list's length and entries; the host zeroes the length.
+// count[0, n) (entries; in the high 16 bits those before the images, neighbours.glsl
+// listed_count), then the overflow list's length and entries; the host zeroes the length.
 layout(std430, binding = 2) buffer NeighbourCount { uint neighbour_count[]; };
 layout(std430, binding = 3) buffer NeighbourList { uint neighbour_list[]; };
 // The cell walkers' VkDispatchIndirectCommand, reset by the host to (0, 1, 1). The
@@ -66,6 +67,7 @@ void main() {
   // The images, from the neighbours listed (an image lies farther than its particle, so
   // only a neighbour's can be within h), in a second loop: inside the walk, llvmpipe
   // would run the image loop for every candidate. A full list is walked by the readers.
+  uint fluid = listed;
   WallImages walls = walls_near(xi);
   uint neighbours = walls.axes != 0 && listed <= NEIGHBOUR_CAPACITY ? listed : 0u;
   for (uint k = 0u; k < neighbours; ++k) {
@@ -78,7 +80,7 @@ void main() {
       ++listed;
     }
   }
-  neighbour_count[i] = listed;
+  neighbour_count[i] = min(listed, 0xFFFFu) | (min(fluid, 0xFFFFu) << 16);  // neighbours.glsl, listed_count
   if (listed > NEIGHBOUR_CAPACITY) {
     uint slot = atomicAdd(neighbour_count[sim.count], 1u);
     neighbour_count[sim.count + 1u + slot] = i;
