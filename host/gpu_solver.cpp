@@ -59,19 +59,27 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
       predict_(ctx, "predict", 4, sizeof(SimConstants)),
       velocity_(ctx, "velocity_update", 4, sizeof(SimConstants)),
       density_(neighbour_pass("density", 5, {}, 3, {{1, kVec4}})),
-      correction_(neighbour_pass("correction_force", 6,
-                                 {d.solver.ldc_clamp ? 1u : 0u, std::bit_cast<uint32_t>(float(d.ldc_room)),
-                                  d.solver.ldc_mean_reference ? 1u : 0u},
-                                 4, {{1, kVec4}, {2, kFloat}})),
+      // The optional passes' programs are built only for a scene that runs them (each
+      // neighbour pass is two pipelines, ~5 ms each to create on lavapipe).
+      correction_(correction_pass_ ? neighbour_pass("correction_force", 6,
+                                                    {d.solver.ldc_clamp ? 1u : 0u,
+                                                     std::bit_cast<uint32_t>(float(d.ldc_room)),
+                                                     d.solver.ldc_mean_reference ? 1u : 0u},
+                                                    4, {{1, kVec4}, {2, kFloat}})
+                                   : NeighbourPass{}),
       lambda_(neighbour_pass("constraint_lambda", 6, {}, 4, {{1, kVec4}})),
-      smooth_(neighbour_pass("constraint_smooth", 5, {}, 3, {{1, kVec4}})),
+      smooth_(d.solver.lambda_smoothing > 0 ? neighbour_pass("constraint_smooth", 5, {}, 3, {{1, kVec4}})
+                                            : NeighbourPass{}),
       apply_(neighbour_pass("constraint_apply", 6, {std::bit_cast<uint32_t>(float(d.solver.scorr_n))}, 4,
                             {{1, kVec4}})),
-      viscosity_(neighbour_pass("viscosity_vorticity", 7,
-                                {std::bit_cast<uint32_t>(float(d.solver.damping)),
-                                 std::bit_cast<uint32_t>(float(d.damping_limit)), vorticity_pass_ ? 1u : 0u},
-                                5, {{1, kVec4}, {2, kVec4}})),
-      vorticity_(neighbour_pass("vorticity_force", 6, {}, 4, {{1, kVec4}, {2, kVec4}})),
+      viscosity_(viscosity_pass_ ? neighbour_pass("viscosity_vorticity", 7,
+                                                  {std::bit_cast<uint32_t>(float(d.solver.damping)),
+                                                   std::bit_cast<uint32_t>(float(d.damping_limit)),
+                                                   vorticity_pass_ ? 1u : 0u},
+                                                  5, {{1, kVec4}, {2, kVec4}})
+                                 : NeighbourPass{}),
+      vorticity_(vorticity_pass_ ? neighbour_pass("vorticity_force", 6, {}, 4, {{1, kVec4}, {2, kVec4}})
+                                 : NeighbourPass{}),
       reduce_(ctx, "reduce_stats", 4, sizeof(SimConstants), kReduceThreads),
       reduce_final_(ctx, "reduce_final", 2, sizeof(ReduceFinalPush), kReduceThreads),
       check_converged_(ctx, "check_converged", 4, sizeof(CheckPush), 1),

@@ -62,6 +62,7 @@ void CommandList::submit_and_wait() {
 }
 
 void CommandList::set_program(const Program& program) {
+  if (program.pipeline() == VK_NULL_HANDLE) throw Error("set_program: a program that was never built");
   program_ = &program;
   bound_.fill({});
   views_.fill(VK_NULL_HANDLE);
