@@ -43,7 +43,7 @@ void main() {
   uint image_of = i;  // the particle g_m belongs to (i: none yet)
   vec3 g_m = vec3(0.0), g_own = vec3(0.0);
   FOR_EACH_NEIGHBOUR_IN(IMAGE_ENTRIES, i, xi, walls, m, image) {
-    vec3 xj = texelFetch(x_pred, int(m)).xyz, d = xi - mirror(walls, image, xj);
+    vec3 xm = texelFetch(x_pred, int(m)).xyz, d = xi - mirror(walls, image, xm);
     float r2 = dot(d, d);
     w_sum += poly6(r2);
     vec3 g = spiky_grad(d, sqrt(r2));
@@ -52,8 +52,8 @@ void main() {
     if (m != i) {  // no `continue` here: it would keep the loop from unrolling (neighbours.glsl)
       if (m != image_of) {  // the first image of m: close the last one's sum, open m's
         grad_sq += dot(g_m, g_m) - dot(g_own, g_own);
-        vec3 dj = xi - xj;
-        g_own = g_m = spiky_grad(dj, sqrt(dot(dj, dj)));
+        vec3 dm = xi - xm;
+        g_own = g_m = spiky_grad(dm, sqrt(dot(dm, dm)));
         image_of = m;
       }
       g_m += mirror_sign(image) * g;

@@ -33,12 +33,15 @@ layout(constant_id = 2) const uint MAX_GROUPS_X = 65535;     // maxComputeWorkGr
 
 uint entry_slot(uint i, uint k) { return 4u * ((k >> 2) * sim.count + i) + (k & 3u); }
 
+// Appends an entry to i's list; past the capacity only the count goes on.
+void list_entry(uint i, uint entry, inout uint listed) {
+  if (listed < NEIGHBOUR_CAPACITY) neighbour_list[entry_slot(i, listed)] = entry;
+  ++listed;
+}
+
 // Lists candidate `base + bit` for each bit of `hits`, in order.
 void store_hits(uint i, uint base, uint hits, inout uint listed) {
-  for (; hits != 0u; hits &= hits - 1u) {
-    if (listed < NEIGHBOUR_CAPACITY) neighbour_list[entry_slot(i, listed)] = base + uint(findLSB(hits));
-    ++listed;
-  }
+  for (; hits != 0u; hits &= hits - 1u) list_entry(i, base + uint(findLSB(hits)), listed);
 }
 
 void main() {
@@ -76,8 +79,7 @@ void main() {
     for (int image = walls.axes; image != 0; image = next_image(walls.axes, image)) {
       vec3 d = xi - mirror(walls, image, xj);
       if (dot(d, d) >= sim.h * sim.h) continue;
-      if (listed < NEIGHBOUR_CAPACITY) neighbour_list[entry_slot(i, listed)] = image_entry(j, image);
-      ++listed;
+      list_entry(i, image_entry(j, image), listed);
     }
   }
   neighbour_count[i] = min(listed, 0xFFFFu) | (min(fluid, 0xFFFFu) << 16);  // neighbours.glsl, listed_count

@@ -38,16 +38,16 @@ bool neighbour_pass_particle(out uint i) {
   return i < sim.count && (WALK_CELLS || listed_count(texelFetch(neighbour_count, int(i)).x) <= NEIGHBOUR_CAPACITY);
 }
 
-// An entry is a neighbour j within h of i, or one of j's images behind the walls within h
-// (image_entry, common.glsl). The images are entries, not a loop in every reader's body: on
-// llvmpipe a loop runs at least once per neighbour, masked, even where no particle of the
-// SIMD group is near a wall, and the image loop was a third of the constraint passes on
-// the peer scene (6.1 ms against 4.1 without walls).
 // The entries a walk yields: all, the fluid's only, or the images only (a pass whose
 // images need more work than its fluid neighbours runs two walks: on llvmpipe a branch
 // on the image costs every entry).
 const int ALL_ENTRIES = 0, FLUID_ENTRIES = 1, IMAGE_ENTRIES = 2;
 
+// An entry is a neighbour j within h of i, or one of j's images behind the walls within h
+// (image_entry, common.glsl). The images are entries, not a loop in every reader's body: on
+// llvmpipe a loop runs at least once per neighbour, masked, even where no particle of the
+// SIMD group is near a wall, and the image loop was a third of the constraint passes on
+// the peer scene (6.1 ms against 4.1 without walls).
 struct Neighbours {
   uint i, k, n;        // the particle, entries read (a multiple of four), entries listed
   uint lo;             // the first entry yielded (the images block's, for IMAGE_ENTRIES)
