@@ -24,18 +24,18 @@ layout(binding = 1) uniform samplerBuffer x;  // the positions the lists are bui
 // count[0, n) (entries; in the high 16 bits those before the images, neighbours.glsl
 // listed_count), then the overflow list's length and entries; the host zeroes the length.
 layout(std430, binding = 2) buffer NeighbourCount { uint neighbour_count[]; };
-layout(std430, binding = 3) buffer NeighbourList { uint neighbour_list[]; };
+layout(std430, binding = 3) buffer NeighbourList { uvec4 neighbour_list[]; };  // entry k of i: [(k / 4) * n + i][k % 4]
 // The cell walkers' VkDispatchIndirectCommand, reset by the host to (0, 1, 1). The
 // readers run this pass's workgroup size; a count past the device's x limit folds into y.
 layout(std430, binding = 4) buffer OverflowGroups { uint overflow_groups[3]; };
 layout(constant_id = 1) const uint NEIGHBOUR_CAPACITY = 64;  // Derived::neighbour_capacity (groups rounded up: list_words)
 layout(constant_id = 2) const uint MAX_GROUPS_X = 65535;     // maxComputeWorkGroupCount[0]
 
-uint entry_slot(uint i, uint k) { return 4u * ((k >> 2) * sim.count + i) + (k & 3u); }
+uint entry_group(uint i, uint k) { return (k >> 2) * sim.count + i; }
 
 // Appends an entry to i's list; past the capacity only the count goes on.
 void list_entry(uint i, uint entry, inout uint listed) {
-  if (listed < NEIGHBOUR_CAPACITY) neighbour_list[entry_slot(i, listed)] = entry;
+  if (listed < NEIGHBOUR_CAPACITY) neighbour_list[entry_group(i, listed)][listed & 3u] = entry;
   ++listed;
 }
 
@@ -70,16 +70,26 @@ void main() {
   // The images, from the neighbours listed (an image lies farther than its particle, so
   // only a neighbour's can be within h), in a second loop: inside the walk, llvmpipe
   // would run the image loop for every candidate. A full list is walked by the readers.
+  // The neighbours are read four at a time and their images' hits kept as bits, bit
+  // 8q + 7 - k for image k of entry q, so that storing them in bit order lists each
+  // neighbour's images together, in next_image's order (that of the cell walkers).
   uint fluid = listed;
   WallImages walls = walls_near(xi);
   uint neighbours = walls.axes != 0 && listed <= NEIGHBOUR_CAPACITY ? listed : 0u;
-  for (uint k = 0u; k < neighbours; ++k) {
-    uint j = neighbour_list[entry_slot(i, k)];
-    vec3 xj = texelFetch(x, int(j)).xyz;
-    for (int image = walls.axes; image != 0; image = next_image(walls.axes, image)) {
-      vec3 d = xi - mirror(walls, image, xj);
-      if (dot(d, d) >= sim.h * sim.h) continue;
-      list_entry(i, image_entry(j, image), listed);
+  for (uint k = 0u; k < neighbours; k += 4u) {
+    uvec4 group = neighbour_list[entry_group(i, k)];
+    uint hits = 0u;
+    for (uint q = 0u; q < 4u; ++q) {
+      bool listed_neighbour = k + q < neighbours;  // the group's last slots may lie past them
+      vec3 xj = texelFetch(x, int(listed_neighbour ? group[q] : i)).xyz;
+      for (int image = walls.axes; image != 0; image = next_image(walls.axes, image)) {
+        vec3 d = xi - mirror(walls, image, xj);
+        hits |= uint(listed_neighbour && dot(d, d) < sim.h * sim.h) << (8u * q + 7u - uint(image));
+      }
+    }
+    for (; hits != 0u; hits &= hits - 1u) {
+      uint bit = uint(findLSB(hits));
+      list_entry(i, image_entry(group[bit >> 3], 7 - int(bit & 7u)), listed);
     }
   }
   neighbour_count[i] = min(listed, 0xFFFFu) | (min(fluid, 0xFFFFu) << 16);  // neighbours.glsl, listed_count
