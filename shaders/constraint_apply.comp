@@ -11,7 +11,9 @@ layout(binding = 1) uniform samplerBuffer x_lambda;  // (x*, lambda), constraint
 layout(std430, binding = 2) writeonly buffer XOut { vec4 x_out[]; };
 #define OBSTACLES_BINDING 3
 #include "obstacles.glsl"
-layout(constant_id = 1) const float TENSILE_N = 4.0;  // solver.scorr_n
+// solver.scorr_n; 0 where the term is off (solver.scorr_k = 0, the default): a constant,
+// so that its code is compiled out, as llvmpipe would compute it for every entry anyway.
+layout(constant_id = 1) const float TENSILE_N = 4.0;
 #define NEIGHBOUR_BINDING 4
 #define NEIGHBOUR_CAPACITY_ID 2
 #include "neighbours.glsl"
@@ -29,7 +31,7 @@ float tensile_power(float ratio) {
 vec3 pair_push(vec3 d, float lambda_ij) {
   float r2 = dot(d, d);
   if (r2 >= sim.h * sim.h) return vec3(0.0);
-  float s_corr = sim.scorr_k > 0.0 ? -sim.scorr_k * tensile_power(poly6(r2) * sim.scorr_inv_wdq) : 0.0;
+  float s_corr = TENSILE_N > 0.0 ? -sim.scorr_k * tensile_power(poly6(r2) * sim.scorr_inv_wdq) : 0.0;
   return (lambda_ij + s_corr) * spiky_grad(d, sqrt(r2));
 }
 

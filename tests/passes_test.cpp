@@ -61,6 +61,24 @@ class PassTest : public test::GpuTest, public ::testing::WithParamInterface<List
     r.state.rho = input.rho;  // reads the uploaded densities, as on the GPU
     r.viscosity_vorticity();
   }
+  // One lambda pass and one apply pass (relaxation 0.5) at x_pred from `input`: how far
+  // they moved x_pred, on the GPU and on the reference.
+  std::vector<glm::dvec3> gpu_apply_dp(GpuSolver& g) {
+    g.upload(input);
+    g.begin();
+    g.grid_at_predictions();
+    g.constraint_lambda();
+    g.constraint_apply(0.5);
+    g.finish();
+    return test::difference(g.download().x_pred, input.x_pred);
+  }
+  std::vector<glm::dvec3> reference_apply_dp(ReferenceSolver& r) {
+    r.state = input;
+    r.build_grid(r.state.x_pred);
+    r.constraint_lambda();
+    r.constraint_apply(0.5);
+    return test::difference(r.state.x_pred, input.x_pred);
+  }
   static Derived with_capacity(Derived d, int capacity) {
     if (capacity >= 0) d.neighbour_capacity = uint32_t(capacity);
     return d;
@@ -131,17 +149,22 @@ TEST_P(PassTest, ConstraintSmooth) {
 }
 
 TEST_P(PassTest, ConstraintApply) {
-  ParticleState g = run_gpu([&] {
-    gpu.grid_at_predictions();
-    gpu.constraint_lambda();
-    gpu.constraint_apply(0.5);
-  });
-  ref.build_grid(ref.state.x_pred);
-  ref.constraint_lambda();
-  ref.constraint_apply(0.5);
-  expect_close(test::compare(test::difference(g.x_pred, input.x_pred),
-                             test::difference(ref.state.x_pred, input.x_pred), "constraint apply dp"),
-               1e-3);
+  expect_close(test::compare(gpu_apply_dp(gpu), reference_apply_dp(ref), "constraint apply dp"), 1e-3);
+}
+
+// The tensile term (solver.scorr_k > 0) is compiled in only where a scene asks for it
+// (constraint_apply.comp, TENSILE_N): with it on, dp must still be the reference's, and
+// the term must change it.
+TEST_P(PassTest, ConstraintApplyWithTensileTerm) {
+  Derived tensile = with_capacity(derive(load_scene("dam_break", {"particle_spacing=0.04", "solver.scorr_k=0.1"})),
+                                  GetParam().capacity);
+  ASSERT_GT(tensile.scorr_scale, 0.0);
+  GpuSolver gpu_tensile{test::gpu(), tensile, input.x};
+  ReferenceSolver ref_tensile{tensile, input.x};
+  const std::vector<glm::dvec3> dp = reference_apply_dp(ref_tensile);
+  expect_close(test::compare(gpu_apply_dp(gpu_tensile), dp, "constraint apply dp, tensile term"), 1e-3);
+  const test::ErrorReport change = test::compare(dp, reference_apply_dp(ref), "the tensile term's share of dp");
+  EXPECT_GT(change.max_abs, 0.01 * change.scale);
 }
 
 // A later iteration reads the lists the first built, at positions that have moved since.
