@@ -70,7 +70,8 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
       lambda_(neighbour_pass("constraint_lambda", 6, {}, 4, {{1, kVec4}})),
       smooth_(d.solver.lambda_smoothing > 0 ? neighbour_pass("constraint_smooth", 5, {}, 3, {{1, kVec4}})
                                             : NeighbourPass{}),
-      apply_(neighbour_pass("constraint_apply", 6, {std::bit_cast<uint32_t>(d.solver.scorr_k > 0 ? float(d.solver.scorr_n) : 0.0f)}, 4,
+      apply_(neighbour_pass("constraint_apply", 6,
+                            {std::bit_cast<uint32_t>(d.solver.scorr_k > 0 ? float(d.solver.scorr_n) : 0.0f)}, 4,
                             {{1, kVec4}})),
       viscosity_(viscosity_pass_ ? neighbour_pass("viscosity_vorticity", 7,
                                                   {std::bit_cast<uint32_t>(float(d.solver.damping)),

@@ -24,7 +24,8 @@ layout(binding = 1) uniform samplerBuffer x;  // the positions the lists are bui
 // count[0, n) (entries; in the high 16 bits those before the images, neighbours.glsl
 // listed_count), then the overflow list's length and entries; the host zeroes the length.
 layout(std430, binding = 2) buffer NeighbourCount { uint neighbour_count[]; };
-layout(std430, binding = 3) buffer NeighbourList { uvec4 neighbour_list[]; };  // entry k of i: [(k / 4) * n + i][k % 4]
+// Entry k of particle i is neighbour_list[(k / 4) * n + i][k % 4] (entry_group).
+layout(std430, binding = 3) buffer NeighbourList { uvec4 neighbour_list[]; };
 // The cell walkers' VkDispatchIndirectCommand, reset by the host to (0, 1, 1). The
 // readers run this pass's workgroup size; a count past the device's x limit folds into y.
 layout(std430, binding = 4) buffer OverflowGroups { uint overflow_groups[3]; };
