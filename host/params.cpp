@@ -34,10 +34,9 @@ SolverParams SolverParams::defaults() {
   // 1-3 iterations blew up. Gain 1 corrects no mode by more than its own error.
   p.jacobi_gain = 1.0;
   // The relaxation that keeps the worst mode (gain 2.8) sound slows the long modes, which
-  // carry the compression, as much. Two averages of lambda over the neighbours cut the worst
-  // gain to 0.99 and leave the long modes', so paired passes are 2.8x bolder: 2.4-3.4x less
-  // compression at 2-4 iterations, for two more list passes per iteration (README).
-  p.lambda_smoothing = 2;
+  // carry the compression, as much. Averaging lambda over the neighbours cuts the worst
+  // gain and leaves the long modes': two or four averages, chosen in default_smoothing.
+  p.lambda_smoothing = kChosenSmoothing;
   // Macklin & Mueller 2013, section 4: n = 4, dq = 0.2 h, and k = 0.1 there. Off here: the
   // constraint is one-sided (C >= 0), so the negative pressures that clump particles, which
   // the term was made for, do not arise; and its push is a displacement per step whatever
@@ -77,9 +76,23 @@ SolverParams SolverParams::defaults() {
   return p;
 }
 
+int default_smoothing(int iterations, double travel) {
+  // Two averages cut a pass's worst gain from 2.79 to 0.99, so a pair runs 2.8x bolder:
+  // 2.4-3.4x less compression at 2-4 iterations, for two more list passes an iteration.
+  // Four cut it to 0.61 (1.6x bolder again). An average costs ~0.4x a lambda or dp pass
+  // (peer scene), so in time four reach a compression sooner than more iterations with
+  // two: pbf@3 with four 0.86-1.04x the time of pbf@4 with two, pbf@4 with four 0.79-0.97x
+  // pbf@6 with two, for the same compression (README). But the pairs' boldness rests on
+  // the lattice model, which assumes a step moves less than h: at 1.35 and 1.85 h per
+  // step, four averages made 4.8-7.7 % energy where two made none; at 0.67-0.92 h every
+  // setting measured was sound. Two iterations keep two: the real-time setting that meets
+  // its accuracy (the peer's pbf@2 figure) at the least cost per step.
+  return iterations >= 3 && travel <= 1.0 ? 4 : 2;
+}
+
 std::string time_step_warning(const Scene& scene, const Derived& d) {
   const double speed = fall_speed(scene);
-  const double travel = speed * d.dt / d.h;  // kernel radii per step
+  const double travel = d.travel;
   if (travel <= 1.0) return "";
   const double substeps = std::ceil(scene.solver.substeps * travel);
   std::ostringstream m;
@@ -135,11 +148,14 @@ Derived derive(const Scene& scene) {
   d.epsilon = scene.solver.relaxation * gradient_sq;
   d.scorr_scale = scene.solver.scorr_k / gradient_sq;
   d.scorr_inv_wdq = 1.0 / kernels::poly6(std::pow(scene.solver.scorr_dq * d.h, 2), d.h);
+  d.travel = fall_speed(scene) * d.dt / d.h;
+  if (d.solver.lambda_smoothing == SolverParams::kChosenSmoothing)
+    d.solver.lambda_smoothing = default_smoothing(d.solver.iterations, d.travel);
   d.jacobi_gain_max = jacobi_gain_max(scene.solver.kernel_ratio, scene.solver.relaxation);
   d.paired_gain_max =
-      scene.solver.lambda_smoothing == 0
+      d.solver.lambda_smoothing == 0
           ? d.jacobi_gain_max
-          : jacobi_gain_max(scene.solver.kernel_ratio, scene.solver.relaxation, 0.0, scene.solver.lambda_smoothing);
+          : jacobi_gain_max(scene.solver.kernel_ratio, scene.solver.relaxation, 0.0, d.solver.lambda_smoothing);
   d.ldc_k_limit = 4.0 / (d.dt * d.dt * ldc_stiffness_max(scene.solver.kernel_ratio));
   d.ldc_k = scene.solver.method != Method::Ldc ? 0.0
             : scene.solver.ldc_k >= 0          ? scene.solver.ldc_k

@@ -25,7 +25,8 @@ struct SolverParams {
   double rest_density;     // rho0, kg/m^3
   double relaxation;       // eps as a fraction of an interior particle's sum |grad C|^2
   double jacobi_gain;      // (0, 1]: the most a step's passes correct any density mode, as a fraction of its error
-  int lambda_smoothing;    // 0, 2 or 4: passes averaging lambda over the neighbours before each constraint_apply
+  int lambda_smoothing;    // 0, 2 or 4: passes averaging lambda over the neighbours before each constraint_apply;
+                           // kChosenSmoothing: derive() picks 2 or 4 (default_smoothing)
   double scorr_k;          // tensile term strength, as an equivalent compression (dimensionless)
   double scorr_n;          // tensile term exponent
   double scorr_dq;         // tensile term reference distance, as a fraction of h
@@ -38,6 +39,7 @@ struct SolverParams {
   bool ldc_mean_reference; // LDC compares rho_j with the neighbourhood's mean, not with rho_i
 
   static SolverParams defaults();
+  static constexpr int kChosenSmoothing = -1;
   // XSPH, vorticity and the damping share one neighbour pass (viscosity_vorticity).
   bool viscosity_pass() const { return xsph > 0 || vorticity > 0 || damping > 0; }
 };
@@ -63,6 +65,9 @@ struct Derived {
   glm::dvec3 domain_min, domain_max, wall_min, wall_max, gravity;
   glm::ivec3 grid;
   double h, spacing, dt, mass, rho0, epsilon;
+  // Kernel radii a particle falling through the whole domain moves in one step: past 1 it
+  // passes neighbours it never saw, outside the lattice model that sizes the passes.
+  double travel;
   double scorr_inv_wdq;
   // s_corr in the units of lambda (m^2): k divided by an interior particle's sum |grad C|^2,
   // so that k reads as the compression the tensile term is worth at r = dq.
@@ -100,6 +105,10 @@ struct Derived {
   SimConstants to_gpu(uint32_t count) const;
 };
 Derived derive(const Scene& scene);
+
+// The lambda averages a pair of iterations gets unless the scene says: four from three
+// iterations on where a step moves at most h (travel <= 1), else two (params.cpp says why).
+int default_smoothing(int iterations, double travel);
 
 // A CFL-style check: empty when a particle at the fall speed over the domain's height
 // moves at most one kernel radius h per step (beyond that it passes neighbours it never

@@ -134,8 +134,9 @@ int run(const RunOptions& o) {
     if (std::string w = time_step_warning(scene, d); !w.empty()) std::cerr << "pbflow: " << w << "\n";
     if (!o.quiet) {
       std::cerr << "pbflow: " << scene.name << ", " << x0.size() << " particles, " << method_name(scene.solver.method)
-                << " with " << scene.solver.iterations << " iteration(s), " << scene.solver.substeps
-                << " substeps per frame, on " << solver->device_name() << "\n";
+                << " with " << scene.solver.iterations << " iteration(s)"
+                << (d.solver.iterations >= 2 ? " (lambda averaged " + std::to_string(d.solver.lambda_smoothing) + "x)" : "")
+                << ", " << scene.solver.substeps << " substeps per frame, on " << solver->device_name() << "\n";
       if (capture && o.verbose) std::cerr << "pbflow: rendering with " << capture->description() << "\n";
     }
 

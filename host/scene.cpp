@@ -236,8 +236,8 @@ Scene parse_scene(const std::string& json_text, const std::string& origin, const
   p.jacobi_gain = number(solver, "jacobi_gain", p.jacobi_gain);
   require(p.jacobi_gain > 0 && p.jacobi_gain <= 1,
           "solver.jacobi_gain must be in (0, 1]: a constraint pass that moves a mode past its error makes energy");
-  p.lambda_smoothing = whole("lambda_smoothing", p.lambda_smoothing, 0, 4);
-  require(p.lambda_smoothing % 2 == 0,
+  if (solver.contains("lambda_smoothing")) p.lambda_smoothing = whole("lambda_smoothing", 0, 0, 4);
+  require(p.lambda_smoothing == SolverParams::kChosenSmoothing || p.lambda_smoothing % 2 == 0,
           "solver.lambda_smoothing must be 0, 2 or 4: a single average turns some density modes' correction around");
   p.scorr_k = number(solver, "scorr_k", p.scorr_k);
   require(p.scorr_k >= 0 && p.scorr_k <= 1e3, "solver.scorr_k must be in [0, 1000]");

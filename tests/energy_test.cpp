@@ -211,6 +211,27 @@ TEST(Stability, OnlyPairedPassesAreSmoothed) {
   }
 }
 
+// From three iterations on the pairs get four lambda averages where a step moves at most h,
+// two where it moves more (default_smoothing: past h four made energy where two made none);
+// a scene's own count stands, and the pairs' relaxation follows the count used.
+TEST(Stability, FourAveragesOnlyWhereAStepStaysWithinH) {
+  auto derived = [](std::vector<std::string> o) { return derive(load_scene("dam_break", o)); };
+  const Derived real_time = derived({"solver.iterations=4"});
+  EXPECT_NEAR(real_time.travel, 0.92, 0.01);  // 0.02 m, 60 fps x 2: the fall moves 0.92 h a step
+  EXPECT_EQ(real_time.solver.lambda_smoothing, 4);
+  EXPECT_DOUBLE_EQ(real_time.paired_gain_max, jacobi_gain_max(2.0, 0.01, 0.0, 4));
+  EXPECT_EQ(derived({"solver.iterations=3"}).solver.lambda_smoothing, 4);
+  EXPECT_EQ(derived({"solver.iterations=2"}).solver.lambda_smoothing, 2);
+  const Derived fine = derived({"solver.iterations=4", "particle_spacing=0.0137"});  // 1.35 h a step
+  EXPECT_GT(fine.travel, 1.0);
+  EXPECT_EQ(fine.solver.lambda_smoothing, 2);
+  EXPECT_DOUBLE_EQ(fine.paired_gain_max, jacobi_gain_max(2.0, 0.01, 0.0, 2));
+  EXPECT_EQ(derived({"solver.iterations=4", "particle_spacing=0.0137", "solver.substeps=4"}).solver.lambda_smoothing, 4);
+  EXPECT_EQ(derived({"solver.iterations=4", "solver.lambda_smoothing=2"}).solver.lambda_smoothing, 2);
+  EXPECT_EQ(derived({"solver.iterations=1", "solver.lambda_smoothing=4"}).solver.lambda_smoothing, 4);
+  EXPECT_EQ(derived({"solver.iterations=3", "solver.lambda_smoothing=0"}).solver.lambda_smoothing, 0);
+}
+
 // lambda's 1 / (1 + kCompressedGain C) holds a squeezed lattice's largest gain at its value
 // at rho0 (within 3 % up to C = 1), and is not much more than that: 1 / (1 + C) was, and the column
 // it could not hold collapsed (pbf@1).
