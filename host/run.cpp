@@ -93,10 +93,12 @@ std::unique_ptr<capture::FrameCapture> make_capture(const RunOptions& o, const S
   return std::make_unique<capture::FrameCapture>(c, solver, vk);
 }
 
-// What DIR/run.json records of a run besides its files and status.
-nlohmann::json describe_run(const RunOptions& o, const Scene& scene, const Solver& solver) {
+// What DIR/run.json records of a run besides its files and status. "chosen": what pbflow
+// picked where the scene left a key out, as the --param that would state it.
+nlohmann::json describe_run(const RunOptions& o, const Scene& scene, const Derived& d, const Solver& solver) {
   return {{"scene_name", scene.name},
           {"scene", nlohmann::json::parse(scene.resolved)},
+          {"chosen", {{"solver.lambda_smoothing", d.solver.lambda_smoothing}}},
           {"options",
            {{"params", o.params}, {"device", o.device}, {"render", o.render}, {"style", o.style},
             {"fluid_resolution", o.fluid_resolution}, {"width", o.width}, {"height", o.height}, {"export", o.export_format}, {"validate", o.validate}}},
@@ -124,7 +126,7 @@ int run(const RunOptions& o) {
   // Everything is checked: from here the run owns DIR and replaces the previous run's files.
   RunDirectory dir(out, RunFiles{scene.frames, bool(capture),
                                     export_format == capture::ExportFormat::None ? "" : capture::export_extension(export_format)});
-  dir.begin(describe_run(o, scene, *solver));
+  dir.begin(describe_run(o, scene, d, *solver));
   InterruptGuard interrupt;
   auto start = std::chrono::steady_clock::now();
   auto wall = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };

@@ -158,6 +158,20 @@ TEST(RunDirectory, AnAbsurdFrameCountChangesNothing) {
   }
 }
 
+// The manifest names what pbflow chose where the scene was silent: the lambda averages
+// (four from three iterations on at this step, two below), and a stated count stands.
+TEST(RunDirectory, TheManifestRecordsTheChosenLambdaAverages) {
+  fs::path dir = fresh_dir("chosen");
+  for (auto [options, averages] : {std::pair{"--iterations 3", 4}, {"--iterations 2", 2},
+                                   {"--iterations 4 --param solver.lambda_smoothing=0", 0}}) {
+    Result r = run_pbflow("run --no-render --param particle_spacing=0.04 --quiet --frames 2 " + std::string(options) +
+                          " --out " + dir.string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    json m = manifest(dir);
+    EXPECT_EQ(m["chosen"]["solver.lambda_smoothing"], averages) << options;
+  }
+}
+
 TEST(RunDirectory, AFailedWriteIsAnErrorNamingTheFileAndLeavesWholeRows) {
   fs::path dir = fresh_dir("efbig");
   // ulimit -f: past 8 KiB a write fails with EFBIG (pbflow ignores SIGXFSZ), ~80 rows in.
