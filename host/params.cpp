@@ -91,14 +91,12 @@ int default_smoothing(int iterations, double travel) {
 }
 
 std::string time_step_warning(const Scene& scene, const Derived& d) {
-  const double speed = fall_speed(scene);
-  const double travel = d.travel;
-  if (travel <= 1.0) return "";
-  const double substeps = std::ceil(scene.solver.substeps * travel);
+  if (d.travel <= 1.0) return "";
+  const double substeps = std::ceil(scene.solver.substeps * d.travel);
   std::ostringstream m;
   m.precision(3);
-  m << "warning: dt = " << d.dt << " s lets a particle falling through the domain (" << speed << " m/s) move "
-    << travel << " kernel radii per step, past its neighbours; ";
+  m << "warning: dt = " << d.dt << " s lets a particle falling through the domain (" << fall_speed(scene)
+    << " m/s) move " << d.travel << " kernel radii per step, past its neighbours; ";
   if (substeps <= 1000)
     m << "solver.substeps=" << int(substeps) << " keeps it within one (tunnelling and blow-ups are likely otherwise)";
   else

@@ -137,7 +137,7 @@ int run(const RunOptions& o) {
     if (!o.quiet) {
       std::cerr << "pbflow: " << scene.name << ", " << x0.size() << " particles, " << method_name(scene.solver.method)
                 << " with " << scene.solver.iterations << " iteration(s)"
-                << (d.solver.iterations >= 2 ? " (lambda averaged " + std::to_string(d.solver.lambda_smoothing) + "x)" : "")
+                << (d.solver.iterations >= 2 || d.solver.target_compression > 0 ? " (lambda averaged " + std::to_string(d.solver.lambda_smoothing) + "x)" : "")
                 << ", " << scene.solver.substeps << " substeps per frame, on " << solver->device_name() << "\n";
       if (capture && o.verbose) std::cerr << "pbflow: rendering with " << capture->description() << "\n";
     }

@@ -213,7 +213,8 @@ TEST(Stability, OnlyPairedPassesAreSmoothed) {
 
 // From three iterations on the pairs get four lambda averages where a step moves at most h,
 // two where it moves more (default_smoothing: past h four made energy where two made none);
-// a scene's own count stands, and the pairs' relaxation follows the count used.
+// a scene's own count stands, and the pairs' relaxation follows the count used. The run
+// warns of the same travel.
 TEST(Stability, FourAveragesOnlyWhereAStepStaysWithinH) {
   auto derived = [](std::vector<std::string> o) { return derive(load_scene("dam_break", o)); };
   const Derived real_time = derived({"solver.iterations=4"});
@@ -222,8 +223,13 @@ TEST(Stability, FourAveragesOnlyWhereAStepStaysWithinH) {
   EXPECT_DOUBLE_EQ(real_time.paired_gain_max, jacobi_gain_max(2.0, 0.01, 0.0, 4));
   EXPECT_EQ(derived({"solver.iterations=3"}).solver.lambda_smoothing, 4);
   EXPECT_EQ(derived({"solver.iterations=2"}).solver.lambda_smoothing, 2);
-  const Derived fine = derived({"solver.iterations=4", "particle_spacing=0.0137"});  // 1.35 h a step
+  const Scene fine_scene = load_scene("dam_break", {"solver.iterations=4", "particle_spacing=0.0137"});
+  const Derived fine = derive(fine_scene);  // 1.35 h a step, which the run warns of
   EXPECT_GT(fine.travel, 1.0);
+  const std::string warning = time_step_warning(fine_scene, fine);
+  EXPECT_NE(warning.find("1.35 kernel radii per step"), std::string::npos) << warning;
+  EXPECT_NE(warning.find("solver.substeps=3 keeps it within one"), std::string::npos) << warning;
+  EXPECT_EQ(time_step_warning(load_scene("dam_break"), real_time), "");
   EXPECT_EQ(fine.solver.lambda_smoothing, 2);
   EXPECT_DOUBLE_EQ(fine.paired_gain_max, jacobi_gain_max(2.0, 0.01, 0.0, 2));
   EXPECT_EQ(derived({"solver.iterations=4", "particle_spacing=0.0137", "solver.substeps=4"}).solver.lambda_smoothing, 4);
