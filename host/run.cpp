@@ -135,9 +135,11 @@ int run(const RunOptions& o) {
     StatsCsv csv(dir.stats_path());
     if (std::string w = time_step_warning(scene, d); !w.empty()) std::cerr << "pbflow: " << w << "\n";
     if (!o.quiet) {
+      const bool pairs = d.solver.iterations >= 2 || d.solver.target_compression > 0;  // adaptive runs add pairs
+      const std::string averages =
+          pairs ? " (lambda averaged " + std::to_string(d.solver.lambda_smoothing) + "x)" : "";
       std::cerr << "pbflow: " << scene.name << ", " << x0.size() << " particles, " << method_name(scene.solver.method)
-                << " with " << scene.solver.iterations << " iteration(s)"
-                << (d.solver.iterations >= 2 || d.solver.target_compression > 0 ? " (lambda averaged " + std::to_string(d.solver.lambda_smoothing) + "x)" : "")
+                << " with " << scene.solver.iterations << " iteration(s)" << averages
                 << ", " << scene.solver.substeps << " substeps per frame, on " << solver->device_name() << "\n";
       if (capture && o.verbose) std::cerr << "pbflow: rendering with " << capture->description() << "\n";
     }

@@ -232,7 +232,8 @@ TEST(Stability, FourAveragesOnlyWhereAStepStaysWithinH) {
   EXPECT_EQ(time_step_warning(load_scene("dam_break"), real_time), "");
   EXPECT_EQ(fine.solver.lambda_smoothing, 2);
   EXPECT_DOUBLE_EQ(fine.paired_gain_max, jacobi_gain_max(2.0, 0.01, 0.0, 2));
-  EXPECT_EQ(derived({"solver.iterations=4", "particle_spacing=0.0137", "solver.substeps=4"}).solver.lambda_smoothing, 4);
+  const Derived fine_small_steps = derived({"solver.iterations=4", "particle_spacing=0.0137", "solver.substeps=4"});
+  EXPECT_EQ(fine_small_steps.solver.lambda_smoothing, 4);
   EXPECT_EQ(derived({"solver.iterations=4", "solver.lambda_smoothing=2"}).solver.lambda_smoothing, 2);
   EXPECT_EQ(derived({"solver.iterations=1", "solver.lambda_smoothing=4"}).solver.lambda_smoothing, 4);
   EXPECT_EQ(derived({"solver.iterations=3", "solver.lambda_smoothing=0"}).solver.lambda_smoothing, 0);
