@@ -129,8 +129,9 @@ TEST_F(GridTest, Lattice) {
   expect_exact_neighbours(d, x);
 }
 
-TEST_F(GridTest, ManyCellsNeedThreeScanLevels) {
-  // 128 x 128 x 80 cells = 1.3M: the prefix sum recurses twice.
+TEST_F(GridTest, ManyCellsScanInManyGroups) {
+  // 128 x 128 x 80 cells = 1.3M, 1281 blocks: a group per block, then their sums in one
+  // group, then added back (the grids of the tests above scan in one group).
   Derived d = box_domain({6.4, 6.4, 4.0}, 0.025);
   ASSERT_GT(size_t(d.grid.x) * d.grid.y * d.grid.z, size_t(1024) * 1024);
   std::mt19937 rng(5);
