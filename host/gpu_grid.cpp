@@ -21,7 +21,7 @@ uint32_t blocks(uint32_t values) { return (values + kScanBlock - 1) / kScanBlock
 GpuGrid::GpuGrid(const vk::Context& ctx, const SimConstants& sim)
     : count_(ctx, "grid_count", 4, sizeof(SimConstants)),
       scan_blocks_(ctx, "scan_blocks", 2, sizeof(ScanPush), kScanThreads),
-      scan_add_(ctx, "scan_add", 2, 0, kScanThreads),
+      scan_add_(ctx, "scan_add", 2, sizeof(uint32_t), kScanThreads),
       scatter_(ctx, "grid_scatter", 9, sizeof(SimConstants)),
       cell_(ctx, sim.count * sizeof(uint32_t)),
       rank_(ctx, sim.count * sizeof(uint32_t)) {
@@ -52,6 +52,7 @@ void GpuGrid::scan(vk::CommandList& cmd, size_t level) {
     cmd.set_program(scan_add_);
     cmd.bind(0, levels_[level]);
     cmd.bind(1, levels_[level + 1]);
+    cmd.push(n);
     cmd.dispatch(threads);
   }
 }

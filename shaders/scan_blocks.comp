@@ -23,6 +23,7 @@ shared uint rake_totals[RAKES + 1];  // the rakes' exclusive prefixes, then the 
 void main() {
   uint t = gl_LocalInvocationID.x;
   uint group = gl_WorkGroupID.x + gl_WorkGroupID.y * gl_NumWorkGroups.x;
+  if (group * push.blocks * THREADS * VECTORS * 4 >= push.n) return;  // past the last block (groups folded into y)
   uint carry = 0;  // the group's blocks before this one
   for (uint b = 0; b < push.blocks; ++b) {
     uint first = ((group * push.blocks + b) * THREADS + t) * VECTORS;
