@@ -25,7 +25,7 @@ struct CheckPush {  // check_converged.comp
 };
 uint32_t partial_count(uint32_t n) { return (n + kReduceThreads - 1) / kReduceThreads; }
 
-// The formats the neighbour passes gather through (uniform texel buffers, vk/program.hpp).
+// The formats the neighbour passes gather through (storage texel buffers, vk/program.hpp).
 constexpr VkFormat kVec4 = VK_FORMAT_R32G32B32A32_SFLOAT, kFloat = VK_FORMAT_R32_SFLOAT, kUint = VK_FORMAT_R32_UINT,
                    kUvec4 = VK_FORMAT_R32G32B32A32_UINT;
 

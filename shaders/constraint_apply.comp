@@ -7,7 +7,7 @@
 layout(local_size_x_id = 0) in;
 #include "common.glsl"
 
-layout(binding = 1) uniform samplerBuffer x_lambda;  // (x*, lambda), constraint_lambda.comp
+layout(binding = 1, rgba32f) uniform readonly imageBuffer x_lambda;  // (x*, lambda), constraint_lambda.comp
 layout(std430, binding = 2) writeonly buffer XOut { vec4 x_out[]; };
 #define OBSTACLES_BINDING 3
 #include "obstacles.glsl"
@@ -38,7 +38,7 @@ vec3 pair_push(vec3 d, float lambda_ij) {
 void main() {
   uint i;
   if (!neighbour_pass_particle(i)) return;
-  vec4 own = texelFetch(x_lambda, int(i));
+  vec4 own = imageLoad(x_lambda, int(i));
   vec3 xi = own.xyz;
   WallImages walls = walls_near(xi);
   float lambda_i = own.w;
@@ -46,7 +46,7 @@ void main() {
   int image;
   // An image behind a wall carries its particle's lambda; i's own images push i away.
   FOR_EACH_NEIGHBOUR(i, xi, walls, j, image) {
-    vec4 xj = texelFetch(x_lambda, int(j));
+    vec4 xj = imageLoad(x_lambda, int(j));
     dp += pair_push(xi - mirror(walls, image, xj.xyz), lambda_i + xj.w);
   }
   x_out[i] = vec4(project_out_of_solids(xi + sim.relax * (sim.mass / sim.rho0) * dp), 0.0);

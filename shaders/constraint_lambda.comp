@@ -2,14 +2,14 @@
 // lambda_i = -C_i / (sum_k |grad_k C_i|^2 + eps), C_i = max(rho_i/rho0 - 1, 0) at the predicted positions.
 // rho_i is kept too: adaptive iterations measure the compression from it (check_converged).
 // lambda_i goes out beside x*_i, as (x*_i, lambda_i): the passes after it gather both for
-// every neighbour, and on llvmpipe each gather is a call that spills the live registers,
-// so one fetch instead of two saves each a few per cent (an extra fetch per neighbour
-// costs ~15 % of a lambda average: bench/results/throughput_lavapipe.md).
+// every neighbour, and one gather instead of two saves each a few per cent on llvmpipe
+// (an extra gather per neighbour cost ~15 % of a lambda average, measured when gathers
+// were texel fetches: bench/results/throughput_lavapipe.md).
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x_id = 0) in;
 #include "common.glsl"
 
-layout(binding = 1) uniform samplerBuffer x_pred;
+layout(binding = 1, rgba32f) uniform readonly imageBuffer x_pred;
 layout(std430, binding = 2) writeonly buffer XLambda { vec4 x_lambda[]; };
 layout(std430, binding = 3) writeonly buffer Rho { float rho_out[]; };
 #define NEIGHBOUR_BINDING 4
@@ -19,7 +19,7 @@ layout(std430, binding = 3) writeonly buffer Rho { float rho_out[]; };
 void main() {
   uint i;
   if (!neighbour_pass_particle(i)) return;
-  vec3 xi = texelFetch(x_pred, int(i)).xyz;
+  vec3 xi = imageLoad(x_pred, int(i)).xyz;
   WallImages walls = walls_near(xi);
   float w_sum = 0.0;
   vec3 grad_i = vec3(0.0);  // grad of C_i with respect to x_i, times rho0/m
@@ -27,7 +27,7 @@ void main() {
   int image;
   // The fluid first: for j = i the kernel gradient is zero.
   FOR_EACH_NEIGHBOUR_IN(FLUID_ENTRIES, i, xi, walls, j, image) {
-    vec3 d = xi - texelFetch(x_pred, int(j)).xyz;
+    vec3 d = xi - imageLoad(x_pred, int(j)).xyz;
     float r2 = dot(d, d);
     w_sum += poly6(r2);
     vec3 g = spiky_grad(d, sqrt(r2));
@@ -43,7 +43,7 @@ void main() {
   uint image_of = i;  // the particle g_m belongs to (i: none yet)
   vec3 g_m = vec3(0.0), g_own = vec3(0.0);
   FOR_EACH_NEIGHBOUR_IN(IMAGE_ENTRIES, i, xi, walls, m, image) {
-    vec3 xm = texelFetch(x_pred, int(m)).xyz, d = xi - mirror(walls, image, xm);
+    vec3 xm = imageLoad(x_pred, int(m)).xyz, d = xi - mirror(walls, image, xm);
     float r2 = dot(d, d);
     w_sum += poly6(r2);
     vec3 g = spiky_grad(d, sqrt(r2));

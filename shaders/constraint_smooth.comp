@@ -16,7 +16,7 @@
 layout(local_size_x_id = 0) in;
 #include "common.glsl"
 
-layout(binding = 1) uniform samplerBuffer x_lambda_in;  // (x*, lambda), constraint_lambda.comp
+layout(binding = 1, rgba32f) uniform readonly imageBuffer x_lambda_in;  // (x*, lambda), constraint_lambda.comp
 layout(std430, binding = 2) writeonly buffer XLambdaOut { vec4 x_lambda_out[]; };
 #define NEIGHBOUR_BINDING 3
 #define NEIGHBOUR_CAPACITY_ID 1
@@ -25,12 +25,12 @@ layout(std430, binding = 2) writeonly buffer XLambdaOut { vec4 x_lambda_out[]; }
 void main() {
   uint i;
   if (!neighbour_pass_particle(i)) return;
-  vec3 xi = texelFetch(x_lambda_in, int(i)).xyz;
+  vec3 xi = imageLoad(x_lambda_in, int(i)).xyz;
   WallImages walls = walls_near(xi);
   float sum = 0.0, total = 0.0;
   int image;
   FOR_EACH_NEIGHBOUR(i, xi, walls, j, image) {  // an image carries its particle's lambda
-    vec4 xj = texelFetch(x_lambda_in, int(j));
+    vec4 xj = imageLoad(x_lambda_in, int(j));
     float w = smoothing_weight(xi - mirror(walls, image, xj.xyz));
     sum += w * xj.w;
     total += w;

@@ -15,8 +15,8 @@
 layout(local_size_x_id = 0) in;
 #include "common.glsl"
 
-layout(binding = 1) uniform samplerBuffer x;
-layout(binding = 2) uniform samplerBuffer rho;
+layout(binding = 1, rgba32f) uniform readonly imageBuffer x;
+layout(binding = 2, r32f) uniform readonly imageBuffer rho;
 layout(std430, binding = 3) buffer V { vec4 v[]; };
 layout(constant_id = 1) const bool CLAMP_DENSITY = true;
 layout(constant_id = 2) const float LDC_ROOM = 1.8;  // Derived::ldc_room
@@ -25,7 +25,7 @@ layout(constant_id = 3) const bool MEAN_REFERENCE = true;
 #define NEIGHBOUR_CAPACITY_ID 4
 #include "neighbours.glsl"
 
-float density_of(uint k) { return texelFetch(rho, int(k)).x; }
+float density_of(uint k) { return imageLoad(rho, int(k)).x; }
 float ldc_density(uint k) { return CLAMP_DENSITY ? max(density_of(k), sim.rho0) : density_of(k); }
 
 // One neighbour's geometric term, h(1 - r/h) d/r = (h - r) d/r.
@@ -39,7 +39,7 @@ vec3 pair_term(vec3 d) {
 void main() {
   uint i;
   if (!neighbour_pass_particle(i)) return;
-  vec3 xi = texelFetch(x, int(i)).xyz;
+  vec3 xi = imageLoad(x, int(i)).xyz;
   WallImages walls = walls_near(xi);
   // f = sum_j (rho_j - rho_ref) t_ij = sum_j (rho_j - rho_i) t_ij - (rho_ref - rho_i) sum_j t_ij:
   // one walk gathers both sums and the mean; differences keep the float sums exact at
@@ -50,7 +50,7 @@ void main() {
   int image;
   FOR_EACH_NEIGHBOUR(i, xi, walls, j, image) {  // an image carries its particle's density
     float difference = ldc_density(j) - rho_i;
-    vec3 xj = mirror(walls, image, texelFetch(x, int(j)).xyz);
+    vec3 xj = mirror(walls, image, imageLoad(x, int(j)).xyz);
     vec3 t = pair_term(xj - xi);
     float w = smoothing_weight(xi - xj);
     by_difference += difference * t;

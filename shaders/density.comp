@@ -4,7 +4,7 @@
 layout(local_size_x_id = 0) in;
 #include "common.glsl"
 
-layout(binding = 1) uniform samplerBuffer x;
+layout(binding = 1, rgba32f) uniform readonly imageBuffer x;
 layout(std430, binding = 2) writeonly buffer Rho { float rho[]; };
 #define NEIGHBOUR_BINDING 3
 #define NEIGHBOUR_CAPACITY_ID 1
@@ -13,12 +13,12 @@ layout(std430, binding = 2) writeonly buffer Rho { float rho[]; };
 void main() {
   uint i;
   if (!neighbour_pass_particle(i)) return;
-  vec3 xi = texelFetch(x, int(i)).xyz;
+  vec3 xi = imageLoad(x, int(i)).xyz;
   WallImages walls = walls_near(xi);
   float sum = 0.0;
   int image;
   FOR_EACH_NEIGHBOUR(i, xi, walls, j, image) {
-    vec3 d = xi - mirror(walls, image, texelFetch(x, int(j)).xyz);
+    vec3 d = xi - mirror(walls, image, imageLoad(x, int(j)).xyz);
     sum += poly6(dot(d, d));
   }
   rho[i] = sim.mass * sum;

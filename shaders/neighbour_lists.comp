@@ -2,8 +2,8 @@
 // The neighbour lists (DESIGN.md steps 1 and 5): after each grid build, every particle
 // walks the 27 cells around it once and lists the particles within h (itself included);
 // the passes that follow read the list (neighbours.glsl) instead of walking the ~8x as
-// many candidates again. Its own pass, so that every reader gathers through texel
-// buffers, which a pass cannot use for what it wrote itself.
+// many candidates again. Its own pass, so that the lists are whole before any reader
+// gathers them through its read-only texel view (vk/program.hpp).
 // A list holds at most NEIGHBOUR_CAPACITY entries; the count goes on past it (squeezed
 // fluid), and such a particle is never cut short: it is appended to the overflow list
 // after the counts (count[n] entries from count[n + 1] on), and the readers' cell-walking
@@ -20,7 +20,7 @@ layout(local_size_x_id = 0) in;
 #include "common.glsl"
 #include "grid_walk.glsl"
 
-layout(binding = 1) uniform samplerBuffer x;  // the positions the lists are built at
+layout(binding = 1, rgba32f) uniform readonly imageBuffer x;  // the positions the lists are built at
 // count[0, n) (entries; in the high 16 bits those before the images, neighbours.glsl
 // listed_count), then the overflow list's length and entries; the host zeroes the length.
 layout(std430, binding = 2) buffer NeighbourCount { uint neighbour_count[]; };
@@ -48,7 +48,7 @@ void store_hits(uint i, uint base, uint hits, inout uint listed) {
 void main() {
   uint i = thread_index();
   if (i >= sim.count) return;
-  vec3 xi = texelFetch(x, int(i)).xyz;
+  vec3 xi = imageLoad(x, int(i)).xyz;
   uint listed = 0u;
   // Each row of three cells is tested in chunks of up to 32 candidates, the hits kept as
   // bits, and only then stored: llvmpipe stores to a storage buffer lane by lane, testing
@@ -62,7 +62,7 @@ void main() {
       for (uint base = row_begin(first, y, z); base < end; base += 32u) {
         uint hits = 0u;
         for (uint c = 0u; c < min(end - base, 32u); ++c) {
-          vec3 d = xi - texelFetch(x, int(base + c)).xyz;
+          vec3 d = xi - imageLoad(x, int(base + c)).xyz;
           hits |= uint(dot(d, d) < sim.h * sim.h) << c;
         }
         store_hits(i, base, hits, listed);
@@ -82,7 +82,7 @@ void main() {
     uint hits = 0u;
     for (uint q = 0u; q < 4u; ++q) {
       bool listed_neighbour = k + q < neighbours;  // the group's last slots may lie past them
-      vec3 xj = texelFetch(x, int(listed_neighbour ? group[q] : i)).xyz;
+      vec3 xj = imageLoad(x, int(listed_neighbour ? group[q] : i)).xyz;
       for (int image = walls.axes; image != 0; image = next_image(walls.axes, image)) {
         vec3 d = xi - mirror(walls, image, xj);
         hits |= uint(listed_neighbour && dot(d, d) < sim.h * sim.h) << (8u * q + 7u - uint(image));

@@ -11,13 +11,14 @@
 //
 // The includer defines NEIGHBOUR_BINDING (the counts; the list is the next binding) and
 // NEIGHBOUR_CAPACITY_ID (its last specialisation constant; WALK_CELLS is the next).
-// Binding 0 is the grid's cell_start (grid_walk.glsl). All three are texel buffers:
-// counts and cell_start R32_UINT, the list R32G32B32A32_UINT, four entries a fetch.
+// Binding 0 is the grid's cell_start (grid_walk.glsl). All three are read-only storage
+// texel buffers (vk/program.hpp): counts and cell_start R32_UINT, the list
+// R32G32B32A32_UINT, four entries a fetch.
 #include "grid_walk.glsl"
 layout(constant_id = NEIGHBOUR_CAPACITY_ID) const uint NEIGHBOUR_CAPACITY = 64;  // Derived::neighbour_capacity
 layout(constant_id = NEIGHBOUR_CAPACITY_ID + 1) const bool WALK_CELLS = false;
-layout(binding = NEIGHBOUR_BINDING) uniform usamplerBuffer neighbour_count;
-layout(binding = NEIGHBOUR_BINDING + 1) uniform usamplerBuffer neighbour_list;
+layout(binding = NEIGHBOUR_BINDING, r32ui) uniform readonly uimageBuffer neighbour_count;
+layout(binding = NEIGHBOUR_BINDING + 1, rgba32ui) uniform readonly uimageBuffer neighbour_list;
 
 // A particle's count (neighbour_lists.comp): its entries in the low 16 bits, in the high
 // 16 those before its images (the fluid entries; the images block follows them).
@@ -30,12 +31,12 @@ uint fluid_count(uint count) { return count >> 16; }
 bool neighbour_pass_particle(out uint i) {
   uint t = thread_index();
   if (WALK_CELLS && NEIGHBOUR_CAPACITY > 0u) {
-    if (t >= texelFetch(neighbour_count, int(sim.count)).x) return false;
-    i = texelFetch(neighbour_count, int(sim.count + 1u + t)).x;
+    if (t >= imageLoad(neighbour_count, int(sim.count)).x) return false;
+    i = imageLoad(neighbour_count, int(sim.count + 1u + t)).x;
     return true;
   }
   i = t;
-  return i < sim.count && (WALK_CELLS || listed_count(texelFetch(neighbour_count, int(i)).x) <= NEIGHBOUR_CAPACITY);
+  return i < sim.count && (WALK_CELLS || listed_count(imageLoad(neighbour_count, int(i)).x) <= NEIGHBOUR_CAPACITY);
 }
 
 // The entries a walk yields: all, the fluid's only, or the images only (a pass whose
@@ -63,7 +64,7 @@ struct Neighbours {
 Neighbours neighbours_of(uint i, vec3 xi, WallImages walls, int part) {
   Neighbours w;
   w.i = i;
-  uint count = WALK_CELLS ? 0u : texelFetch(neighbour_count, int(i)).x;
+  uint count = WALK_CELLS ? 0u : imageLoad(neighbour_count, int(i)).x;
   w.lo = part == IMAGE_ENTRIES ? fluid_count(count) : 0u;
   w.k = w.lo & ~3u;  // rounds start on a fetch's group of four
   w.n = part == FLUID_ENTRIES ? fluid_count(count) : listed_count(count);
@@ -117,7 +118,7 @@ const uint ROUND = WALK_CELLS ? 1u : 4u;
 bool next_round(inout Neighbours w) {
   if (!WALK_CELLS) {  // a constant: the other variant's code is compiled out
     if (w.k >= w.n) return false;
-    w.group = texelFetch(neighbour_list, int((w.k >> 2) * sim.count + w.i));
+    w.group = imageLoad(neighbour_list, int((w.k >> 2) * sim.count + w.i));
     w.k += 4u;  // the round's last entries may lie past n: round_entry masks them
     return true;
   }

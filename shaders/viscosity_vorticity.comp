@@ -26,8 +26,9 @@ layout(constant_id = 2) const float DAMPING_LIMIT = 0.3;   // Derived::damping_l
 // 22 % less time (dam break ldc@1, 94 608 particles: 9.3-9.6 -> 7.2-7.4 ms a step).
 layout(constant_id = 3) const bool VORTICITY = true;
 
-layout(binding = 1) uniform samplerBuffer x;
-layout(binding = 2) uniform samplerBuffer v_rho;  // v, and in w the last lambda pass's rho (velocity_update.comp)
+layout(binding = 1, rgba32f) uniform readonly imageBuffer x;
+// v, and in w the last lambda pass's rho (velocity_update.comp)
+layout(binding = 2, rgba32f) uniform readonly imageBuffer v_rho;
 layout(std430, binding = 3) writeonly buffer VOut { vec4 v_out[]; };
 layout(std430, binding = 4) writeonly buffer Omega { vec4 omega[]; };  // VORTICITY only
 #define NEIGHBOUR_BINDING 5
@@ -45,8 +46,8 @@ vec3 dashpot(vec3 d, vec3 vij, float c) {
 void main() {
   uint i;
   if (!neighbour_pass_particle(i)) return;
-  vec3 xi = texelFetch(x, int(i)).xyz;
-  vec4 own = texelFetch(v_rho, int(i));
+  vec3 xi = imageLoad(x, int(i)).xyz;
+  vec4 own = imageLoad(v_rho, int(i));
   vec3 vi = own.xyz;
   vec3 smooth_v = vec3(0.0);
   vec3 curl = vec3(0.0);
@@ -55,9 +56,9 @@ void main() {
   WallImages walls = walls_near(xi);
   int image;
   FOR_EACH_NEIGHBOUR(i, xi, walls, j, image) {
-    vec3 d = xi - mirror(walls, image, texelFetch(x, int(j)).xyz);
+    vec3 d = xi - mirror(walls, image, imageLoad(x, int(j)).xyz);
     float r2 = dot(d, d);  // every term below is zero from r = h on
-    vec4 vj = texelFetch(v_rho, int(j));
+    vec4 vj = imageLoad(v_rho, int(j));
     vec3 vij = mirror_sign(image) * vj.xyz - vi;  // an image moves as j, mirrored
     if (image == 0) {  // XSPH and the vorticity see the fluid only
       smooth_v += vij * poly6(r2);

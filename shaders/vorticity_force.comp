@@ -5,8 +5,8 @@
 layout(local_size_x_id = 0) in;
 #include "common.glsl"
 
-layout(binding = 1) uniform samplerBuffer x;
-layout(binding = 2) uniform samplerBuffer omega;
+layout(binding = 1, rgba32f) uniform readonly imageBuffer x;
+layout(binding = 2, rgba32f) uniform readonly imageBuffer omega;
 layout(std430, binding = 3) buffer V { vec4 v[]; };
 #define NEIGHBOUR_BINDING 4
 #define NEIGHBOUR_CAPACITY_ID 1
@@ -15,14 +15,14 @@ layout(std430, binding = 3) buffer V { vec4 v[]; };
 void main() {
   uint i;
   if (!neighbour_pass_particle(i)) return;
-  vec3 xi = texelFetch(x, int(i)).xyz;
+  vec3 xi = imageLoad(x, int(i)).xyz;
   vec3 eta = vec3(0.0);
   int image;
   FOR_EACH_NEIGHBOUR(i, xi, no_walls(), j, image) {
     // The fluid only (a list holds images too); spiky_grad is zero from r = h on.
-    vec3 d = xi - texelFetch(x, int(j)).xyz;
-    if (image == 0) eta += length(texelFetch(omega, int(j)).xyz) * spiky_grad(d, length(d));
+    vec3 d = xi - imageLoad(x, int(j)).xyz;
+    if (image == 0) eta += length(imageLoad(omega, int(j)).xyz) * spiky_grad(d, length(d));
   }
   float len = length(eta);
-  if (len > 1e-9) v[i].xyz += (sim.vorticity_eps * sim.dt / len) * cross(eta, texelFetch(omega, int(i)).xyz);
+  if (len > 1e-9) v[i].xyz += (sim.vorticity_eps * sim.dt / len) * cross(eta, imageLoad(omega, int(i)).xyz);
 }

@@ -34,8 +34,8 @@ class Buffer {
   VkDeviceSize allocation_bytes() const { return allocation_bytes_; }
   // A new fd for the memory (Memory::Shared only); whoever imports it owns it.
   int export_fd() const;
-  // The buffer read as a uniform texel buffer of `format` (made on first use, kept with
-  // the buffer): a pass's gathers go through the texture path (see vk/program.hpp).
+  // The buffer read as a storage texel buffer of `format` (made on first use, kept with
+  // the buffer): a pass's gathers go through the image path (see vk/program.hpp).
   VkBufferView view(VkFormat format) const;
 
   // Whole-buffer transfers through a staging buffer (one submit each); tests and set-up only.

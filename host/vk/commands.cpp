@@ -92,7 +92,7 @@ void CommandList::push_descriptors() {
     writes[i].dstBinding = i;
     writes[i].descriptorCount = 1;
     if (views_[i]) {
-      writes[i].descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+      writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;
       writes[i].pTexelBufferView = &views_[i];
     } else {
       writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;

@@ -2,9 +2,12 @@
 // A compute program: one embedded shader, its buffer bindings (pushed per dispatch with
 // VK_KHR_push_descriptor) and a push-constant block. Move-only.
 // A binding is a storage buffer, or, where the program names it a texel binding, a
-// uniform texel buffer (a `samplerBuffer` read with texelFetch): the neighbour loops
-// gather through it, for llvmpipe turns every storage-buffer load into a loop over its
-// SIMD lanes with a branch per lane, while a texel fetch is one vector gather.
+// storage texel buffer the shader only reads (a `readonly imageBuffer` read with
+// imageLoad): the neighbour loops gather through it, for llvmpipe turns every
+// storage-buffer load into a loop over its SIMD lanes with a branch per lane, while an
+// image load is one vector gather, inlined. (A texelFetch from a uniform texel buffer is
+// a gather too, but a call into a sampling function that spills the live registers; the
+// image loads made a peer run 0.91x the wall time: bench/results/throughput_lavapipe.md.)
 #include <vulkan/vulkan.h>
 
 #include <array>
@@ -16,7 +19,7 @@ namespace pbflow::vk {
 
 class Context;
 
-// A binding read as a uniform texel buffer of `format`.
+// A binding read as a storage texel buffer of `format`.
 struct TexelBinding {
   uint32_t binding;
   VkFormat format;
@@ -31,7 +34,7 @@ class Program {
   // push_bytes: size of the push-constant block; workgroup_size: local_size_x
   // (specialisation constant 0), 0 for the device's choice; constants: the shader's
   // own specialisation constants 1, 2, ... (32-bit each); texels: the bindings that are
-  // uniform texel buffers.
+  // storage texel buffers.
   Program(const Context& ctx, std::string_view shader, uint32_t bindings, uint32_t push_bytes,
           uint32_t workgroup_size = 0, std::span<const uint32_t> constants = {},
           std::span<const TexelBinding> texels = {});
