@@ -7,7 +7,7 @@
 // storage-buffer load into a loop over its SIMD lanes with a branch per lane, while an
 // image load is one vector gather, inlined. (A texelFetch from a uniform texel buffer is
 // a gather too, but a call into a sampling function that spills the live registers; the
-// image loads made a peer run 0.91x the wall time: bench/results/throughput_lavapipe.md.)
+// image loads made a peer run 0.90-0.91x the wall time: bench/results/throughput_lavapipe.md.)
 #include <vulkan/vulkan.h>
 
 #include <array>
