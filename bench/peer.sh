@@ -5,7 +5,8 @@
 # alternated. Why alternated: a shared machine drifts by up to 1.5x from minute to minute,
 # and did so between the sessions whose figures the README quotes; only runs taken side by
 # side compare.
-#   bench/peer.sh [ROUNDS]   (default 3) -> a line per run, then the medians and the ratio
+#   bench/peer.sh [ROUNDS] [ITERATIONS]   (defaults 3 and 2: the peer scene's pbf@2)
+#     -> a line per run, then the medians and the ratio
 # Time: the peer's is its own "Time sum: SimStep" (the steps only: no set-up and no volume
 # map build); pbflow's the whole run's wall time (set-up, measures and stats included), so
 # the ratio leans the peer's way.
@@ -16,6 +17,9 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 rounds="${1:-3}"
+iterations="${2:-2}"
+[[ "$rounds" =~ ^[1-9][0-9]*$ && "$iterations" =~ ^[1-9][0-9]*$ ]] ||
+  { echo "peer.sh: ROUNDS and ITERATIONS must be positive whole numbers (got '$rounds', '$iterations')" >&2; exit 2; }
 commit=c5a063ddd33d0172ce951f412fec769929ff57ee
 src="${PEER_SRC:-bench_out/peer/SPlisHSPlasH}"
 sim="$src/bin/SPHSimulator"
@@ -32,16 +36,19 @@ if [ ! -x "$sim" ]; then
   cmake --build "$src/build" --target SPHSimulator -j "$(nproc)"
 fi
 # The scene names its tank's mesh relative to itself: it goes beside the peer's own scenes.
-cp bench/peer/peer_dam_break_pbf.json "$src/data/Scenes/"
+scene="$src/data/Scenes/peer_dam_break_pbf$iterations.json"
+sed "s/\"minIterations\": 2, \"maxIterations\": 2/\"minIterations\": $iterations, \"maxIterations\": $iterations/" \
+  bench/peer/peer_dam_break_pbf.json > "$scene"
+grep -q "\"maxIterations\": $iterations," "$scene" || { echo "peer.sh: could not set the peer's iterations" >&2; exit 1; }
 
 out="$(mktemp -d)"
 trap 'rm -rf "$out"' EXIT
 peer_run() {  # -> seconds of SimStep
-  OMP_NUM_THREADS=2 "$sim" --no-gui --output-dir "$out/peer" "$src/data/Scenes/peer_dam_break_pbf.json" > "$out/peer.log"
+  OMP_NUM_THREADS=2 "$sim" --no-gui --output-dir "$out/peer" "$scene" > "$out/peer.log"
   awk '/^Time sum: SimStep:/ { printf "%.2f", $4 / 1000 }' "$out/peer.log"
 }
 pbflow_run() {  # -> "wall-seconds mean-compression"
-  build/pbflow run ../shared/scenes/peer_dam_break.json --no-render --out "$out/pbflow" 2>/dev/null |
+  build/pbflow run ../shared/scenes/peer_dam_break.json --iterations "$iterations" --no-render --out "$out/pbflow" 2>/dev/null |
     sed -n 's/.* wall \([0-9.]*\) s,.*mean compression \([0-9.e-]*\),.*/\1 \2/p'
 }
 peer_run > /dev/null  # not counted: the first run also builds the tank's volume map (cached on disk)
