@@ -47,15 +47,15 @@ peer_run() {  # -> seconds of SimStep
   OMP_NUM_THREADS=2 "$sim" --no-gui --output-dir "$out/peer" "$scene" > "$out/peer.log"
   awk '/^Time sum: SimStep:/ { printf "%.2f", $4 / 1000 }' "$out/peer.log"
 }
-pbflow_run() {  # -> "wall-seconds mean-compression"
+pbflow_run() {  # -> "wall-seconds mean-compression particle-steps" (from its summary line)
   build/pbflow run ../shared/scenes/peer_dam_break.json --iterations "$iterations" --no-render --out "$out/pbflow" 2>/dev/null |
-    sed -n 's/.* wall \([0-9.]*\) s,.*mean compression \([0-9.e-]*\),.*/\1 \2/p'
+    sed -n 's/^particles \([0-9]*\), steps \([0-9]*\), wall \([0-9.]*\) s,.*mean compression \([0-9.e-]*\),.*/\3 \4 \1*\2/p'
 }
 peer_run > /dev/null  # not counted: the first run also builds the tank's volume map (cached on disk)
 peer=() ours=()
 for ((r = 1; r <= rounds; ++r)); do
   p=$(peer_run)
-  read -r w c < <(pbflow_run)
+  read -r w c work < <(pbflow_run)
   [ -n "$p" ] && [ -n "$w" ] || { echo "peer.sh: a run printed no time (see $out)" >&2; trap - EXIT; exit 1; }
   printf 'round %d: SPlisHSPlasH PBF %s s (steps), pbflow %.2f s (wall), mean compression %.4f %%\n' \
     "$r" "$p" "$w" "$(awk -v c="$c" 'BEGIN { print 100 * c }')"
@@ -63,6 +63,7 @@ for ((r = 1; r <= rounds; ++r)); do
 done
 median() { printf '%s\n' "$@" | sort -g | awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
 mp=$(median "${peer[@]}") mo=$(median "${ours[@]}")
-awk -v p="$mp" -v o="$mo" 'BEGIN {
+# Both run the same particles and steps (the scenes match: 6859 particles, 500 steps).
+awk -v p="$mp" -v o="$mo" -v n="$((work))" 'BEGIN {
   printf "medians: SPlisHSPlasH %.2f s (%.2f M particle-steps/s), pbflow %.2f s (%.2f M): pbflow %.2fx the peer\n",
-         p, 6859 * 500 / p / 1e6, o, 6859 * 500 / o / 1e6, p / o }'
+         p, n / p / 1e6, o, n / o / 1e6, p / o }'
