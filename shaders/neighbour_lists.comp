@@ -24,8 +24,10 @@ layout(binding = 1, rgba32f) uniform readonly imageBuffer x;  // the positions t
 // count[0, n) (entries; in the high 16 bits those before the images, neighbours.glsl
 // listed_count), then the overflow list's length and entries; the host zeroes the length.
 layout(std430, binding = 2) buffer NeighbourCount { uint neighbour_count[]; };
-// Entry k of particle i is neighbour_list[(k / 4) * n + i][k % 4] (entry_group).
+// Entry k of particle i is neighbour_list[(k / 4) * n + i][k % 4] (entry_group), word
+// ((k / 4) * n + i) * 4 + k % 4 of the same buffer, through which the entries are appended.
 layout(std430, binding = 3) buffer NeighbourList { uvec4 neighbour_list[]; };
+layout(std430, binding = 3) buffer NeighbourWords { uint neighbour_word[]; };
 // The cell walkers' VkDispatchIndirectCommand, reset by the host to (0, 1, 1). The
 // readers run this pass's workgroup size; a count past the device's x limit folds into y.
 layout(std430, binding = 4) buffer OverflowGroups { uint overflow_groups[3]; };
@@ -34,22 +36,26 @@ layout(constant_id = 2) const uint MAX_GROUPS_X = 65535;     // maxComputeWorkGr
 
 uint entry_group(uint i, uint k) { return (k >> 2) * sim.count + i; }
 
-// Appends an entry to i's list; past the capacity only the count goes on.
-void list_entry(uint i, uint entry, inout uint listed) {
-  if (listed < NEIGHBOUR_CAPACITY) neighbour_list[entry_group(i, listed)][listed & 3u] = entry;
+// Appends an entry to the list; past the capacity only the count goes on. `word` is entry
+// `listed`'s word, carried along rather than computed from (listed, i) at the store: llvmpipe
+// stores lane by lane, and its lane loop redid that arithmetic for every lane from two
+// vectors it spilled to the stack each time (the lists pass 1.99 -> 1.76 ms, bench/results).
+void list_entry(uint entry, inout uint listed, inout uint word) {
+  if (listed < NEIGHBOUR_CAPACITY) neighbour_word[word] = entry;
   ++listed;
+  word += (listed & 3u) == 0u ? 4u * sim.count - 3u : 1u;  // a new group: the next texel's first word
 }
 
 // Lists candidate `base + bit` for each bit of `hits`, in order.
-void store_hits(uint i, uint base, uint hits, inout uint listed) {
-  for (; hits != 0u; hits &= hits - 1u) list_entry(i, base + uint(findLSB(hits)), listed);
+void store_hits(uint base, uint hits, inout uint listed, inout uint word) {
+  for (; hits != 0u; hits &= hits - 1u) list_entry(base + uint(findLSB(hits)), listed, word);
 }
 
 void main() {
   uint i = thread_index();
   if (i >= sim.count) return;
   vec3 xi = imageLoad(x, int(i)).xyz;
-  uint listed = 0u;
+  uint listed = 0u, word = 4u * i;  // entry 0: group 0, texel i, its first word
   // Each row of three cells is tested in chunks of up to 32 candidates, the hits kept as
   // bits, and only then stored: llvmpipe stores to a storage buffer lane by lane, testing
   // each lane's mask, and a store in the test loop ran that for every candidate (~7 of 8
@@ -65,7 +71,7 @@ void main() {
           vec3 d = xi - imageLoad(x, int(base + c)).xyz;
           hits |= uint(dot(d, d) < sim.h * sim.h) << c;
         }
-        store_hits(i, base, hits, listed);
+        store_hits(base, hits, listed, word);
       }
     }
   // The images, from the neighbours listed (an image lies farther than its particle, so
@@ -90,7 +96,7 @@ void main() {
     }
     for (; hits != 0u; hits &= hits - 1u) {
       uint bit = uint(findLSB(hits));
-      list_entry(i, image_entry(group[bit >> 3], 7 - int(bit & 7u)), listed);
+      list_entry(image_entry(group[bit >> 3], 7 - int(bit & 7u)), listed, word);
     }
   }
   neighbour_count[i] = min(listed, 0xFFFFu) | (min(fluid, 0xFFFFu) << 16);  // neighbours.glsl, listed_count
