@@ -24,10 +24,9 @@ layout(binding = 1, rgba32f) uniform readonly imageBuffer x;  // the positions t
 // count[0, n) (entries; in the high 16 bits those before the images, neighbours.glsl
 // listed_count), then the overflow list's length and entries; the host zeroes the length.
 layout(std430, binding = 2) buffer NeighbourCount { uint neighbour_count[]; };
-// Entry k of particle i is neighbour_list[(k / 4) * n + i][k % 4] (entry_group), word
-// ((k / 4) * n + i) * 4 + k % 4 of the same buffer, through which the entries are appended.
+// Entry k of particle i is neighbour_list[(k / 4) * n + i][k % 4] (entry_group): word
+// ((k / 4) * n + i) * 4 + k % 4 of the buffer.
 layout(std430, binding = 3) buffer NeighbourList { uvec4 neighbour_list[]; };
-layout(std430, binding = 3) buffer NeighbourWords { uint neighbour_word[]; };
 // The cell walkers' VkDispatchIndirectCommand, reset by the host to (0, 1, 1). The
 // readers run this pass's workgroup size; a count past the device's x limit folds into y.
 layout(std430, binding = 4) buffer OverflowGroups { uint overflow_groups[3]; };
@@ -39,9 +38,12 @@ uint entry_group(uint i, uint k) { return (k >> 2) * sim.count + i; }
 // Appends an entry to the list; past the capacity only the count goes on. `word` is entry
 // `listed`'s word, carried along rather than computed from (listed, i) at the store: llvmpipe
 // stores lane by lane, and its lane loop redid that arithmetic for every lane from two
-// vectors it spilled to the stack each time (the lists pass 1.99 -> 1.76 ms, bench/results).
+// vectors it spilled to the stack each time (the lists pass 1.99 -> 1.76 ms,
+// bench/results/throughput_lavapipe.md). One view of the buffer, for the stores and the
+// image loop's reads: a second (of words) would be a second variable, which SPIR-V lets a
+// compiler assume does not alias the first (glslang adds no Aliased decoration).
 void list_entry(uint entry, inout uint listed, inout uint word) {
-  if (listed < NEIGHBOUR_CAPACITY) neighbour_word[word] = entry;
+  if (listed < NEIGHBOUR_CAPACITY) neighbour_list[word >> 2][word & 3u] = entry;
   ++listed;
   word += (listed & 3u) == 0u ? 4u * sim.count - 3u : 1u;  // a new group: the next texel's first word
 }
