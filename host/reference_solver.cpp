@@ -180,31 +180,23 @@ void ReferenceSolver::predict() {
 void ReferenceSolver::constraint_lambda() {
   if (!neighbours_current_) build_neighbours(state.x_pred);  // the first pass after the grid build
   const double s = d_.mass / d_.rho0;
-  std::vector<dvec3> grad_j(state.x.size());  // -grad_j C_i, summed over j and its images
-  std::vector<size_t> moved;                    // the j != i it holds
   for (size_t i = 0; i < state.x.size(); ++i) {
     const dvec3 xi = state.x_pred[i];
     double w_sum = 0, grad_sq = 0;
     dvec3 own(0.0);  // grad_i C_i
-    // grad_i C_i gains grad W for j and each of its images; grad_j C_i = -sum over them
-    // of the image's reflection times grad W (j moves its images, mirrored).
+    // A neighbour's image is a neighbour of its own, its term squared on its own; i's own
+    // images move with i and count twice in grad_i C_i (constraint_lambda.comp says why).
     for_each_neighbour(i, xi, [&](size_t j, const WallImage& m) {
       dvec3 d = xi - m.of(state.x_pred[j]);
       w_sum += kernels::poly6(glm::dot(d, d), d_.h);
       dvec3 grad = s * kernels::spiky_grad(d, d_.h);
       if (j == i) {
-        own += 2.0 * grad;  // i's images move with i, away from it
+        own += 2.0 * grad;
         return;
       }
       own += grad;
-      if (grad_j[j] == dvec3(0.0)) moved.push_back(j);  // listed twice: the first adds the sum, the next 0
-      grad_j[j] += m.sign * grad;
+      grad_sq += glm::dot(grad, grad);
     });
-    for (size_t j : moved) {
-      grad_sq += glm::dot(grad_j[j], grad_j[j]);
-      grad_j[j] = dvec3(0.0);
-    }
-    moved.clear();
     double rho = d_.mass * w_sum;
     double c = std::max(rho / d_.rho0 - 1.0, 0.0);
     state.lambda[i] = -c / ((grad_sq + glm::dot(own, own) + d_.epsilon) * (1.0 + kCompressedGain * c));  // constraint_lambda.comp

@@ -23,43 +23,30 @@ void main() {
   WallImages walls = walls_near(xi);
   float w_sum = 0.0;
   vec3 grad_i = vec3(0.0);  // grad of C_i with respect to x_i, times rho0/m
-  float grad_sq = 0.0;      // sum over j != i of |grad_j C_i|^2, times (rho0/m)^2
+  float grad_sq = 0.0;      // sum over the neighbours k != i of |grad_k C_i|^2, times (rho0/m)^2
   int image;
-  // The fluid first: for j = i the kernel gradient is zero.
-  FOR_EACH_NEIGHBOUR_IN(FLUID_ENTRIES, i, xi, walls, j, image) {
-    vec3 d = xi - imageLoad(x_pred, int(j)).xyz;
+  // The walls are mirrors (common.glsl): behind them lies the fluid reflected. A neighbour's
+  // image is a neighbour of its own, its term squared on its own as a fluid neighbour's:
+  // the mirrored fluid is then the lattice, and a particle beside a wall meets the sum one
+  // inside meets. Summed with its particle's term before squaring (the two as one body),
+  // the images made that sum larger beside the walls and the pass weaker there: under its
+  // own weight the settled tank's wall layer was 8-31 % more compressed than the fluid
+  // inside at the same height (tests/rest_test.cpp) and its surface sank along the walls.
+  // i's own images are no other particle's: they move with i, mirrored, so their distance
+  // to i changes twice as fast and their term counts twice in grad_i C_i. Taken as
+  // neighbours of their own instead, the settled tank's corner columns slid down in
+  // ldc@1 (0.03-0.105 m/s over the last second of tests/rest_test.cpp, against 0.010-0.026).
+  // On a lattice beside a face the two agree (all terms sum to zero there); at an edge or a
+  // corner the doubled images' cross terms leave the sum a little larger than inside.
+  FOR_EACH_NEIGHBOUR(i, xi, walls, j, image) {  // for j = i itself the kernel gradient is zero
+    vec3 d = xi - mirror(walls, image, imageLoad(x_pred, int(j)).xyz);
     float r2 = dot(d, d);
     w_sum += poly6(r2);
     vec3 g = spiky_grad(d, sqrt(r2));
-    grad_i += g;
-    grad_sq += dot(g, g);
+    bool own_image = j == i;
+    grad_i += own_image ? 2.0 * g : g;
+    grad_sq += own_image ? 0.0 : dot(g, g);
   }
-  // Then the images, of neighbour m, in a walk of their own: their bookkeeping, run for
-  // every entry of a single walk, cost the pass ~2.5 ms of 10 (dam break ldc@1, ~100k
-  // particles; the constraints 18.8 -> 16.2-16.9 ms a step with two walks).
-  // -grad_m C_i sums m's own term and its images' (m moves them too, reflected), so the
-  // images of one m, which follow each other in the list, are summed in g_m before
-  // squaring; g_m starts from m's own term, whose square m's fluid entry added.
-  uint image_of = i;  // the particle g_m belongs to (i: none yet)
-  vec3 g_m = vec3(0.0), g_own = vec3(0.0);
-  FOR_EACH_NEIGHBOUR_IN(IMAGE_ENTRIES, i, xi, walls, m, image) {
-    vec3 xm = imageLoad(x_pred, int(m)).xyz, d = xi - mirror(walls, image, xm);
-    float r2 = dot(d, d);
-    w_sum += poly6(r2);
-    vec3 g = spiky_grad(d, sqrt(r2));
-    // i's own images move with i, away from it: they count twice in grad_i C_i.
-    grad_i += m == i ? 2.0 * g : g;
-    if (m != i) {  // no `continue` here: it would keep the loop from unrolling (neighbours.glsl)
-      if (m != image_of) {  // the first image of m: close the last one's sum, open m's
-        grad_sq += dot(g_m, g_m) - dot(g_own, g_own);
-        vec3 dm = xi - xm;
-        g_own = g_m = spiky_grad(dm, sqrt(dot(dm, dm)));
-        image_of = m;
-      }
-      g_m += mirror_sign(image) * g;
-    }
-  }
-  grad_sq += dot(g_m, g_m) - dot(g_own, g_own);
   float rho = sim.mass * w_sum;
   float s = sim.mass / sim.rho0;
   vec3 own = s * grad_i;  // grad_i C_i

@@ -21,8 +21,7 @@ layout(local_size_x_id = 0) in;
 #include "grid_walk.glsl"
 
 layout(binding = 1, rgba32f) uniform readonly imageBuffer x;  // the positions the lists are built at
-// count[0, n) (entries; in the high 16 bits those before the images, neighbours.glsl
-// listed_count), then the overflow list's length and entries; the host zeroes the length.
+// count[0, n), then the overflow list's length and entries; the host zeroes the length.
 layout(std430, binding = 2) buffer NeighbourCount { uint neighbour_count[]; };
 // Entry k of particle i is neighbour_list[(k / 4) * n + i][k % 4] (entry_group): word
 // ((k / 4) * n + i) * 4 + k % 4 of the buffer.
@@ -82,7 +81,6 @@ void main() {
   // The neighbours are read four at a time and their images' hits kept as bits, bit
   // 8q + 7 - k for image k of entry q, so that storing them in bit order lists each
   // neighbour's images together, in next_image's order (that of the cell walkers).
-  uint fluid = listed;
   WallImages walls = walls_near(xi);
   uint neighbours = walls.axes != 0 && listed <= NEIGHBOUR_CAPACITY ? listed : 0u;
   for (uint k = 0u; k < neighbours; k += 4u) {
@@ -101,7 +99,7 @@ void main() {
       list_entry(image_entry(group[bit >> 3], 7 - int(bit & 7u)), listed, word);
     }
   }
-  neighbour_count[i] = min(listed, 0xFFFFu) | (min(fluid, 0xFFFFu) << 16);  // neighbours.glsl, listed_count
+  neighbour_count[i] = listed;
   if (listed > NEIGHBOUR_CAPACITY) {
     uint slot = atomicAdd(neighbour_count[sim.count], 1u);
     neighbour_count[sim.count + 1u + slot] = i;

@@ -20,11 +20,6 @@ layout(constant_id = NEIGHBOUR_CAPACITY_ID + 1) const bool WALK_CELLS = false;
 layout(binding = NEIGHBOUR_BINDING, r32ui) uniform readonly uimageBuffer neighbour_count;
 layout(binding = NEIGHBOUR_BINDING + 1, rgba32ui) uniform readonly uimageBuffer neighbour_list;
 
-// A particle's count (neighbour_lists.comp): its entries in the low 16 bits, in the high
-// 16 those before its images (the fluid entries; the images block follows them).
-uint listed_count(uint count) { return count & 0xFFFFu; }
-uint fluid_count(uint count) { return count >> 16; }
-
 // The particle this invocation serves, if any: its own for the list readers (skipping
 // overflowed lists, which the cell walkers redo: some passes add to their output), its
 // entry in the overflow list for the cell walkers, its own again where there are no lists.
@@ -36,13 +31,8 @@ bool neighbour_pass_particle(out uint i) {
     return true;
   }
   i = t;
-  return i < sim.count && (WALK_CELLS || listed_count(imageLoad(neighbour_count, int(i)).x) <= NEIGHBOUR_CAPACITY);
+  return i < sim.count && (WALK_CELLS || imageLoad(neighbour_count, int(i)).x <= NEIGHBOUR_CAPACITY);
 }
-
-// The entries a walk yields: all, the fluid's only, or the images only (a pass whose
-// images need more work than its fluid neighbours runs two walks: on llvmpipe a branch
-// on the image costs every entry).
-const int ALL_ENTRIES = 0, FLUID_ENTRIES = 1, IMAGE_ENTRIES = 2;
 
 // An entry is a neighbour j within h of i, or one of j's images behind the walls within h
 // (image_entry, common.glsl). The images are entries, not a loop in every reader's body: on
@@ -51,8 +41,6 @@ const int ALL_ENTRIES = 0, FLUID_ENTRIES = 1, IMAGE_ENTRIES = 2;
 // the peer scene (6.1 ms against 4.1 without walls).
 struct Neighbours {
   uint i, k, n;        // the particle, entries read (a multiple of four), entries listed
-  uint lo;             // the first entry yielded (the images block's, for IMAGE_ENTRIES)
-  bool images_only;    // the cell walk's: yield no candidate itself, only its images
   uvec4 group;         // the round's entries: four listed, or the cell walk's candidate
   int axes;            // the cell walk's: i's walls (WallImages.axes), whose images it yields
   int image;           // the cell walk's: the image of candidate j - 1 it yielded last
@@ -61,16 +49,13 @@ struct Neighbours {
   uint j, end;         // the sorted range of that row
 };
 
-Neighbours neighbours_of(uint i, vec3 xi, WallImages walls, int part) {
+Neighbours neighbours_of(uint i, vec3 xi, WallImages walls) {
   Neighbours w;
   w.i = i;
-  uint count = WALK_CELLS ? 0u : imageLoad(neighbour_count, int(i)).x;
-  w.lo = part == IMAGE_ENTRIES ? fluid_count(count) : 0u;
-  w.k = w.lo & ~3u;  // rounds start on a fetch's group of four
-  w.n = part == FLUID_ENTRIES ? fluid_count(count) : listed_count(count);
+  w.k = 0u;
+  w.n = WALK_CELLS ? 0u : imageLoad(neighbour_count, int(i)).x;
   w.group = uvec4(0u);
-  w.axes = part == FLUID_ENTRIES ? 0 : walls.axes;
-  w.images_only = part == IMAGE_ENTRIES;
+  w.axes = walls.axes;
   w.image = 0;
   w.first = first_cell(xi);
   w.last = last_cell(xi);
@@ -82,7 +67,6 @@ Neighbours neighbours_of(uint i, vec3 xi, WallImages walls, int part) {
 
 // The cell walk's next candidate, or the last one's next image.
 bool next_candidate(inout Neighbours w, out uint j, out int image) {
-  if (w.images_only && w.axes == 0) return false;  // no walls near: no images
   // The last candidate's next image (its images follow it: 0 first, then every subset of
   // the axes), as the lists pass would list them, beyond h or not. end > 0 once a
   // candidate was yielded: a row is only left open with one taken from it.
@@ -101,7 +85,7 @@ bool next_candidate(inout Neighbours w, out uint j, out int image) {
     w.end = row_end(w.last, w.y, w.z);
   }
   j = w.j++;
-  image = w.image = w.images_only ? w.axes : 0;
+  image = w.image = 0;
   return true;
 }
 
@@ -134,18 +118,15 @@ bool round_entry(Neighbours w, uint q, out uint j, out int image) {
   uint entry = w.group[q];
   j = entry & IMAGE_INDEX_MASK;
   image = int(entry >> IMAGE_SHIFT);
-  uint k = w.k - 4u + q;
-  return WALK_CELLS || (k >= w.lo && k < w.n);
+  return WALK_CELLS || w.k - 4u + q < w.n;
 }
 
 // for each neighbour j of particle i at xi and its images behind i's walls: j's position
 // is mirror(walls, image, x_j) (image 0: j itself). j = i is included, and so are i's own
 // images; the cell walkers' candidates include particles beyond h, the body tests r < h.
 // FOR_EACH_NEIGHBOUR(i, xi, walls, j, image) { ... }   (no `continue` in the body: see ROUND)
-// FOR_EACH_NEIGHBOUR_IN(part, ...) yields only the part's entries (ALL_ENTRIES above).
-#define FOR_EACH_NEIGHBOUR_IN(part, i, xi, walls, j, image)   \
-  Neighbours walk_##j = neighbours_of(i, xi, walls, part);   \
-  while (next_round(walk_##j))                               \
-    for (uint q_##j = 0u, j; q_##j < ROUND; ++q_##j)          \
+#define FOR_EACH_NEIGHBOUR(i, xi, walls, j, image)     \
+  Neighbours walk_##j = neighbours_of(i, xi, walls); \
+  while (next_round(walk_##j))                       \
+    for (uint q_##j = 0u, j; q_##j < ROUND; ++q_##j)  \
       if (round_entry(walk_##j, q_##j, j, image))
-#define FOR_EACH_NEIGHBOUR(i, xi, walls, j, image) FOR_EACH_NEIGHBOUR_IN(ALL_ENTRIES, i, xi, walls, j, image)
