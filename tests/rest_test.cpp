@@ -34,7 +34,8 @@ constexpr double kP99Speed = 0.05, kMaxSpeed = 0.1, kLastSecondMaxSpeed = 0.08;
 // settled column is squeezed more the deeper it is (a single pass holds it only squeezed);
 // the layer against the side walls must be squeezed as much as the fluid inside at the same
 // height, not more. Returns the wall layer's excess density (rho/rho0 - 1) over the inner
-// columns', both summed over the lower half of the tank in bins two spacings high.
+// columns', both summed over the lower half of the tank in bins two spacings high (heights
+// along y: the caller checks that gravity points down y).
 double wall_layer_excess_ratio(const ParticleState& s, const Derived& d) {
   double top = d.domain_min.y;
   for (const glm::dvec3& x : s.x) top = std::max(top, x.y);
@@ -72,6 +73,7 @@ TEST_P(RestTest, TankLosesEnergyAndSettles) {
                                            "solver.iterations=" + std::to_string(p.iterations)});
   ASSERT_EQ(scene.solver.substeps, 2);
   ASSERT_EQ(scene.particle_spacing, 0.02);
+  ASSERT_EQ(scene.gravity, glm::dvec3(0, -9.81, 0));
   Derived d = derive(scene);
   GpuSolver solver(test::gpu(), d, initial_particles(scene));
   SettleReport settled = settle(solver, d);
