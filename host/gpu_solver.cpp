@@ -73,11 +73,11 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
       apply_(neighbour_pass("constraint_apply", 6,
                             {std::bit_cast<uint32_t>(d.solver.scorr_k > 0 ? float(d.solver.scorr_n) : 0.0f)}, 4,
                             {{1, kVec4}})),
-      viscosity_(viscosity_pass_ ? neighbour_pass("viscosity_vorticity", 7,
+      viscosity_(viscosity_pass_ ? neighbour_pass("viscosity_vorticity", 8,
                                                   {std::bit_cast<uint32_t>(float(d.solver.damping)),
                                                    std::bit_cast<uint32_t>(float(d.damping_limit)),
                                                    vorticity_pass_ ? 1u : 0u},
-                                                  5, {{1, kVec4}, {2, kVec4}})
+                                                  6, {{1, kVec4}, {2, kVec4}})
                                  : NeighbourPass{}),
       vorticity_(vorticity_pass_ ? neighbour_pass("vorticity_force", 6, {}, 4, {{1, kVec4}, {2, kVec4}})
                                  : NeighbourPass{}),
@@ -379,6 +379,7 @@ void GpuSolver::viscosity_vorticity() {
     cmd_.bind(3, at(Spare0));
     // Without vorticity the shader never touches omega (VORTICITY): any buffer fills the slot.
     cmd_.bind(4, vorticity_pass_ ? omega_ : at(Spare0));
+    cmd_.bind(5, rho_);
   });
   swap_roles(V, Spare0);
 }
@@ -423,7 +424,7 @@ void GpuSolver::record_step() {
     if (viscosity_pass_) viscosity_vorticity();
     if (vorticity_pass_) vorticity_force();
   }
-  density_current_ = false;
+  density_current_ = viscosity_pass_;  // the viscosity pass leaves rho at x
   lists_built_ = true;
   watch();
   // The watch counts with the step's last group, so that the groups cover the whole step.
@@ -441,6 +442,9 @@ void GpuSolver::watch() {
 }
 
 void GpuSolver::density_at_positions() {
+  // Where the step ran its viscosity pass, that pass summed rho at x already, over the
+  // same lists (viscosity_vorticity.comp).
+  if (density_current_) return;
   // The last step's lists, built at its x* (DESIGN.md step 5: once per step), serve the
   // density at x, as they served its iterations and XSPH: a pair that came within h in
   // the projection adds W(r ~ h) ~ 0 (poly6 is flat there), and a grid build and list
@@ -448,6 +452,7 @@ void GpuSolver::density_at_positions() {
   // upload are the particles binned and listed at x.
   if (!lists_built_) grid_at_positions();
   density();
+  density_current_ = true;
 }
 
 void GpuSolver::record_measures() {
@@ -460,7 +465,6 @@ void GpuSolver::record_measures() {
   VkBufferCopy watch{0, 3 * sizeof(glm::vec4), 5 * sizeof(uint32_t)};  // and what the watch saw
   vkCmdCopyBuffer(cmd_.handle(), watch_buf_.handle(), result_.handle(), 1, &watch);
   vk::memory_barrier(cmd_.handle());
-  density_current_ = true;
 }
 
 FrameStats GpuSolver::read_measures() const {

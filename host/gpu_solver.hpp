@@ -89,7 +89,7 @@ class GpuSolver : public Solver {
   SimConstants sim_;
   uint32_t n_;
   bool viscosity_pass_, vorticity_pass_, correction_pass_;
-  bool density_current_ = false;  // rho already matches x (measures were just taken)
+  bool density_current_ = false;  // rho already matches x (the viscosity pass or a density pass left it)
   bool lists_built_ = false;      // the grid and lists follow the particles' order (built since the upload)
 
   vk::Program lists_, predict_, velocity_;

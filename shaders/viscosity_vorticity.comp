@@ -4,7 +4,10 @@
 // - a pairwise dashpot on the relative normal velocity,
 //   v_i -= sum_j c_ij (1 - r/h) ((v_i - v_j).d) d / r^2 (d = x_j - x_i), c_ij = DAMPING
 //   unless the pair is squeezed (below);
-// - the vorticity omega_i = sum_j V_j (v_j - v_i) x grad W_ij.
+// - the vorticity omega_i = sum_j V_j (v_j - v_i) x grad W_ij;
+// - and, as density.comp computes it, rho_i at x: the next step's LDC force and the frame's
+//   measures read it, and the walk that gathers x_j here costs a poly6 more per entry
+//   where a density pass of its own costs a walk.
 // Why the dashpot: an explicit stiffness maps a density mode as q' = 2q - q_prev - nu q,
 // undamped for every nu < 4, and both the LDC force at the free surface (where the
 // constraint is idle) and a Jacobi pass in fluid squeezed to 40 % (pbf@1) kept modes
@@ -31,7 +34,8 @@ layout(binding = 1, rgba32f) uniform readonly imageBuffer x;
 layout(binding = 2, rgba32f) uniform readonly imageBuffer v_rho;
 layout(std430, binding = 3) writeonly buffer VOut { vec4 v_out[]; };
 layout(std430, binding = 4) writeonly buffer Omega { vec4 omega[]; };  // VORTICITY only
-#define NEIGHBOUR_BINDING 5
+layout(std430, binding = 5) writeonly buffer Rho { float rho[]; };
+#define NEIGHBOUR_BINDING 6
 #define NEIGHBOUR_CAPACITY_ID 4
 #include "neighbours.glsl"
 
@@ -52,6 +56,7 @@ void main() {
   vec3 smooth_v = vec3(0.0);
   vec3 curl = vec3(0.0);
   vec3 damp = vec3(0.0);
+  float density = 0.0;
   float rho_i = max(own.w, sim.rho0);
   WallImages walls = walls_near(xi);
   int image;
@@ -60,8 +65,10 @@ void main() {
     float r2 = dot(d, d);  // every term below is zero from r = h on
     vec4 vj = imageLoad(v_rho, int(j));
     vec3 vij = mirror_sign(image) * vj.xyz - vi;  // an image moves as j, mirrored
+    float w = poly6(r2);
+    density += w;
     if (image == 0) {  // XSPH and the vorticity see the fluid only
-      smooth_v += vij * poly6(r2);
+      smooth_v += vij * w;
       if (VORTICITY) curl += cross(vij, spiky_grad(d, sqrt(r2)));
     }
     // The dashpot's largest eigenvalue grows with the neighbours inside h, images included
@@ -74,4 +81,5 @@ void main() {
   float volume = sim.mass / sim.rho0;
   v_out[i] = vec4(vi + (sim.xsph_c * volume) * smooth_v + damp, 0.0);
   if (VORTICITY) omega[i] = vec4(volume * curl, 0.0);
+  rho[i] = sim.mass * density;
 }

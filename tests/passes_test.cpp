@@ -54,12 +54,15 @@ class PassTest : public test::GpuTest, public ::testing::WithParamInterface<List
     g.finish();
     return g.download();
   }
-  void reference_viscosity(ReferenceSolver& r) {
+  // Returns rho at x, which the GPU's viscosity pass sums too (for the next step).
+  std::vector<double> reference_viscosity(ReferenceSolver& r) {
     r.state = input;
     r.build_grid(r.state.x);
     r.density();  // for its lists at x (the GPU's grid_at_positions builds them); the dashpot
+    std::vector<double> at_x = r.state.rho;
     r.state.rho = input.rho;  // reads the uploaded densities, as on the GPU
     r.viscosity_vorticity();
+    return at_x;
   }
   // One lambda pass and one apply pass (relaxation 0.5) at x_pred from `input`: how far
   // they moved x_pred, on the GPU and on the reference.
@@ -204,9 +207,10 @@ TEST_P(PassTest, ViscosityAndVorticity) {
   for (double& r : input.rho) r = d.rho0 * squeeze(rng);
   ASSERT_LT(d.damping_limit / 2.1, d.solver.damping) << "no pair reaches the cap";
   ParticleState g = gpu_viscosity(gpu);
-  reference_viscosity(ref);
+  std::vector<double> rho_at_x = reference_viscosity(ref);
   expect_close(test::compare(test::difference(g.v, input.v), test::difference(ref.state.v, input.v), "XSPH and damping dv"));
   expect_close(test::compare(g.omega, ref.state.omega, "vorticity omega"));
+  expect_close(test::compare(g.rho, rho_at_x, "rho at x, summed by the viscosity pass"));
 }
 
 // Without vorticity the pass skips the curl (a specialisation constant) and keeps no
@@ -217,9 +221,10 @@ TEST_P(PassTest, ViscosityWithoutVorticity) {
   GpuSolver gpu_plain{test::gpu(), plain, input.x};
   ReferenceSolver ref_plain{plain, input.x};
   ParticleState g = gpu_viscosity(gpu_plain);
-  reference_viscosity(ref_plain);
+  std::vector<double> rho_at_x = reference_viscosity(ref_plain);
   expect_close(test::compare(test::difference(g.v, input.v), test::difference(ref_plain.state.v, input.v),
                              "XSPH and damping dv, no vorticity"));
+  expect_close(test::compare(g.rho, rho_at_x, "rho at x, summed by the viscosity pass, no vorticity"));
   EXPECT_TRUE(g.omega.empty()) << "no vorticity storage without vorticity";
 }
 
