@@ -6,8 +6,8 @@
 //   unless the pair is squeezed (below);
 // - the vorticity omega_i = sum_j V_j (v_j - v_i) x grad W_ij;
 // - and, as density.comp computes it, rho_i at x: the next step's LDC force and the frame's
-//   measures read it, and the walk that gathers x_j here costs a poly6 more per entry
-//   where a density pass of its own costs a walk.
+//   measures read it. XSPH already takes poly6 of every fluid entry; summing it over all
+//   entries (the images' too) costs an add each, where a density pass costs a walk.
 // Why the dashpot: an explicit stiffness maps a density mode as q' = 2q - q_prev - nu q,
 // undamped for every nu < 4, and both the LDC force at the free surface (where the
 // constraint is idle) and a Jacobi pass in fluid squeezed to 40 % (pbf@1) kept modes
