@@ -1,4 +1,4 @@
-#include "common.hpp"
+#include "bench/common.hpp"
 
 #include <cmath>
 #include <cstdlib>

@@ -3,7 +3,7 @@
 #include <string>
 #include <vector>
 
-#include "scene.hpp"
+#include "scene/scene.hpp"
 
 namespace pbflow::bench {
 

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The CPU peer beside pbflow, in the same minutes: SPlisHSPlasH's PBF (2 OpenMP threads,
 # Release build) on its own dam break (bench/peer/peer_dam_break_pbf.json: 6859 particles,
-# pbf@2, dt 4 ms, 2 s) and `pbflow run ../shared/scenes/peer_dam_break.json --no-render`,
+# pbf@2, dt 4 ms, 2 s) and `pbflow run bench/scenes/peer_dam_break.json --no-render`,
 # alternated. Why alternated: a shared machine drifts by up to 1.5x from minute to minute,
 # and did so between the sessions whose figures the README quotes; only runs taken side by
 # side compare.
@@ -48,7 +48,7 @@ peer_run() {  # -> seconds of SimStep
   awk '/^Time sum: SimStep:/ { printf "%.2f", $4 / 1000 }' "$out/peer.log"
 }
 pbflow_run() {  # -> "wall-seconds mean-compression particle-steps" (from its summary line)
-  build/pbflow run ../shared/scenes/peer_dam_break.json --iterations "$iterations" --no-render --out "$out/pbflow" 2>/dev/null |
+  build/pbflow run bench/scenes/peer_dam_break.json --iterations "$iterations" --no-render --out "$out/pbflow" 2>/dev/null |
     sed -n 's/^particles \([0-9]*\), steps \([0-9]*\), wall \([0-9.]*\) s,.*mean compression \([0-9.e-]*\),.*/\3 \4 \1*\2/p'
 }
 peer_run > /dev/null  # not counted: the first run also builds the tank's volume map (cached on disk)

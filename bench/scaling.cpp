@@ -1,4 +1,4 @@
-#include "scaling.hpp"
+#include "bench/scaling.hpp"
 
 #include <unistd.h>
 
@@ -11,11 +11,13 @@
 #include <iostream>
 #include <memory>
 
-#include "common.hpp"
-#include "gpu_solver.hpp"
-#include "memory_estimate.hpp"
-#include "run.hpp"
-#include "scene.hpp"
+#include "bench/common.hpp"
+#include "gpu/gpu_solver.hpp"
+#include "gpu/make_solver.hpp"
+#include "gpu/memory_estimate.hpp"
+#include "scene/derive.hpp"
+#include "scene/scene.hpp"
+#include "scene/seeding.hpp"
 #include "vk/context.hpp"
 
 namespace pbflow::bench {

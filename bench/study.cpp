@@ -1,4 +1,4 @@
-#include "study.hpp"
+#include "bench/study.hpp"
 
 #include <unistd.h>
 
@@ -11,11 +11,13 @@
 #include <memory>
 #include <sstream>
 
-#include "common.hpp"
-#include "gpu_solver.hpp"
-#include "run.hpp"
-#include "scene.hpp"
-#include "settle.hpp"
+#include "bench/common.hpp"
+#include "gpu/gpu_solver.hpp"
+#include "gpu/make_solver.hpp"
+#include "scene/derive.hpp"
+#include "scene/scene.hpp"
+#include "scene/seeding.hpp"
+#include "sim/settle.hpp"
 #include "vk/context.hpp"
 
 namespace pbflow::bench {

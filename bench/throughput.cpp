@@ -10,8 +10,10 @@
 #include <memory>
 #include <string>
 
-#include "run.hpp"
-#include "scene.hpp"
+#include "gpu/make_solver.hpp"
+#include "scene/derive.hpp"
+#include "scene/scene.hpp"
+#include "scene/seeding.hpp"
 #include "vk/context.hpp"
 
 int main(int argc, char** argv) {

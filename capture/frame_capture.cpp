@@ -1,8 +1,8 @@
-#include "frame_capture.hpp"
+#include "capture/frame_capture.hpp"
 
 #include <chrono>
 
-#include "png.hpp"
+#include "capture/png.hpp"
 
 namespace pbflow::capture {
 

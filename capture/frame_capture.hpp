@@ -5,10 +5,10 @@
 #include <memory>
 #include <string>
 
-#include "gl_context.hpp"
-#include "particle_transfer.hpp"
-#include "renderer.hpp"
-#include "video.hpp"
+#include "capture/gl_context.hpp"
+#include "capture/particle_transfer.hpp"
+#include "capture/renderer.hpp"
+#include "capture/video.hpp"
 
 namespace pbflow::capture {
 

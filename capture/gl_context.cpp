@@ -1,4 +1,4 @@
-#include "gl_context.hpp"
+#include "capture/gl_context.hpp"
 
 #include <epoxy/gl.h>
 

@@ -1,9 +1,9 @@
-#include "gl_objects.hpp"
+#include "capture/gl_objects.hpp"
 
 #include <string_view>
 #include <vector>
 
-#include "gl_context.hpp"
+#include "capture/gl_context.hpp"
 
 namespace pbflow {
 const std::vector<std::pair<std::string_view, std::string_view>>& render_shaders_text();

@@ -1,12 +1,12 @@
-#include "particle_export.hpp"
+#include "capture/particle_export.hpp"
 
 #include <bit>
 #include <cstdio>
 #include <stdexcept>
 #include <vector>
 
-#include "atomic_file.hpp"
-#include "scene.hpp"
+#include "common/input_error.hpp"
+#include "io/atomic_file.hpp"
 
 static_assert(std::endian::native == std::endian::little, "the particle writers emit the host's float bytes");
 

@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <string>
 
-#include "solver.hpp"
+#include "sim/solver.hpp"
 
 namespace pbflow::capture {
 

@@ -1,6 +1,6 @@
-#include "particle_transfer.hpp"
+#include "capture/particle_transfer.hpp"
 
-#include "gpu_solver.hpp"
+#include "gpu/gpu_solver.hpp"
 #include "vk/buffer.hpp"
 #include "vk/context.hpp"
 

@@ -4,9 +4,9 @@
 // through the host (any solver, any driver pair).
 #include <memory>
 
-#include "gl_context.hpp"
-#include "gl_objects.hpp"
-#include "solver.hpp"
+#include "capture/gl_context.hpp"
+#include "capture/gl_objects.hpp"
+#include "sim/solver.hpp"
 
 namespace pbflow {
 namespace vk {

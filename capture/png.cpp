@@ -1,10 +1,10 @@
-#include "png.hpp"
+#include "capture/png.hpp"
 
 #include <png.h>
 
 #include <stdexcept>
 
-#include "atomic_file.hpp"
+#include "io/atomic_file.hpp"
 
 namespace pbflow::capture {
 

@@ -2,7 +2,7 @@
 // PNG frames through libpng's simplified API, written atomically.
 #include <filesystem>
 
-#include "renderer.hpp"
+#include "capture/renderer.hpp"
 
 namespace pbflow::capture {
 

@@ -1,11 +1,11 @@
-#include "renderer.hpp"
+#include "capture/renderer.hpp"
 
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
 
-#include "gl_context.hpp"
-#include "particle_transfer.hpp"
+#include "capture/gl_context.hpp"
+#include "capture/particle_transfer.hpp"
 
 namespace pbflow::capture {
 

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "gl_objects.hpp"
-#include "scene.hpp"
+#include "capture/gl_objects.hpp"
+#include "scene/scene.hpp"
 
 namespace pbflow::capture {
 

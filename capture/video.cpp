@@ -1,4 +1,4 @@
-#include "video.hpp"
+#include "capture/video.hpp"
 
 #include <fcntl.h>
 #include <spawn.h>
@@ -12,7 +12,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "scene.hpp"
+#include "common/input_error.hpp"
 
 namespace pbflow::capture {
 

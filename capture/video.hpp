@@ -9,7 +9,7 @@
 #include <filesystem>
 #include <string>
 
-#include "renderer.hpp"
+#include "capture/renderer.hpp"
 
 namespace pbflow::capture {
 

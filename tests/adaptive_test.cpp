@@ -1,8 +1,8 @@
 // Adaptive iterations: the GPU decides on its own (indirect dispatch) how many constraint
 // iterations a step runs, the same as the reference decides, and a tighter target costs
 // more iterations and compresses less.
-#include "gpu_solver.hpp"
-#include "reference_solver.hpp"
+#include "gpu/gpu_solver.hpp"
+#include "sim/reference_solver.hpp"
 #include "support.hpp"
 
 namespace pbflow {

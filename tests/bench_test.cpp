@@ -11,10 +11,10 @@
 #include <map>
 #include <sstream>
 
-#include "png.hpp"
-#include "scaling.hpp"
-#include "solver.hpp"
-#include "study.hpp"
+#include "bench/scaling.hpp"
+#include "bench/study.hpp"
+#include "capture/png.hpp"
+#include "sim/solver.hpp"
 
 namespace pbflow {
 namespace {

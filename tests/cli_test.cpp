@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "png.hpp"
+#include "capture/png.hpp"
+#include "capture/video.hpp"
 #include "support.hpp"
-#include "video.hpp"
 
 namespace {
 

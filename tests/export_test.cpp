@@ -8,9 +8,10 @@
 #include <random>
 #include <sstream>
 
-#include "frame_files.hpp"
-#include "particle_export.hpp"
-#include "scene.hpp"
+#include "capture/particle_export.hpp"
+#include "io/frame_files.hpp"
+#include "scene/scene.hpp"
+#include "scene/seeding.hpp"
 
 namespace pbflow {
 namespace {

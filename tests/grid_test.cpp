@@ -4,9 +4,9 @@
 #include <random>
 #include <set>
 
-#include "gpu_grid.hpp"
-#include "kernels.hpp"
-#include "reference_solver.hpp"
+#include "gpu/gpu_grid.hpp"
+#include "sim/kernels.hpp"
+#include "sim/reference_solver.hpp"
 #include "support.hpp"
 #include "vk/commands.hpp"
 

@@ -1,8 +1,9 @@
 // SPH kernel properties (as SPlisHSPlasH tests them) and the lattice calibration of the mass.
 #include <gtest/gtest.h>
 
-#include "kernels.hpp"
-#include "params.hpp"
+#include "sim/kernels.hpp"
+#include "sim/lattice.hpp"
+#include "sim/params.hpp"
 
 namespace pbflow {
 namespace {

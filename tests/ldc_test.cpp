@@ -1,7 +1,7 @@
 // The local density correction force: its sign, its zeros and its linearity in K,
 // on the reference and on the GPU.
-#include "gpu_solver.hpp"
-#include "reference_solver.hpp"
+#include "gpu/gpu_solver.hpp"
+#include "sim/reference_solver.hpp"
 #include "support.hpp"
 
 namespace pbflow {

@@ -4,8 +4,8 @@
 // hundred ulps at most, so a pass agrees to a relative 1e-4 of the field's scale.
 #include <random>
 
-#include "gpu_solver.hpp"
-#include "reference_solver.hpp"
+#include "gpu/gpu_solver.hpp"
+#include "sim/reference_solver.hpp"
 #include "support.hpp"
 
 namespace pbflow {

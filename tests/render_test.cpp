@@ -8,10 +8,10 @@
 #include <cmath>
 #include <memory>
 
-#include "gl_context.hpp"
-#include "gpu_solver.hpp"
-#include "particle_transfer.hpp"
-#include "renderer.hpp"
+#include "capture/gl_context.hpp"
+#include "capture/particle_transfer.hpp"
+#include "capture/renderer.hpp"
+#include "gpu/gpu_solver.hpp"
 #include "support.hpp"
 
 namespace pbflow {

@@ -6,8 +6,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "gpu_solver.hpp"
-#include "settle.hpp"
+#include "gpu/gpu_solver.hpp"
+#include "sim/settle.hpp"
 #include "support.hpp"
 
 namespace pbflow {

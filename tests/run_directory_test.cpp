@@ -17,11 +17,11 @@
 #include <thread>
 #include <vector>
 
-#include "memory_estimate.hpp"
-#include "png.hpp"
-#include "scene.hpp"
-#include "vk/context.hpp"
+#include "capture/png.hpp"
+#include "gpu/memory_estimate.hpp"
+#include "scene/scene.hpp"
 #include "support.hpp"
+#include "vk/context.hpp"
 
 namespace {
 

@@ -2,9 +2,9 @@
 // the fluid out even when it is thrown at them.
 #include <cmath>
 
-#include "gpu_solver.hpp"
-#include "obstacles.hpp"
-#include "reference_solver.hpp"
+#include "gpu/gpu_solver.hpp"
+#include "sim/obstacles.hpp"
+#include "sim/reference_solver.hpp"
 #include "support.hpp"
 
 namespace pbflow {

@@ -7,9 +7,10 @@
 #include <string>
 #include <vector>
 
-#include "params.hpp"
-#include "scene.hpp"
-#include "solver.hpp"
+#include "scene/derive.hpp"
+#include "scene/seeding.hpp"
+#include "sim/params.hpp"
+#include "sim/solver.hpp"
 #include "vk/context.hpp"
 
 namespace pbflow::test {

@@ -7,9 +7,9 @@
 #include <fstream>
 #include <limits>
 
-#include "gpu_solver.hpp"
-#include "png.hpp"
-#include "reference_solver.hpp"
+#include "capture/png.hpp"
+#include "gpu/gpu_solver.hpp"
+#include "sim/reference_solver.hpp"
 #include "support.hpp"
 
 namespace pbflow {

@@ -4,7 +4,6 @@
 
 #include "vk/check.hpp"
 #include "vk/context.hpp"
-#include "vk/commands.hpp"
 
 namespace pbflow::vk {
 

@@ -13,9 +13,6 @@ namespace pbflow::vk {
 class Context;
 class Buffer;
 
-// Makes all earlier compute, transfer and host writes visible to later commands and the host.
-void memory_barrier(VkCommandBuffer cb);
-
 class CommandList {
  public:
   explicit CommandList(const Context& ctx);

@@ -90,4 +90,7 @@ class Context {
   std::vector<std::string> messages_;
 };
 
+// Makes all earlier compute, transfer and host writes visible to later commands and the host.
+void memory_barrier(VkCommandBuffer cb);
+
 }  // namespace pbflow::vk

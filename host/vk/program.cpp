@@ -4,9 +4,9 @@
 #include <utility>
 #include <vector>
 
-#include "shader_library.hpp"
 #include "vk/check.hpp"
 #include "vk/context.hpp"
+#include "vk/shader_library.hpp"
 
 namespace pbflow::vk {
 

@@ -6,8 +6,9 @@
 #include <cstdint>
 #include <string>
 
-#include "params.hpp"
-#include "scene.hpp"
+#include "scene/derive.hpp"
+#include "scene/seeding.hpp"
+#include "sim/params.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   std::string text(reinterpret_cast<const char*>(data), size);

@@ -1,0 +1,160 @@
+// pbflow command line: run, bench, scenes, devices.
+#include <CLI/CLI.hpp>
+#include <malloc.h>
+
+#include <csignal>
+#include <cstdio>
+#include <iostream>
+
+#include "app/run.hpp"
+#include "bench/scaling.hpp"
+#include "bench/study.hpp"
+#include "capture/gl_context.hpp"
+#include "scene/scene.hpp"
+#include "vk/check.hpp"
+#include "vk/context.hpp"
+
+namespace {
+
+int list_devices() {
+  auto devices = pbflow::vk::Context::list_devices();
+  if (devices.empty()) std::cout << "no Vulkan devices (install mesa-vulkan-drivers for lavapipe)\n";
+  for (const auto& d : devices)
+    std::printf("%u  %-40s %-10s Vulkan %u.%u  %6.1f GiB  max workgroup %u  timestamps %s%s\n", d.index,
+                d.name.c_str(), d.kind.c_str(), VK_API_VERSION_MAJOR(d.api_version),
+                VK_API_VERSION_MINOR(d.api_version), double(d.device_local_bytes) / (1 << 30),
+                d.max_workgroup_invocations, d.timestamps ? "yes" : "no", d.usable ? "" : "  (not usable)");
+  std::cout << "cpu  the C++ reference solver (--device cpu)\n";
+  return 0;
+}
+
+int list_scenes() {
+  for (const auto& s : pbflow::builtin_scenes()) std::printf("%-18s %s\n", s.name.c_str(), s.description.c_str());
+  return 0;
+}
+
+// --scaling takes the study's options that make sense for one scene and one setting.
+pbflow::bench::ScalingOptions scaling_options(const pbflow::bench::StudyOptions& b, double budget_minutes) {
+  if (b.scenes.size() > 1 || b.iterations.size() > 1)
+    throw pbflow::InputError("--scaling runs one scene at one iteration count: give at most one of each");
+  if (b.stability || b.quick || !b.targets.empty() || !b.substeps.empty() || !b.ldc_strength.empty())
+    throw pbflow::InputError("--scaling takes --counts, --scenes, --iterations, --seconds and --budget-minutes only");
+  pbflow::bench::ScalingOptions o;
+  o.out = b.out;
+  o.device = b.device;
+  if (!b.scenes.empty()) o.scene = b.scenes[0];
+  o.counts = b.counts;
+  if (!b.iterations.empty()) o.iterations = b.iterations[0];
+  if (b.seconds > 0) o.seconds = b.seconds;
+  o.budget_minutes = budget_minutes;
+  o.charts = b.charts;
+  return o;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::signal(SIGPIPE, SIG_IGN);  // a dying ffmpeg shows as a failed write, not a silent exit
+  std::signal(SIGXFSZ, SIG_IGN);  // past a file size limit a write fails (EFBIG) and is reported
+  // Freed memory stays with the process: the libraries that draw and write a frame
+  // allocate and free a few megabytes each time, and handing them back to the kernel made
+  // every frame fault them in again, ~800 page faults a 720p frame; on a 2-core llvmpipe
+  // machine a fluid frame drew in 60 ms with this against 72 ms without.
+  mallopt(M_TRIM_THRESHOLD, 512 << 20);
+  CLI::App app{"pbflow: position based fluids with local density correction, on Vulkan compute"};
+  app.require_subcommand(0, 1);
+
+  pbflow::RunOptions run;
+  CLI::App* run_cmd = app.add_subcommand("run", "simulate a scene (default: dam_break)");
+  run_cmd->add_option("scene", run.scene, "built-in scene name or JSON file");
+  run_cmd->add_option("--method", run.method, "pbf | ldc")->check(CLI::IsMember({"pbf", "ldc"}));
+  run_cmd->add_option("--iterations", run.iterations, "constraint iterations per step")->check(CLI::Range(1, 1000));
+  run_cmd->add_option("--frames", run.frames, "frames to write (frame 0 is the initial state)")
+      ->check(CLI::Range(1, pbflow::kMaxFrames));
+  run_cmd->add_option("--out", run.out, "output directory")->capture_default_str();
+  run_cmd->add_option("--device", run.device, "auto | cpu | INDEX (see 'pbflow devices')")->capture_default_str();
+  run_cmd->add_option("--param", run.params, "override a scene key, e.g. solver.ldc_k=2000 (repeatable)");
+  run_cmd->add_flag("--validate", run.validate, "enable the Vulkan validation layer");
+  run_cmd->add_flag("--quiet", run.quiet, "no progress line or summary");
+  bool no_render = false;
+  run_cmd->add_flag("--no-render", no_render, "simulate only, write no images");
+  run_cmd->add_option("--style", run.style, "fluid | particles | density | speed")
+      ->check(CLI::IsMember({"fluid", "particles", "density", "speed"}))
+      ->capture_default_str();
+  run_cmd->add_option("--fluid-resolution", run.fluid_resolution,
+                      "fluid style: the surface's depth, thickness and smoothing at half or full image size")
+      ->check(CLI::IsMember({"half", "full"}))
+      ->capture_default_str();
+  run_cmd->add_option("--width", run.width, "image width in pixels")->check(CLI::Range(16, 16384))->capture_default_str();
+  run_cmd->add_option("--height", run.height, "image height in pixels")
+      ->check(CLI::Range(16, 16384))
+      ->capture_default_str();
+  run_cmd->add_option("--video", run.video, "also encode the frames into this .mp4 (needs ffmpeg)");
+  run_cmd->add_flag("--readback", run.readback, "read particles back through the host even where zero-copy works");
+  run_cmd->add_option("--export", run.export_format, "particle files per frame: ply | vtk (.vtp)")
+      ->check(CLI::IsMember({"ply", "vtk"}));
+  run_cmd->add_flag("--verbose", run.verbose, "say how frames are rendered (EGL platform, GL, particle path)");
+
+  pbflow::bench::StudyOptions bench;
+  CLI::App* bench_cmd = app.add_subcommand("bench", "the speed-accuracy study: CSV and charts (bench/study.hpp)");
+  bench_cmd->add_flag("--quick", bench.quick, "a small subset: 4000 particles, 1 to 3 iterations, 1 s");
+  bench_cmd->add_option("--out", bench.out, "output directory")->capture_default_str();
+  bench_cmd->add_option("--device", bench.device, "auto | cpu | INDEX")->capture_default_str();
+  bench_cmd->add_option("--counts", bench.counts, "particle counts, e.g. 10000,40000")->delimiter(',');
+  bench_cmd->add_option("--iterations", bench.iterations, "iteration counts, e.g. 1,2,3")->delimiter(',');
+  bench_cmd->add_option("--seconds", bench.seconds, "simulated seconds per run")->check(CLI::Range(0.001, 3600.0));
+  bench_cmd->add_option("--ldc-strength", bench.ldc_strength,
+                        "sweep the LDC strength (fraction of the step's limit), e.g. 0.25,0.5,0.9")
+      ->delimiter(',');
+  bench_cmd->add_option("--targets", bench.targets, "adaptive runs to these mean compressions, e.g. 0.01,0.001")
+      ->delimiter(',');
+  bench_cmd->add_option("--substeps", bench.substeps, "steps per frame to try, e.g. 1,2,4")->delimiter(',');
+  bench_cmd->add_flag("--stability", bench.stability,
+                      "the stability map: dam_break and drop, substeps x iterations x LDC strength, each run classified");
+  bench_cmd->add_option("--scenes", bench.scenes, "scenes, e.g. dam_break,drop (default dam_break,hydrostatic)")
+      ->delimiter(',');
+  bool scaling = false;
+  double budget_minutes = pbflow::bench::ScalingOptions{}.budget_minutes;
+  bench_cmd->add_flag("--scaling", scaling,
+                      "the cost model: one scene (--scenes, default dam_break) at doubling particle counts from 10 000 "
+                      "to 4 000 000, ms per step, bytes per particle, per-pass split, the fit");
+  bench_cmd->add_option("--budget-minutes", budget_minutes, "with --scaling: start no count that would end past this")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  bool no_charts = false;
+  bench_cmd->add_flag("--no-charts", no_charts, "CSV only");
+
+  CLI::App* scenes_cmd = app.add_subcommand("scenes", "list the built-in scenes");
+  CLI::App* devices_cmd = app.add_subcommand("devices", "list the Vulkan devices and their limits");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::Success& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "pbflow: " << e.what() << "\n";
+    return 2;
+  }
+  run.render = !no_render;
+  bench.charts = !no_charts;
+
+  try {
+    if (*scenes_cmd) return list_scenes();
+    if (*devices_cmd) return list_devices();
+    if (*bench_cmd && scaling) return pbflow::bench::run_scaling(scaling_options(bench, budget_minutes));
+    if (*bench_cmd) return pbflow::bench::run_study(bench);
+    return pbflow::run(run);  // `pbflow` alone runs the default scene
+  } catch (const pbflow::InputError& e) {
+    std::cerr << "pbflow: " << e.what() << "\n";
+    return 2;
+  } catch (const pbflow::gl::Error& e) {  // no EGL/GL: the machine cannot render; --no-render still works
+    std::cerr << "pbflow: cannot render: " << e.what() << " (--no-render simulates without images)\n";
+    return 1;
+  } catch (const pbflow::vk::DeviceSelectionError& e) {
+    std::cerr << "pbflow: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "pbflow: " << e.what() << "\n";
+    return 1;
+  }
+}

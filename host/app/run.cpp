@@ -1,0 +1,223 @@
+#include "app/run.hpp"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include "app/interrupt.hpp"
+#include "capture/frame_capture.hpp"
+#include "capture/particle_export.hpp"
+#include "gpu/make_solver.hpp"
+#include "gpu/memory_estimate.hpp"
+#include "io/run_directory.hpp"
+#include "io/stats_csv.hpp"
+#include "scene/derive.hpp"
+#include "scene/scene.hpp"
+#include "scene/seeding.hpp"
+#include "sim/settle.hpp"
+#include "vk/context.hpp"
+
+namespace pbflow {
+
+std::vector<std::string> scene_overrides(const RunOptions& o) {
+  std::vector<std::string> all = o.params;
+  if (!o.method.empty()) all.push_back("solver.method=\"" + o.method + "\"");
+  if (o.iterations) all.push_back("solver.iterations=" + std::to_string(o.iterations));
+  if (o.frames) all.push_back("frames=" + std::to_string(o.frames));
+  return all;
+}
+
+namespace {
+
+class Progress {
+ public:
+  Progress(int frames, bool enabled) : frames_(frames), enabled_(enabled && isatty(STDERR_FILENO)) {}
+  void update(int frame, double sim_time, double elapsed_s) {
+    if (!enabled_) return;
+    double rate = frame / std::max(elapsed_s, 1e-9);
+    double left = (frames_ - 1 - frame) / std::max(rate, 1e-9);
+    std::fprintf(stderr, "\rframe %d/%d  t = %.2f s  %.1f frames/s  %.0f s left   ", frame + 1, frames_, sim_time,
+                 rate, left);
+  }
+  void settling(int step) {
+    if (enabled_) std::fprintf(stderr, "\rsettling: step %d   ", step);
+  }
+  void done() {
+    if (enabled_) std::fprintf(stderr, "\r%*s\r", 70, "");
+  }
+
+ private:
+  int frames_;
+  bool enabled_;
+};
+
+std::unique_ptr<capture::FrameCapture> make_capture(const RunOptions& o, const Scene& scene, const Solver& solver,
+                                                    const vk::Context* vk) {
+  if (o.width < 16 || o.height < 16 || o.width > 16384 || o.height > 16384)
+    throw InputError("--width and --height must be between 16 and 16384 pixels");
+  capture::CaptureOptions c;
+  c.view.width = o.width;
+  c.view.height = o.height;
+  c.view.style = capture::parse_style(o.style);
+  if (o.fluid_resolution != "half" && o.fluid_resolution != "full")
+    throw InputError("--fluid-resolution must be half or full, not '" + o.fluid_resolution + "'");
+  c.view.surface_divisor = o.fluid_resolution == "half" ? 2 : 1;
+  c.view.camera = scene.camera;
+  c.view.domain = scene.domain;
+  c.view.obstacles = scene.obstacles;
+  c.view.particle_radius = 0.5 * scene.particle_spacing;
+  c.view.rest_density = scene.solver.rest_density;
+  // Red in the speed style: the speed of a fall through the domain's height.
+  c.view.speed_scale = std::max(fall_speed(scene), 0.1);
+  c.video = o.video;
+  c.fps = scene.fps;
+  c.allow_shared = !o.readback;
+  c.debug = o.validate;
+  return std::make_unique<capture::FrameCapture>(c, solver, vk);
+}
+
+// What DIR/run.json records of a run besides its files and status. "chosen": what pbflow
+// picked where the scene left a key out, as the --param that would state it.
+nlohmann::json describe_run(const RunOptions& o, const Scene& scene, const Derived& d, const Solver& solver) {
+  return {{"scene_name", scene.name},
+          {"scene", nlohmann::json::parse(scene.resolved)},
+          {"chosen", {{"solver.lambda_smoothing", d.solver.lambda_smoothing}}},
+          {"options",
+           {{"params", o.params}, {"device", o.device}, {"render", o.render}, {"style", o.style},
+            {"fluid_resolution", o.fluid_resolution}, {"width", o.width}, {"height", o.height}, {"export", o.export_format}, {"validate", o.validate}}},
+          {"video", o.video.empty() ? "" : std::filesystem::absolute(o.video).string()},
+          {"device", solver.device_name()}};
+}
+
+}  // namespace
+
+int run(const RunOptions& o) {
+  if (!o.video.empty() && !o.render) throw InputError("--video needs frames to encode: leave out --no-render");
+  Scene scene = load_scene(o.scene, scene_overrides(o));
+  Derived d = derive(scene);
+  const std::filesystem::path out(o.out);
+  RunDirectory::check(out);  // before any work: a foreign file here is refused at once
+  std::unique_ptr<vk::Context> ctx = make_context(o.device, o.validate);
+  const vk::DeviceInfo* device = ctx ? &ctx->info() : nullptr;
+  check_memory(memory_need(d, particle_estimate(scene), device, o.render ? double(o.width) * o.height : 0.0), device);
+  std::vector<glm::dvec3> x0 = initial_particles(scene);
+  std::unique_ptr<Solver> solver = make_solver(ctx.get(), d, x0);
+  const capture::ExportFormat export_format = capture::parse_export_format(o.export_format);
+  std::unique_ptr<capture::FrameCapture> capture;
+  if (o.render) capture = make_capture(o, scene, *solver, ctx.get());
+
+  // Everything is checked: from here the run owns DIR and replaces the previous run's files.
+  RunDirectory dir(out, RunFiles{scene.frames, bool(capture),
+                                    export_format == capture::ExportFormat::None ? "" : capture::export_extension(export_format)});
+  dir.begin(describe_run(o, scene, d, *solver));
+  InterruptGuard interrupt;
+  auto start = std::chrono::steady_clock::now();
+  auto wall = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+  int frame = 0;
+  try {
+    StatsCsv csv(dir.stats_path());
+    if (std::string w = time_step_warning(scene, d); !w.empty()) std::cerr << "pbflow: " << w << "\n";
+    if (!o.quiet) {
+      const bool pairs = d.solver.iterations >= 2 || d.solver.target_compression > 0;  // adaptive runs add pairs
+      const std::string averages =
+          pairs ? " (lambda averaged " + std::to_string(d.solver.lambda_smoothing) + "x)" : "";
+      std::cerr << "pbflow: " << scene.name << ", " << x0.size() << " particles, " << method_name(scene.solver.method)
+                << " with " << scene.solver.iterations << " iteration(s)" << averages
+                << ", " << scene.solver.substeps << " substeps per frame, on " << solver->device_name() << "\n";
+      if (capture && o.verbose) std::cerr << "pbflow: rendering with " << capture->description() << "\n";
+    }
+
+    Progress progress(scene.frames, !o.quiet);
+    if (scene.settle) {
+      SettleReport r = settle(*solver, d, [&](int step) {
+        progress.settling(step);
+        return !interrupt.signal();
+      });
+      progress.done();
+      if (!interrupt.signal() && (!o.quiet || !r.converged))
+        std::cerr << "pbflow: settled into the solver's equilibrium in " << r.steps << " steps (potential energy -"
+                  << r.potential_drop << " J)" << (r.converged ? "" : "; still moving at the step limit") << "\n";
+    }
+    double sum_mean = 0, worst = 0, sum_step_ms = 0;
+    EnergyGain energy;
+    std::string diverged;  // the message, when the watch stopped the run
+    for (; frame < scene.frames && !interrupt.signal(); ++frame) {
+      FrameStats s = solver->advance(frame == 0 ? 0 : scene.solver.substeps);
+      double t = frame / scene.fps;
+      if (s.divergence.any()) {  // nothing of this frame is written: no NaN image, no garbage row
+        long step = long(frame - 1) * scene.solver.substeps + s.divergence.first_step + 1;
+        std::ostringstream m;
+        m << "the simulation diverged at step " << step << " (t = " << step * d.dt << " s, frame " << frame
+          << "): " << s.divergence.describe(d.speed_limit) << ". Frames 0-" << frame - 1
+          << " are complete; try a smaller solver.vorticity, more substeps or more iterations";
+        diverged = m.str();
+        break;
+      }
+      // The frame's files first, its stats row last: a row stands for a frame whole on disk.
+      if (capture) capture->write(dir.frame_path(frame), *solver);
+      if (export_format != capture::ExportFormat::None)
+        capture::write_particles(dir.particle_path(frame), export_format, solver->read_frame());
+      csv.write(frame, t, s);
+      dir.frames_done(frame + 1);
+      energy.add(s);
+      sum_mean += s.mean_compression;
+      worst = std::max(worst, s.max_compression);
+      sum_step_ms += s.step_ms;
+      progress.update(frame, t, wall());
+    }
+    if (capture) capture->finish();  // the video of the frames done, also when stopped early
+    progress.done();
+    if (!diverged.empty()) {
+      std::cerr << "pbflow: " << diverged << "\n";
+      dir.end("diverged", diverged, wall());
+      return 3;
+    }
+    if (int signal = interrupt.signal()) {
+      std::string m = std::string("interrupted by ") + (signal == SIGINT ? "SIGINT" : "SIGTERM") + "; frames 0-" +
+                      std::to_string(frame - 1) + " are complete";
+      std::cerr << "pbflow: " << m << "\n";
+      dir.end("interrupted", m, wall());
+      return 128 + signal;
+    }
+    if (energy.largest() > 0.01)
+      std::cerr << "pbflow: warning: the run gained energy (" << 100 * energy.largest()
+                << " % of the initial potential energy at most; a sound solver loses it): fewer "
+                   "solver.substeps per iteration, more iterations or a smaller solver.ldc_strength\n";
+    long steps = long(scene.frames - 1) * scene.solver.substeps;
+    if (!o.quiet) {
+      double solver_s = sum_step_ms / 1000.0 * scene.solver.substeps;
+      double render_s = capture ? capture->seconds() : 0.0, simulated_s = (scene.frames - 1) / scene.fps;
+      std::cout << "particles " << x0.size() << ", steps " << steps << ", wall " << wall() << " s, "
+                << (steps > 0 ? double(x0.size()) * steps / solver_s : 0.0) << " particle-steps/s (solver time "
+                << solver_s << " s), mean compression " << sum_mean / scene.frames << ", max compression " << worst
+                << "\nenergy change " << 100 * energy.last() << " % of the initial potential energy (largest gain "
+                << 100 * energy.largest() << " %)\nreal-time factor " << simulated_s / std::max(wall() - render_s, 1e-9)
+                << " simulating";
+      if (capture)
+        std::cout << ", " << simulated_s / wall() << " with rendering (" << 1000.0 * render_s / scene.frames
+                  << " ms per frame, " << 1000.0 * capture->drawing_seconds() / scene.frames
+                  << " of it drawing)\nframes: " << (out / "frames").string() << "/";
+      if (!o.video.empty()) std::cout << "\nvideo: " << o.video;
+      std::cout << "\nstats: " << dir.stats_path().string() << "\n";
+    }
+  } catch (const std::exception& e) {
+    dir.end("failed", e.what(), wall());
+    throw;
+  }
+  std::string problem;
+  if (ctx && !ctx->validation_messages().empty())
+    problem = std::to_string(ctx->validation_messages().size()) + " Vulkan validation message(s)";
+  else if (capture && !capture->gl_errors().empty())
+    problem = "OpenGL error: " + capture->gl_errors().front();
+  dir.end(problem.empty() ? "complete" : "failed", problem, wall());
+  if (!problem.empty()) std::cerr << "pbflow: " << problem << "\n";
+  return problem.empty() ? 0 : 1;
+}
+
+}  // namespace pbflow

@@ -1,0 +1,43 @@
+#pragma once
+// `pbflow run`: scene -> solver -> stats.csv, with progress and a summary.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "sim/params.hpp"
+#include "sim/solver.hpp"
+
+namespace pbflow {
+
+namespace vk {
+class Context;
+}
+
+struct RunOptions {
+  std::string scene = "dam_break";
+  std::vector<std::string> params;  // --param key=value, applied in order
+  std::string method;               // empty: the scene's
+  int iterations = 0;               // 0: the scene's
+  int frames = 0;                   // 0: the scene's
+  std::string out = "out";
+  std::string device = "auto";
+  bool validate = false;
+  bool render = true;
+  bool quiet = false;
+  bool verbose = false;
+  // Rendering (capture/): image size, style, video file, and the particle path.
+  int width = 1280, height = 720;
+  std::string style = "fluid";
+  std::string fluid_resolution = "half";  // the fluid surface's passes: "half" or "full" size
+  std::string video;      // empty: no video
+  bool readback = false;  // force the read-back path even where zero-copy works
+  std::string export_format;  // "", "ply" or "vtk": DIR/particles/frame_NNNNN.{ply,vtp}
+};
+
+// The scene's overrides: --param entries, then the dedicated options (which win).
+std::vector<std::string> scene_overrides(const RunOptions& o);
+
+// Runs the scene; returns the exit status (DESIGN.md). Throws InputError for bad input.
+int run(const RunOptions& o);
+
+}  // namespace pbflow

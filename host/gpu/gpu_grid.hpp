@@ -1,0 +1,42 @@
+#pragma once
+// The uniform grid on the GPU, built by counting sort: cell of each particle and its
+// rank in the cell (atomics), exclusive prefix sum over all cells (recursive, any
+// cell count), then a scatter that reorders the particle data by cell.
+#include <vector>
+
+#include "sim/params.hpp"
+#include "vk/buffer.hpp"
+#include "vk/program.hpp"
+
+namespace pbflow {
+
+namespace vk {
+class CommandList;
+class Context;
+}  // namespace vk
+
+class GpuGrid {
+ public:
+  GpuGrid(const vk::Context& ctx, const SimConstants& sim);
+
+  // Particle data that travels with the sort: positions, one more vec4 array, ids.
+  struct Particles {
+    const vk::Buffer* x;
+    const vk::Buffer* payload;
+    const vk::Buffer* id;
+  };
+  // Bins `in.x` and writes in's arrays to `out` in cell order; cell_start() then holds,
+  // for every cell c, the first sorted index of c (and the total at index cells).
+  void build(vk::CommandList& cmd, const SimConstants& sim, Particles in, Particles out);
+  const vk::Buffer& cell_start() const { return levels_.front(); }
+
+ private:
+  void scan(vk::CommandList& cmd, size_t level);
+
+  vk::Program count_, scan_blocks_, scan_add_, scatter_;
+  vk::Buffer cell_, rank_;
+  std::vector<vk::Buffer> levels_;    // [0]: counts, scanned in place into cell_start; then block sums
+  std::vector<uint32_t> level_size_;  // entries in each level
+};
+
+}  // namespace pbflow

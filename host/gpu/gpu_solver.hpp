@@ -1,0 +1,119 @@
+#pragma once
+// The solver on Vulkan compute: every pass of DESIGN.md's step is one shader, and a
+// whole frame (all its steps and the measures) is one command buffer.
+#include <array>
+#include <functional>
+#include <initializer_list>
+#include <memory>
+#include <string_view>
+#include <vector>
+
+#include "gpu/gpu_grid.hpp"
+#include "sim/obstacles.hpp"
+#include "sim/params.hpp"
+#include "sim/solver.hpp"
+#include "vk/buffer.hpp"
+#include "vk/commands.hpp"
+#include "vk/program.hpp"
+#include "vk/timer.hpp"
+
+namespace pbflow {
+
+class GpuSolver : public Solver {
+ public:
+  GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector<glm::dvec3>& x0);
+
+  FrameStats advance(int steps) override;
+  ParticleFrame read_frame() const override;
+  // Copies x, v and rho (frame_bytes layout) into `dst` on the device: no host round trip.
+  void copy_frame(const vk::Buffer& dst) const;
+  size_t particle_count() const override { return n_; }
+  std::string device_name() const override;
+
+  // Pass-level access for the tests: begin(), record passes, finish() submits and waits.
+  void begin() { cmd_.begin(); }
+  void finish() { cmd_.submit_and_wait(); }
+  // A grid build and the neighbour lists at the sorted positions (neighbour_lists.comp).
+  void grid_at_positions();    // sorts x, v, id by the cells of x
+  void grid_at_predictions();  // sorts x, x_pred, id by the cells of x_pred
+  void density();
+  void correction();
+  void predict();
+  // With `indirect`, group counts come from that buffer (adaptive iterations).
+  void constraint_lambda(const vk::Buffer* indirect = nullptr);
+  void constraint_smooth(const vk::Buffer* indirect = nullptr);  // solver.lambda_smoothing passes over lambda
+  void constraint_apply(double relax, const vk::Buffer* indirect = nullptr);
+  void velocity_update();
+  void viscosity_vorticity();
+  void vorticity_force();
+  void watch();  // flags non-finite, runaway and escaped particles of this step
+  void record_step();  // one step, then the divergence watch
+  void record_measures();  // grid and density at x, then the reductions
+
+  // Timestamps after every pass group, reported in FrameStats::pass_ms (benchmarks).
+  void set_profiling(bool on) { profiling_ = on; }
+
+  void upload(const ParticleState& s) override;
+  ParticleState download() const override;
+
+ private:
+  enum Slot { X, V, XPred, Spare0, Spare1, kSlots };  // roles of the vec4 arrays, swapped on the host
+  const vk::Buffer& at(Slot s) const { return vec4_[role_[s]]; }
+  void swap_roles(Slot a, Slot b) { std::swap(role_[a], role_[b]); }
+  // A neighbour pass's two variants (shaders/neighbours.glsl, WALK_CELLS): the list
+  // readers, and the cell walkers for overflowed lists (for every particle without lists).
+  struct NeighbourPass {
+    vk::Program lists, cells;
+    uint32_t lists_binding;  // the counts; the entries at the next binding (bind_neighbours)
+  };
+  // `gathered`: the texel bindings of the arrays the pass reads at j, besides the grid and lists.
+  NeighbourPass neighbour_pass(std::string_view shader, uint32_t bindings, std::vector<uint32_t> constants,
+                               uint32_t lists, std::initializer_list<vk::TexelBinding> gathered) const;
+  // Runs `pass` with the grid, its lists and the bindings `bind` makes: the list readers
+  // over every particle, then the cell walkers over the particles whose lists overflowed
+  // (an empty dispatch, mostly).
+  void run_neighbour_pass(const NeighbourPass& pass, const vk::Buffer* indirect, const std::function<void()>& bind);
+  void bind_particle_pass(const vk::Program& p);
+  void bind_neighbours(uint32_t lists);
+  void neighbour_lists(const vk::Buffer& x);
+  void density_at_positions();  // rho at x for the LDC force and the measures, from the last step's lists
+  FrameStats read_measures() const;
+  void end_of(PassGroup group);  // closes a timed segment while profiling
+  void run_particle_pass(const vk::Buffer* indirect);
+  void reduce_measures(const vk::Buffer& into);  // (mean c, max c, kinetic energy, max speed) of rho_, v
+  void adaptive_iterations();                    // iteration pairs until the target (check_converged)
+  static constexpr int kAdaptiveStride = 2;
+
+  const vk::Context& ctx_;
+  Derived d_;
+  SimConstants sim_;
+  uint32_t n_;
+  bool viscosity_pass_, vorticity_pass_, correction_pass_;
+  bool density_current_ = false;  // rho already matches x (the viscosity pass or a density pass left it)
+  bool lists_built_ = false;      // the grid and lists follow the particles' order (built since the upload)
+
+  vk::Program lists_, predict_, velocity_;
+  NeighbourPass density_, correction_, lambda_, smooth_, apply_, viscosity_, vorticity_;
+  vk::Program reduce_, reduce_final_, check_converged_, watch_;
+  GpuGrid grid_;
+  std::array<vk::Buffer, kSlots> vec4_;
+  std::array<int, kSlots> role_{X, V, XPred, Spare0, Spare1};
+  std::array<vk::Buffer, 2> id_;
+  int id_current_ = 0;
+  vk::Buffer rho_, neighbour_count_, neighbour_list_;
+  vk::Buffer x_lambda_, x_lambda_spare_;  // (x_pred, lambda) and its smoothing spare (constraint_lambda.comp)
+  vk::Buffer omega_, partials_, result_, obstacles_;
+  vk::Buffer check_, indirect_;
+  // The cell walkers' dispatch (neighbour_lists.comp), and its copy for an adaptive
+  // iteration pair: zero where the pair does not run (check_converged.comp).
+  vk::Buffer overflow_groups_, overflow_gated_;
+  vk::Buffer watch_buf_;  // watch.comp: flags, first step, counts, the step being watched
+  uint32_t step_in_frame_ = 0;  // adaptive iterations: the last check's measures, dispatch arguments + count
+  vk::CommandList cmd_;
+  std::unique_ptr<vk::GpuTimer> timer_;
+  bool profiling_ = false;
+  bool timing_steps_ = false;  // profiling, and recording the frame's steps
+  std::vector<PassGroup> segments_;  // while profiling: the group timed between marks k and k+1
+};
+
+}  // namespace pbflow

@@ -1,0 +1,124 @@
+#include "gpu/memory_estimate.hpp"
+
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+#include "common/input_error.hpp"
+#include "vk/context.hpp"
+
+namespace pbflow {
+
+namespace {
+
+// Bytes per particle, counted from the arrays each solver allocates (rounded up):
+// GPU: five vec4 arrays, two id arrays, rho, (x_pred, lambda) and its smoothing spare (vec4s), the vorticity vec4 and the grid's cell
+// and rank, then the neighbour lists, their counts and the overflow list (4 bytes an entry); host: the initial
+// lattice (dvec3), the state uploaded once (x, v, x_pred) and a frame read back for
+// rendering or export (x, v, rho, id).
+constexpr double kGpuPerParticle = 152, kGpuPerCell = 4.5;
+constexpr double kHostPerParticleGpuRun = 24 + 72 + 48 + 40;
+// Reference: x, v, x_pred, omega (dvec3), rho, lambda, its cell lists, two scratch dvec3
+// arrays, the initial lattice, a frame read back, and its neighbour lists (~40 entries of 8 bytes).
+constexpr double kHostPerParticleCpuRun = 96 + 16 + 8 + 48 + 24 + 40 + 24 + 320, kHostPerCellCpuRun = 24;
+// Framebuffers and the image read back: colour and depth for the tank and for a frame (16),
+// the fluid's surface targets (24 at full size: two RG32F, R32F, depth), RGB copies.
+constexpr double kBytesPerPixel = 48;
+
+double gib(uint64_t bytes) { return double(bytes) / double(1ULL << 30); }
+
+uint64_t meminfo_available() {
+  std::ifstream in("/proc/meminfo");
+  for (std::string key; in >> key;) {
+    uint64_t kib = 0;
+    in >> kib;
+    if (key == "MemAvailable:") return kib << 10;
+    in.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
+  }
+  return std::numeric_limits<uint64_t>::max();
+}
+
+uint64_t read_number(const char* path) {
+  std::ifstream in(path);
+  uint64_t n = 0;
+  return (in >> n) ? n : std::numeric_limits<uint64_t>::max();  // "max" reads as no limit
+}
+
+uint64_t address_space_in_use() {
+  std::ifstream in("/proc/self/status");
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind("VmSize:", 0) == 0) return std::stoull(line.substr(7)) << 10;
+  return 0;
+}
+
+}  // namespace
+
+uint32_t neighbour_capacity_on(const Derived& d, double particles, const vk::DeviceInfo& device) {
+  const double list_words_all = double(list_words(d.neighbour_capacity)) * particles;
+  const bool past_range =
+      device.max_storage_buffer_range && sizeof(uint32_t) * list_words_all > double(device.max_storage_buffer_range);
+  const bool past_texels =  // one uvec4 texel per group of four words
+      device.max_texel_buffer_elements && list_words_all / 4 > double(device.max_texel_buffer_elements);
+  return past_range || past_texels ? 0 : d.neighbour_capacity;
+}
+
+MemoryNeed memory_need(const Derived& d, double particles, const vk::DeviceInfo* device, double pixels) {
+  const double cells = double(d.grid.x) * d.grid.y * d.grid.z;
+  double gpu = 0, host = kBytesPerPixel * pixels, largest = 0;
+  if (device) {
+    const uint32_t capacity = neighbour_capacity_on(d, particles, *device);
+    gpu = (kGpuPerParticle + 4.0 * (list_words(capacity) + 2)) * particles + kGpuPerCell * cells;
+    host += kHostPerParticleGpuRun * particles;
+    largest = std::max<double>(sizeof(glm::vec4), sizeof(uint32_t) * list_words(capacity)) * particles;
+  } else {
+    host += kHostPerParticleCpuRun * particles + kHostPerCellCpuRun * cells;
+  }
+  return {uint64_t(gpu), uint64_t(host), uint64_t(largest)};
+}
+
+uint64_t host_memory_available() {
+  uint64_t available = meminfo_available();
+  uint64_t limit = read_number("/sys/fs/cgroup/memory.max"), used = read_number("/sys/fs/cgroup/memory.current");
+  if (limit != std::numeric_limits<uint64_t>::max() && used != std::numeric_limits<uint64_t>::max())
+    available = std::min(available, limit > used ? limit - used : 0);
+  rlimit as{};
+  if (getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY) {
+    uint64_t in_use = address_space_in_use();
+    available = std::min<uint64_t>(available, as.rlim_cur > in_use ? as.rlim_cur - in_use : 0);
+  }
+  return available;
+}
+
+void check_device_memory(const MemoryNeed& need, const vk::DeviceInfo& device) {
+  std::ostringstream m;
+  m.precision(3);
+  if (device.max_storage_buffer_range && need.largest_array > device.max_storage_buffer_range) {
+    m << "the run needs arrays of " << gib(need.largest_array) << " GiB, " << device.name << " takes at most "
+      << gib(device.max_storage_buffer_range) << " GiB in one: raise particle_spacing";
+    throw InputError(m.str());
+  }
+  if (device.device_local_bytes && need.device > device.device_local_bytes) {
+    m << "the run needs " << gib(need.device) << " GiB of GPU memory, " << device.name << " has "
+      << gib(device.device_local_bytes) << " GiB: raise particle_spacing";
+    throw InputError(m.str());
+  }
+}
+
+void check_memory(const MemoryNeed& need, const vk::DeviceInfo* device) {
+  if (device) check_device_memory(need, *device);
+  // A CPU Vulkan device (lavapipe) keeps its buffers in host memory.
+  const uint64_t host_need = need.host + (device && device->kind == "cpu" ? need.device : 0);
+  const uint64_t host = host_memory_available();
+  if (host_need > host) {
+    std::ostringstream m;
+    m.precision(3);
+    m << "the run needs " << gib(host_need) << " GiB of memory, this machine has " << gib(host)
+      << " GiB available: raise particle_spacing";
+    throw InputError(m.str());
+  }
+}
+
+}  // namespace pbflow

@@ -1,0 +1,47 @@
+#pragma once
+// The memory a run needs, estimated before anything is allocated, so that a scene too large
+// for the machine is refused at once with the numbers ("needs X GiB, the device has Y")
+// instead of failing in an allocation after minutes of set-up.
+#include <cstdint>
+#include <string>
+
+#include "sim/params.hpp"
+
+namespace pbflow {
+
+namespace vk {
+struct DeviceInfo;
+}
+
+struct MemoryNeed {
+  uint64_t device = 0;  // GPU buffers (none for the reference solver)
+  uint64_t host = 0;    // the solver's host arrays, host copies of a frame, framebuffers
+  uint64_t largest_array = 0;  // one GPU buffer (a vec4 per particle), against the storage buffer range
+};
+
+// The words per particle of the neighbour list buffer for `capacity` entries: whole groups
+// of four (shaders/neighbour_lists.comp), one group without lists.
+inline uint32_t list_words(uint32_t capacity) { return 4 * ((capacity + 3) / 4 + (capacity == 0)); }
+
+// The neighbour capacity a GPU run gets: the scene's (Derived::neighbour_capacity), or 0
+// where one list for `particles` would pass the device's storage buffer range (llvmpipe's
+// 128 MiB: ~460k particles at 72 entries) or its texel buffer size (the passes read the
+// list as uvec4 texels; NVIDIA's 2^27 texels hold 4M particles at 72 entries). At 0 there
+// are no lists: every pass walks its cells (shaders/neighbours.glsl), and the run still fits.
+uint32_t neighbour_capacity_on(const Derived& d, double particles, const vk::DeviceInfo& device);
+
+// `particles` as estimated from the scene; `device` null for the reference solver;
+// `pixels` 0 without rendering.
+MemoryNeed memory_need(const Derived& d, double particles, const vk::DeviceInfo* device, double pixels);
+
+// Host memory this process may still take: the least of /proc/meminfo's MemAvailable, the
+// cgroup's limit and RLIMIT_AS, each less what is in use.
+uint64_t host_memory_available();
+
+// Throws InputError when `need` does not fit the device: its largest array past the
+// storage buffer range, or all its buffers past the device's memory.
+void check_device_memory(const MemoryNeed& need, const vk::DeviceInfo& device);
+// As check_device_memory where `device` is not null, and then the host.
+void check_memory(const MemoryNeed& need, const vk::DeviceInfo* device);
+
+}  // namespace pbflow

@@ -1,0 +1,37 @@
+#include "io/stats_csv.hpp"
+
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <stdexcept>
+
+namespace pbflow {
+
+StatsCsv::StatsCsv(const std::filesystem::path& path) : path_(path), file_(std::fopen(path.c_str(), "w")) {
+  if (!file_) throw std::runtime_error("cannot write " + path.string() + ": " + std::strerror(errno));
+  append("frame,time,mean_compression,max_compression,kinetic_energy,potential_energy,max_speed,iterations,step_ms\n");
+}
+
+StatsCsv::~StatsCsv() { std::fclose(file_); }
+
+void StatsCsv::write(int frame, double time, const FrameStats& s) {
+  char row[512];
+  std::snprintf(row, sizeof row, "%d,%.6f,%.9g,%.9g,%.9g,%.9g,%.9g,%.4g,%.6f\n", frame, time, s.mean_compression,
+                s.max_compression, s.kinetic_energy, s.potential_energy, s.max_speed, s.iterations, s.step_ms);
+  append(row);
+}
+
+void StatsCsv::append(const char* text) {
+  // Written and flushed whole: a run stopped at any point leaves whole rows. A row the disk
+  // took only in part (no space, quota, file size limit) is cut off again before the error.
+  long whole = std::ftell(file_);
+  if (std::fputs(text, file_) < 0 || std::fflush(file_) != 0) {
+    std::string why = std::strerror(errno);
+    std::clearerr(file_);
+    if (whole >= 0 && ftruncate(fileno(file_), whole) == 0) std::fseek(file_, whole, SEEK_SET);
+    throw std::runtime_error("cannot write " + path_.string() + ": " + why);
+  }
+}
+
+}  // namespace pbflow

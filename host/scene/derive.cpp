@@ -1,0 +1,84 @@
+#include "scene/derive.hpp"
+
+#include <cmath>
+#include <numbers>
+#include <sstream>
+
+#include "sim/kernels.hpp"
+#include "sim/lattice.hpp"
+#include "sim/stability.hpp"
+
+namespace pbflow {
+
+Derived derive(const Scene& scene) {
+  Derived d;
+  d.solver = scene.solver;
+  const double s = scene.particle_spacing;
+  d.h = scene.solver.kernel_ratio * s;
+  d.spacing = s;
+  d.dt = 1.0 / (scene.fps * scene.solver.substeps);
+  // Ten times the speed of a fall through the whole domain (at least 1 m/s): no flow of the
+  // scene reaches it, a blow-up passes it within a few steps.
+  d.speed_limit = 10.0 * std::max(fall_speed(scene), 1.0);
+  d.rho0 = scene.solver.rest_density;
+  d.mass = lattice_mass(s, d.h, d.rho0);
+  const double gradient_sq = lattice_gradient_sq(s, d.h, d.mass, d.rho0);
+  d.epsilon = scene.solver.relaxation * gradient_sq;
+  d.scorr_scale = scene.solver.scorr_k / gradient_sq;
+  d.scorr_inv_wdq = 1.0 / kernels::poly6(std::pow(scene.solver.scorr_dq * d.h, 2), d.h);
+  d.travel = fall_speed(scene) * d.dt / d.h;
+  if (d.solver.lambda_smoothing == SolverParams::kChosenSmoothing)
+    d.solver.lambda_smoothing = default_smoothing(d.solver.iterations, d.travel);
+  d.jacobi_gain_max = jacobi_gain_max(scene.solver.kernel_ratio, scene.solver.relaxation);
+  d.paired_gain_max =
+      d.solver.lambda_smoothing == 0
+          ? d.jacobi_gain_max
+          : jacobi_gain_max(scene.solver.kernel_ratio, scene.solver.relaxation, 0.0, d.solver.lambda_smoothing);
+  d.ldc_k_limit = 4.0 / (d.dt * d.dt * ldc_stiffness_max(scene.solver.kernel_ratio));
+  d.ldc_k = scene.solver.method != Method::Ldc ? 0.0
+            : scene.solver.ldc_k >= 0          ? scene.solver.ldc_k
+                                               : scene.solver.ldc_strength * d.ldc_k_limit;
+  if (d.ldc_k >= d.ldc_k_limit) {
+    std::ostringstream m;
+    m << "solver.ldc_k = " << d.ldc_k << " 1/s^2 is past the LDC force's stability limit at dt = " << d.dt
+      << " s (" << d.ldc_k_limit << "); leave it out and set solver.ldc_strength (a fraction of that limit) instead";
+    throw InputError(m.str());
+  }
+  d.ldc_room = d.ldc_k > 0 ? kLdcCap * d.ldc_k_limit / d.ldc_k : 1.0;
+  d.damping_limit = 1.5 / damping_gain_max(scene.solver.kernel_ratio);
+  // 4/3 pi (h / spacing)^3 neighbours inside h at rho0 (33.5 at 2), rounded up to 8.
+  const double at_rest = 4.0 / 3.0 * std::numbers::pi * std::pow(scene.solver.kernel_ratio, 3);
+  d.neighbour_capacity = 8 * uint32_t(std::ceil(kNeighbourHeadroom * at_rest / 8));
+  d.gravity = scene.gravity;
+  d.domain_min = scene.domain.min;
+  d.domain_max = scene.domain.max;
+  // Particles are spheres of diameter `spacing`: their centres stay half a spacing off the walls.
+  d.wall_min = d.domain_min + 0.5 * s;
+  d.wall_max = d.domain_max - 0.5 * s;
+  for (const Obstacle& o : scene.obstacles) d.obstacles.push_back(o.grown(0.5 * s));
+  glm::dvec3 size = d.domain_max - d.domain_min;
+  if (glm::any(glm::lessThan(size, glm::dvec3(s))))
+    throw InputError("the domain must be at least one particle_spacing wide on every axis");
+  glm::dvec3 cells = glm::ceil(size / d.h);
+  if (cells.x * cells.y * cells.z > 1 << 26)
+    throw InputError("the domain holds too many grid cells (over 2^26) at this particle_spacing");
+  d.grid = glm::ivec3(cells);
+  return d;
+}
+
+
+std::string time_step_warning(const Scene& scene, const Derived& d) {
+  if (d.travel <= 1.0) return "";
+  const double substeps = std::ceil(scene.solver.substeps * d.travel);
+  std::ostringstream m;
+  m.precision(3);
+  m << "warning: dt = " << d.dt << " s lets a particle falling through the domain (" << fall_speed(scene)
+    << " m/s) move " << d.travel << " kernel radii per step, past its neighbours; ";
+  if (substeps <= 1000)
+    m << "solver.substeps=" << int(substeps) << " keeps it within one (tunnelling and blow-ups are likely otherwise)";
+  else
+    m << "even 1000 solver.substeps (the most) do not keep it within one: raise fps or particle_spacing";
+  return m.str();
+}
+
+}  // namespace pbflow

@@ -1,0 +1,75 @@
+#pragma once
+// Scenes: the JSON format of DESIGN.md, built-in scenes, --param overrides, and the
+// particles a scene's fluid blocks start with.
+#include <glm/glm.hpp>
+
+#include <string>
+#include <vector>
+
+#include "common/input_error.hpp"
+#include "sim/obstacles.hpp"
+#include "sim/params.hpp"
+
+namespace pbflow {
+
+// The most particles a scene may hold (positions alone are 2 GiB on the GPU).
+constexpr long long kMaxParticles = 1LL << 27;
+// The most frames a run may write (as --frames): far past any real run, well inside int.
+constexpr int kMaxFrames = 100000000;
+// The largest scene file read: 100 000 obstacles take about 10 MiB of JSON.
+constexpr long long kMaxSceneBytes = 64LL << 20;
+
+struct Box {
+  glm::dvec3 min, max;
+};
+
+struct Ball {
+  glm::dvec3 centre;
+  double radius;
+};
+
+struct Camera {
+  glm::dvec3 eye, target;
+  double fov_degrees;
+};
+
+struct Scene {
+  std::string name;
+  std::string description;
+  std::string resolved;  // the scene as read, overrides applied: JSON text (DIR/run.json)
+  Box domain;
+  double particle_spacing;
+  std::vector<Box> fluid_blocks;
+  std::vector<Ball> fluid_spheres;
+  std::vector<Obstacle> obstacles;
+  glm::dvec3 gravity;
+  // The fluid starts at rest in the solver's own equilibrium (host/settle.hpp): for a tank,
+  // not for a drop in the air (every particle settles along gravity).
+  bool settle = false;
+  double fps;
+  int frames;
+  SolverParams solver;
+  Camera camera;
+};
+
+// SCENE is a built-in name or a JSON file; overrides are "dotted.key=value" (value
+// read as JSON, else as a string). Throws InputError naming the problem.
+Scene load_scene(const std::string& name_or_path, const std::vector<std::string>& overrides = {});
+Scene parse_scene(const std::string& json_text, const std::string& origin,
+                  const std::vector<std::string>& overrides = {});
+
+struct BuiltinScene {
+  std::string name, description;
+};
+std::vector<BuiltinScene> builtin_scenes();
+
+// The fluid's volume as the scene states it (blocks and spheres, overlaps counted twice),
+// m^3: the particle-count estimate before any particle is made.
+double fluid_volume(const Scene& scene);
+// fluid_volume / spacing^3: the particles a scene will hold, known before any is made.
+double particle_estimate(const Scene& scene);
+// The speed of a fall from rest through the domain's height, sqrt(2 |g| H), m/s: the
+// scale of the scene's flows (time-step check, divergence watch, speed colours).
+double fall_speed(const Scene& scene);
+
+}  // namespace pbflow

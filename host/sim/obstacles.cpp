@@ -1,0 +1,87 @@
+#include "sim/obstacles.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace pbflow {
+
+bool Obstacle::contains(const glm::dvec3& x) const {
+  if (kind == Kind::Sphere) return glm::length(x - centre) < radius;
+  return glm::all(glm::greaterThan(x, min)) && glm::all(glm::lessThan(x, max));
+}
+
+Obstacle Obstacle::grown(double margin) const {
+  Obstacle o = *this;
+  o.min -= margin;
+  o.max += margin;
+  o.radius += margin;
+  return o;
+}
+
+glm::dvec3 project_out(const Obstacle& o, const glm::dvec3& x, const glm::dvec3& wall_min,
+                       const glm::dvec3& wall_max) {
+  if (!o.contains(x)) return x;
+  if (o.kind == Obstacle::Kind::Sphere) {
+    glm::dvec3 d = x - o.centre;
+    double r = glm::length(d);
+    return o.centre + o.radius * (r > 0 ? d / r : glm::dvec3(0, 1, 0));  // the centre itself goes up
+  }
+  glm::dvec3 best = x;
+  double nearest = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < 3; ++k) {
+    if (o.min[k] >= wall_min[k] && x[k] - o.min[k] < nearest) {
+      nearest = x[k] - o.min[k];
+      best = x;
+      best[k] = o.min[k];
+    }
+    if (o.max[k] <= wall_max[k] && o.max[k] - x[k] < nearest) {
+      nearest = o.max[k] - x[k];
+      best = x;
+      best[k] = o.max[k];
+    }
+  }
+  return best;
+}
+
+glm::dvec3 stop_at(const Obstacle& o, const glm::dvec3& from, const glm::dvec3& to, double contact) {
+  if (o.grown(contact).contains(from)) return to;  // touching or inside: project_out handles it
+  const glm::dvec3 d = to - from;
+  double t_enter = 0, t_exit = 1;
+  if (o.kind == Obstacle::Kind::Sphere) {
+    // |from + t d - c|^2 = r^2, the smaller root
+    glm::dvec3 f = from - o.centre;
+    double a = glm::dot(d, d), b = glm::dot(f, d), c = glm::dot(f, f) - o.radius * o.radius;
+    double disc = b * b - a * c;
+    if (a == 0 || disc < 0) return to;
+    t_enter = (-b - std::sqrt(disc)) / a;
+    if (t_enter < 0 || t_enter > 1) return to;
+    return from + t_enter * d;
+  }
+  for (int k = 0; k < 3; ++k) {  // slabs
+    if (d[k] == 0) {
+      if (from[k] <= o.min[k] || from[k] >= o.max[k]) return to;
+      continue;
+    }
+    double t0 = (o.min[k] - from[k]) / d[k], t1 = (o.max[k] - from[k]) / d[k];
+    t_enter = std::max(t_enter, std::min(t0, t1));
+    t_exit = std::min(t_exit, std::max(t0, t1));
+  }
+  return t_enter < t_exit ? from + t_enter * d : to;
+}
+
+std::vector<glm::vec4> pack_obstacles(const std::vector<Obstacle>& obstacles) {
+  std::vector<glm::vec4> data{glm::vec4(float(obstacles.size()), 0, 0, 0)};
+  for (const Obstacle& o : obstacles) {
+    if (o.kind == Obstacle::Kind::Sphere) {
+      data.emplace_back(glm::vec3(o.centre), 1.0f);
+      data.emplace_back(float(o.radius), 0.0f, 0.0f, 0.0f);
+    } else {
+      data.emplace_back(glm::vec3(o.min), 0.0f);
+      data.emplace_back(glm::vec3(o.max), 0.0f);
+    }
+  }
+  return data;
+}
+
+}  // namespace pbflow

@@ -1,0 +1,115 @@
+#pragma once
+// Solver parameters: what a scene sets (SolverParams, with every default and its
+// reason in params.cpp) and what the passes read (SimConstants, derived from them).
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "sim/obstacles.hpp"
+
+namespace pbflow {
+
+enum class Method { Pbf, Ldc };
+Method parse_method(const std::string& name);  // throws std::invalid_argument
+const char* method_name(Method m);
+
+struct SolverParams {
+  Method method;
+  int iterations;          // constraint iterations per step (the minimum when adaptive)
+  int max_iterations;      // adaptive: at most this many per step
+  double target_compression;  // adaptive when > 0: iterate until the mean compression is at most this
+  int substeps;            // steps per frame: dt = 1 / (fps * substeps)
+  double kernel_ratio;     // h / particle spacing
+  double rest_density;     // rho0, kg/m^3
+  double relaxation;       // eps as a fraction of an interior particle's sum |grad C|^2
+  double jacobi_gain;      // (0, 1]: the most a step's passes correct any density mode, as a fraction of its error
+  int lambda_smoothing;    // 0, 2 or 4: passes averaging lambda over the neighbours before each constraint_apply;
+                           // kChosenSmoothing: derive() picks 2 or 4 (default_smoothing)
+  double scorr_k;          // tensile term strength, as an equivalent compression (dimensionless)
+  double scorr_n;          // tensile term exponent
+  double scorr_dq;         // tensile term reference distance, as a fraction of h
+  double xsph;             // XSPH viscosity c (fraction of the neighbour-averaged relative velocity)
+  double vorticity;        // vorticity confinement epsilon, m/s (0: off)
+  double damping;          // pairwise dashpot on the relative normal velocity (viscosity_vorticity.comp)
+  double ldc_strength;     // LDC's K as a fraction of the largest K the step carries (ldc_k_limit)
+  double ldc_k;            // LDC strength K, 1/s^2, when a scene states it; < 0: from ldc_strength
+  bool ldc_clamp;          // LDC reads densities below rho0 as rho0 (only compression pushes)
+  bool ldc_mean_reference; // LDC compares rho_j with the neighbourhood's mean, not with rho_i
+
+  static SolverParams defaults();
+  static constexpr int kChosenSmoothing = -1;
+  // XSPH, vorticity and the damping share one neighbour pass (viscosity_vorticity).
+  bool viscosity_pass() const { return xsph > 0 || vorticity > 0 || damping > 0; }
+};
+
+// Push-constant block shared by all particle passes; layout mirrors `Sim` in
+// shaders/common.glsl (std430: a vec3 followed by a float fills 16 bytes).
+struct SimConstants {
+  glm::vec3 domain_min; float h;
+  glm::vec3 domain_max; float dt;
+  glm::vec3 gravity; float mass;
+  glm::ivec3 grid; uint32_t count;
+  glm::vec3 wall_min; float rho0;
+  glm::vec3 wall_max; float epsilon;
+  float poly6_coef, spiky_coef, ldc_k, scorr_k;
+  float scorr_inv_wdq, relax, xsph_c, vorticity_eps;
+};
+static_assert(sizeof(SimConstants) == 128, "SimConstants must match shaders/common.glsl and fit 128 bytes");
+
+// Everything a pass needs, in double for the reference solver; to_gpu() narrows it.
+struct Derived {
+  glm::dvec3 domain_min, domain_max, wall_min, wall_max, gravity;
+  glm::ivec3 grid;
+  double h, spacing, dt, mass, rho0, epsilon;
+  // Kernel radii a particle falling through the whole domain moves in one step: past 1 it
+  // passes neighbours it never saw, outside the lattice model that sizes the passes.
+  double travel;
+  double scorr_inv_wdq;
+  // s_corr in the units of lambda (m^2): k divided by an interior particle's sum |grad C|^2,
+  // so that k reads as the compression the tensile term is worth at r = dq.
+  double scorr_scale;
+  // The largest gain of one unrelaxed Jacobi pass over all density modes (host/stability.hpp),
+  // as a lone pass runs it and as a pair's passes run it (lambda smoothed first, if the scene smooths).
+  double jacobi_gain_max, paired_gain_max;
+  // One constraint iteration: its under-relaxation, and whether lambda is smoothed before it.
+  struct ConstraintPass {
+    double relax;
+    bool smoothed;
+  };
+  // A step's `passes` iterations. Pairs run smoothed at paired_gain_max's relaxation
+  // (jacobi_schedule); an odd count's last pass runs alone, unsmoothed, at jacobi_gain_max's:
+  // a lone pass sits at the linear model's edge (its worst mode corrected exactly), and
+  // smoothed there, 2.8x bolder, the squeezed floor of a pbf@1 tank oscillated (0.4-2.9 m/s
+  // at 0.5-1x that boldness, README).
+  std::vector<ConstraintPass> constraint_schedule(int passes) const;
+  // LDC: the K the force uses (1/s^2; 0 for pbf) and the K at which the explicit force
+  // alone goes unstable at this dt and h / spacing (K dt^2 s = 4).
+  double ldc_k, ldc_k_limit;
+  // The explicit terms' caps in squeezed fluid, where their stiffness grows with the
+  // neighbours inside h (stability.hpp): a particle's K is min(K, ldc_room K (rho0/rho)^2),
+  // i.e. at most kLdcCap of the limit; a pair's dashpot is min(damping, damping_limit rho0/rho),
+  // damping_limit keeping the fastest mode at rest at 1.5 (it is driven past 2).
+  double ldc_room, damping_limit;
+  // Entries per particle in the GPU's neighbour lists (shaders/neighbours.glsl): room for
+  // the neighbours inside h at kNeighbourHeadroom times rho0; a particle with more walks
+  // its cells instead.
+  uint32_t neighbour_capacity;
+  SolverParams solver;
+  std::vector<Obstacle> obstacles;  // grown by half a spacing: where particle centres may not be
+  double speed_limit;  // m/s: the divergence watch stops a run with a particle faster than this
+
+  SimConstants to_gpu(uint32_t count) const;
+};
+
+// The lambda averages a pair of iterations gets unless the scene says: four from three
+// iterations on where a step moves at most h (travel <= 1), else two (params.cpp says why).
+int default_smoothing(int iterations, double travel);
+
+// A list holds the neighbours of fluid squeezed to this multiple of rho0. The default scenes
+// stay under 1.3x at the real-time step; only a collapsing column (README) passes 2x.
+constexpr double kNeighbourHeadroom = 2.0;
+
+
+}  // namespace pbflow

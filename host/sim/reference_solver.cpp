@@ -1,0 +1,392 @@
+#include "sim/reference_solver.hpp"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+
+#include "sim/kernels.hpp"
+#include "sim/stability.hpp"
+
+namespace pbflow {
+
+using glm::dvec3;
+
+ReferenceSolver::ReferenceSolver(const Derived& d, const std::vector<dvec3>& x0) : d_(d) {
+  size_t n = x0.size();
+  state.x = x0;
+  state.v.assign(n, dvec3(0.0));
+  state.x_pred = x0;
+  state.omega.assign(n, dvec3(0.0));
+  state.rho.assign(n, 0.0);
+  state.lambda.assign(n, 0.0);
+  cells_.resize(size_t(d.grid.x) * d.grid.y * d.grid.z);
+}
+
+void ReferenceSolver::upload(const ParticleState& s) {
+  state.x = s.x;
+  state.v = s.v;
+  state.x_pred = s.x_pred;
+  // rho as GpuSolver::upload takes it (0 where s has none): the dashpot's until a step measures it.
+  state.rho.assign(state.x.size(), 0.0);
+  std::copy_n(s.rho.begin(), std::min(s.rho.size(), state.rho.size()), state.rho.begin());
+  neighbours_built_ = false;
+}
+
+glm::ivec3 ReferenceSolver::cell_of(const dvec3& x) const {
+  dvec3 c = glm::floor((x - d_.domain_min) / d_.h);
+  glm::ivec3 cell(0);  // a NaN coordinate (a diverged particle) goes to cell 0; the watch reports it
+  for (int k = 0; k < 3; ++k)
+    if (c[k] == c[k]) cell[k] = int(std::clamp(c[k], 0.0, double(d_.grid[k] - 1)));
+  return cell;
+}
+
+// Visits j for every particle binned in the 27 cells around xi (distance not tested).
+template <class F>
+void ReferenceSolver::for_each_candidate(const dvec3& xi, F&& visit) const {
+  glm::ivec3 c = cell_of(xi);
+  for (int z = std::max(c.z - 1, 0); z <= std::min(c.z + 1, d_.grid.z - 1); ++z)
+    for (int y = std::max(c.y - 1, 0); y <= std::min(c.y + 1, d_.grid.y - 1); ++y)
+      for (int x = std::max(c.x - 1, 0); x <= std::min(c.x + 1, d_.grid.x - 1); ++x)
+        for (size_t j : cells_[cell_id({x, y, z})]) visit(j);
+}
+
+void ReferenceSolver::build_neighbours(const std::vector<dvec3>& at) {
+  neighbours_.resize(at.size());
+  for (size_t i = 0; i < at.size(); ++i) {
+    std::vector<Neighbour>& list = neighbours_[i];
+    list.clear();
+    for_each_candidate(at[i], [&](size_t j) {
+      dvec3 d = at[i] - at[j];
+      if (glm::dot(d, d) < d_.h * d_.h) list.push_back({j, 0});
+    });
+    // An image lies farther than its particle: only the neighbours' can be within h.
+    const WallImages walls = walls_near(at[i]);
+    for (size_t n = list.size(), k = 0; k < n; ++k)
+      for (const WallImage* m = walls.begin() + 1; m != walls.end(); ++m) {  // past the identity
+        dvec3 d = at[i] - m->of(at[list[k].j]);
+        if (glm::dot(d, d) < d_.h * d_.h) list.push_back({list[k].j, m->axes});
+      }
+  }
+  neighbours_current_ = neighbours_built_ = true;
+}
+
+// As neighbours.glsl: i's list, or, where it holds more than the GPU's capacity, every
+// particle in the cells around i's position now (xi) with all its images behind the
+// walls near xi. visit(j, image): the image is placed from xi.
+template <class F>
+void ReferenceSolver::for_each_neighbour(size_t i, const dvec3& xi, F&& visit) const {
+  if (neighbours_.at(i).size() > d_.neighbour_capacity) {
+    const WallImages walls = walls_near(xi);
+    for_each_candidate(xi, [&](size_t j) {
+      for (const WallImage& m : walls) visit(j, m);
+    });
+  } else {
+    for (const Neighbour& n : neighbours_[i]) visit(n.j, image_at(xi, n.image));
+  }
+}
+
+int ReferenceSolver::wall_axes(const dvec3& x) const {
+  int axes = 0;
+  for (int a = 0; a < 3; ++a)
+    if (std::min(x[a] - d_.domain_min[a], d_.domain_max[a] - x[a]) < d_.h) axes |= 1 << a;
+  return axes;
+}
+
+ReferenceSolver::WallImage ReferenceSolver::image_at(const dvec3& x, int axes) const {
+  WallImage m;
+  m.axes = axes;
+  for (int a = 0; a < 3; ++a)
+    if (axes >> a & 1) {
+      const double lo = x[a] - d_.domain_min[a], hi = d_.domain_max[a] - x[a];
+      m.sign[a] = -1;
+      m.offset[a] = 2 * (lo <= hi ? d_.domain_min[a] : d_.domain_max[a]);  // the nearer wall
+    }
+  return m;
+}
+
+ReferenceSolver::WallImages ReferenceSolver::walls_near(const dvec3& x) const {
+  const int axes = wall_axes(x);
+  WallImages w;
+  for (int k = 1; k < 8; ++k)
+    if ((k & axes) == k) w.image[w.count++] = image_at(x, k);
+  return w;
+}
+
+void ReferenceSolver::build_grid(const std::vector<dvec3>& at) {
+  for (auto& cell : cells_) cell.clear();
+  for (size_t i = 0; i < at.size(); ++i) cells_[cell_id(cell_of(at[i]))].push_back(i);
+  neighbours_current_ = false;
+}
+
+void ReferenceSolver::density() {
+  if (!neighbours_current_) build_neighbours(state.x);  // else the last step's, built at its x_pred
+  for (size_t i = 0; i < state.x.size(); ++i) {
+    double sum = 0;
+    for_each_neighbour(i, state.x[i], [&](size_t j, const WallImage& m) {
+      dvec3 d = state.x[i] - m.of(state.x[j]);
+      sum += kernels::poly6(glm::dot(d, d), d_.h);
+    });
+    state.rho[i] = d_.mass * sum;
+  }
+}
+
+dvec3 ReferenceSolver::correction_force(size_t i) const {
+  auto rho = [&](size_t k) { return d_.solver.ldc_clamp ? std::max(state.rho[k], d_.rho0) : state.rho[k]; };
+  const dvec3 xi = state.x[i];
+  // f = sum_j (rho_j - rho_ref) h (1 - r/h) d/r, rho_ref the particle's own density or the
+  // neighbourhood's weighted mean (solver.ldc_mean_reference; correction_force.comp says why).
+  auto neighbourhood_mean = [&] {
+    double sum = 0, total = 0;
+    for_each_neighbour(i, xi, [&](size_t j, const WallImage& m) {
+      const double w = kernels::smoothing_weight(xi - m.of(state.x[j]), d_.h);
+      sum += w * rho(j);
+      total += w;
+    });
+    return sum / total;
+  };
+  const double reference = d_.solver.ldc_mean_reference ? neighbourhood_mean() : rho(i);
+  dvec3 f(0.0);
+  for_each_neighbour(i, xi, [&](size_t j, const WallImage& m) {
+    const double difference = (rho(j) - reference) / d_.rho0;
+    dvec3 d = m.of(state.x[j]) - xi;
+    double r = glm::length(d);
+    if (r > 0 && r < d_.h) f += difference * d_.h * (1 - r / d_.h) * (d / r);
+  });
+  // correction_force.comp says why K is capped in squeezed fluid.
+  const double squeeze = std::max(state.rho[i], d_.rho0) / d_.rho0;
+  return -d_.ldc_k * std::min(1.0, d_.ldc_room / (squeeze * squeeze)) * f;
+}
+
+void ReferenceSolver::correction() {
+  std::vector<dvec3> f(state.x.size());
+  for (size_t i = 0; i < f.size(); ++i) f[i] = correction_force(i);
+  for (size_t i = 0; i < f.size(); ++i) state.v[i] += f[i] * d_.dt;
+}
+
+// A particle this close to an obstacle (a fraction of h) touches it (obstacles.glsl too).
+constexpr double kContact = 1e-3;
+
+void ReferenceSolver::predict() {
+  for (size_t i = 0; i < state.x.size(); ++i) {
+    state.v[i] += d_.gravity * d_.dt;
+    // Each obstacle can only shorten the move, so the last shortening is the first entry.
+    dvec3 to = state.x[i] + state.v[i] * d_.dt;
+    for (const Obstacle& o : d_.obstacles) to = stop_at(o, state.x[i], to, kContact * d_.h);
+    state.x_pred[i] = project_out_of_solids(to);
+  }
+}
+
+void ReferenceSolver::constraint_lambda() {
+  if (!neighbours_current_) build_neighbours(state.x_pred);  // the first pass after the grid build
+  const double s = d_.mass / d_.rho0;
+  for (size_t i = 0; i < state.x.size(); ++i) {
+    const dvec3 xi = state.x_pred[i];
+    double w_sum = 0, grad_sq = 0;
+    dvec3 own(0.0);  // grad_i C_i
+    // A neighbour's image is a neighbour of its own, its term squared on its own; i's own
+    // images move with i and count twice in grad_i C_i (constraint_lambda.comp says why).
+    for_each_neighbour(i, xi, [&](size_t j, const WallImage& m) {
+      dvec3 d = xi - m.of(state.x_pred[j]);
+      w_sum += kernels::poly6(glm::dot(d, d), d_.h);
+      dvec3 grad = s * kernels::spiky_grad(d, d_.h);
+      if (j == i) {
+        own += 2.0 * grad;
+        return;
+      }
+      own += grad;
+      grad_sq += glm::dot(grad, grad);
+    });
+    double rho = d_.mass * w_sum;
+    double c = std::max(rho / d_.rho0 - 1.0, 0.0);
+    state.lambda[i] = -c / ((grad_sq + glm::dot(own, own) + d_.epsilon) * (1.0 + kCompressedGain * c));  // constraint_lambda.comp
+    state.rho[i] = rho;  // kept for the adaptive iterations' check
+  }
+}
+
+void ReferenceSolver::constraint_smooth() {
+  for (int pass = 0; pass < d_.solver.lambda_smoothing; ++pass) {
+    std::vector<double> mean(state.x.size());
+    for (size_t i = 0; i < mean.size(); ++i) {
+      const dvec3 xi = state.x_pred[i];
+      double total = 0;
+      for_each_neighbour(i, xi, [&](size_t j, const WallImage& m) {  // an image carries j's lambda
+        const double w = kernels::smoothing_weight(xi - m.of(state.x_pred[j]), d_.h);
+        mean[i] += w * state.lambda[j];
+        total += w;
+      });
+      mean[i] /= total;
+    }
+    state.lambda = std::move(mean);
+  }
+}
+
+void ReferenceSolver::constraint_apply(double relax) {
+  std::vector<dvec3> next(state.x.size());
+  const double inv_wdq = d_.scorr_inv_wdq, k = d_.scorr_scale, n = d_.solver.scorr_n;
+  for (size_t i = 0; i < next.size(); ++i) {
+    const dvec3 xi = state.x_pred[i];
+    dvec3 dp(0.0);
+    // An image carries its particle's lambda; i's own images push i away from the wall.
+    for_each_neighbour(i, xi, [&](size_t j, const WallImage& m) {
+      dvec3 d = xi - m.of(state.x_pred[j]);
+      double s_corr = k > 0 ? -k * std::pow(kernels::poly6(glm::dot(d, d), d_.h) * inv_wdq, n) : 0.0;
+      dp += (state.lambda[i] + state.lambda[j] + s_corr) * kernels::spiky_grad(d, d_.h);
+    });
+    next[i] = project_out_of_solids(xi + relax * (d_.mass / d_.rho0) * dp);
+  }
+  state.x_pred = std::move(next);
+}
+
+void ReferenceSolver::velocity_update() {
+  for (size_t i = 0; i < state.x.size(); ++i) {
+    state.v[i] = (state.x_pred[i] - state.x[i]) / d_.dt;
+    state.x[i] = state.x_pred[i];
+  }
+}
+
+void ReferenceSolver::viscosity_vorticity() {
+  const double volume = d_.mass / d_.rho0;
+  std::vector<dvec3> v_next(state.x.size());
+  for (size_t i = 0; i < v_next.size(); ++i) {
+    dvec3 smooth(0.0), curl(0.0), damp(0.0);  // viscosity_vorticity.comp says what each is
+    const double rho_i = std::max(state.rho[i], d_.rho0);
+    for_each_neighbour(i, state.x[i], [&](size_t j, const WallImage& m) {
+      const dvec3 d = state.x[i] - m.of(state.x[j]);
+      const dvec3 vij = m.sign * state.v[j] - state.v[i];  // an image moves as j, mirrored
+      const double r2 = glm::dot(d, d);
+      if (m.axes == 0) {  // XSPH and the vorticity see the fluid only
+        smooth += vij * kernels::poly6(r2, d_.h);
+        curl += glm::cross(vij, kernels::spiky_grad(d, d_.h));
+      }
+      const double c = std::min(d_.solver.damping, d_.damping_limit * d_.rho0 / std::max(rho_i, state.rho[j]));
+      if (r2 > 0 && r2 < d_.h * d_.h) damp += c * (1 - std::sqrt(r2) / d_.h) * glm::dot(vij, d) / r2 * d;
+    });
+    v_next[i] = state.v[i] + d_.solver.xsph * volume * smooth + damp;
+    state.omega[i] = volume * curl;
+  }
+  state.v = std::move(v_next);
+}
+
+void ReferenceSolver::vorticity_force() {
+  for (size_t i = 0; i < state.x.size(); ++i) {
+    dvec3 eta(0.0);
+    for_each_neighbour(i, state.x[i], [&](size_t j, const WallImage& m) {
+      if (m.axes == 0) eta += glm::length(state.omega[j]) * kernels::spiky_grad(state.x[i] - state.x[j], d_.h);
+    });
+    double len = glm::length(eta);
+    if (len > 1e-9) state.v[i] += (d_.solver.vorticity * d_.dt / len) * glm::cross(eta, state.omega[i]);
+  }
+}
+
+void ReferenceSolver::step() {
+  const SolverParams& p = d_.solver;
+  if (p.method == Method::Ldc) {
+    density_at_positions();
+    correction();
+  }
+  predict();
+  build_grid(state.x_pred);
+  for (const Derived::ConstraintPass& pass : d_.constraint_schedule(p.iterations)) {
+    constraint_lambda();
+    if (pass.smoothed) constraint_smooth();
+    constraint_apply(pass.relax);
+  }
+  int run = p.iterations;
+  // Adaptive: as the GPU's check (check_converged.comp), from the last lambda pass's
+  // densities, a pair of iterations at a time (GpuSolver::adaptive_iterations says why).
+  while (p.target_compression > 0 && run + 2 <= p.max_iterations && mean_compression() > p.target_compression) {
+    for (const Derived::ConstraintPass& pass : d_.constraint_schedule(2)) {
+      constraint_lambda();
+      if (pass.smoothed) constraint_smooth();
+      constraint_apply(pass.relax);
+    }
+    run += 2;
+  }
+  iterations_run_ += run;
+  velocity_update();
+  if (p.viscosity_pass()) viscosity_vorticity();
+  if (p.vorticity > 0) vorticity_force();
+}
+
+void ReferenceSolver::watch_step(int step, Divergence& watch) const {
+  // As shaders/watch.comp: the first failing test per particle counts, at the first failing step.
+  if (watch.first_step >= 0 && watch.first_step < step) return;
+  for (size_t i = 0; i < state.x.size(); ++i) {
+    const dvec3 &x = state.x[i], &v = state.v[i];
+    bool finite = !glm::any(glm::isnan(x)) && !glm::any(glm::isinf(x)) && !glm::any(glm::isnan(v)) &&
+                  !glm::any(glm::isinf(v));
+    uint32_t* count = !finite                                ? &watch.not_finite
+                      : glm::length(v) > d_.speed_limit      ? &watch.too_fast
+                      : glm::any(glm::lessThan(x, d_.domain_min)) ||
+                              glm::any(glm::greaterThan(x, d_.domain_max))
+                          ? &watch.outside
+                          : nullptr;
+    if (!count) continue;
+    ++*count;
+    if (watch.first_step < 0) watch.first_step = step;
+  }
+}
+
+double ReferenceSolver::mean_compression() const {
+  double sum = 0;
+  for (double rho : state.rho) sum += std::max(rho / d_.rho0 - 1.0, 0.0);
+  return sum / double(std::max<size_t>(state.rho.size(), 1));
+}
+
+void ReferenceSolver::density_at_positions() {
+  if (!neighbours_built_) build_grid(state.x);  // as the GPU: the last step's lists serve the density
+  density();
+}
+
+FrameStats ReferenceSolver::measure() {
+  density_at_positions();
+  FrameStats s;
+  // The domain's lowest corner along g (shaders/reduce_stats.comp).
+  const dvec3 lowest = glm::mix(d_.domain_min, d_.domain_max, glm::dvec3(glm::greaterThan(d_.gravity, dvec3(0.0))));
+  for (size_t i = 0; i < state.x.size(); ++i) {
+    s.potential_energy += d_.mass * glm::dot(-d_.gravity, state.x[i] - lowest);
+    double c = std::max(state.rho[i] / d_.rho0 - 1.0, 0.0);
+    s.mean_compression += c;
+    s.max_compression = std::max(s.max_compression, c);
+    double v2 = glm::dot(state.v[i], state.v[i]);
+    s.kinetic_energy += 0.5 * d_.mass * v2;
+    s.max_speed = std::max(s.max_speed, std::sqrt(v2));
+  }
+  s.mean_compression /= double(std::max<size_t>(state.x.size(), 1));
+  return s;
+}
+
+glm::dvec3 ReferenceSolver::project_out_of_solids(glm::dvec3 x) const {
+  for (const Obstacle& o : d_.obstacles) x = project_out(o, x, d_.wall_min, d_.wall_max);
+  return glm::clamp(x, d_.wall_min, d_.wall_max);
+}
+
+ParticleFrame ReferenceSolver::read_frame() const {
+  ParticleFrame f;
+  for (size_t i = 0; i < state.x.size(); ++i) {
+    f.x.emplace_back(glm::vec3(state.x[i]), 0.0f);
+    f.v.emplace_back(glm::vec3(state.v[i]), 0.0f);
+    f.rho.push_back(float(state.rho[i]));
+    f.id.push_back(uint32_t(i));
+  }
+  return f;
+}
+
+FrameStats ReferenceSolver::advance(int steps) {
+  auto start = std::chrono::steady_clock::now();
+  iterations_run_ = 0;
+  Divergence watch;
+  for (int k = 0; k < steps; ++k) {
+    step();
+    watch_step(k, watch);
+  }
+  double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  FrameStats s = measure();
+  s.step_ms = steps > 0 ? ms / steps : 0.0;
+  s.iterations = steps > 0 ? double(iterations_run_) / steps : 0.0;
+  s.divergence = watch;
+  return s;
+}
+
+}  // namespace pbflow

@@ -1,0 +1,99 @@
+#pragma once
+// The C++ reference: the same passes in the same order as the GPU solver, in double
+// precision and written for clarity. Tests compare every GPU pass with it; it is also
+// the CPU baseline (--device cpu).
+#include <array>
+#include <vector>
+
+#include "sim/params.hpp"
+#include "sim/solver.hpp"
+
+namespace pbflow {
+
+class ReferenceSolver : public Solver {
+ public:
+  ReferenceSolver(const Derived& d, const std::vector<glm::dvec3>& x0);
+
+  FrameStats advance(int steps) override;
+  ParticleFrame read_frame() const override;
+  ParticleState download() const override { return state; }
+  void upload(const ParticleState& s) override;
+  size_t particle_count() const override { return state.x.size(); }
+  std::string device_name() const override { return "cpu (C++ reference)"; }
+
+  void step();
+  FrameStats measure();  // density at x (from the last step's lists, as the GPU), then the measures
+
+  // The passes of one step (DESIGN.md), public so that tests can run them one by one.
+  void build_grid(const std::vector<glm::dvec3>& at);  // bins particles by cell
+  void density();                                      // rho at x, from the lists of the last build (at x after build_grid)
+  void correction();                                   // v += f_LDC dt
+  void predict();                                      // v += g dt, x_pred
+  void constraint_lambda();                            // lambda at x_pred
+  void constraint_smooth();                            // lambda averaged over the neighbours, lambda_smoothing times
+  void constraint_apply(double relax);                 // x_pred += relax dp
+  void velocity_update();                              // v from x_pred - x; x = x_pred
+  void viscosity_vorticity();                          // XSPH, omega
+  void vorticity_force();                              // v += f_vort dt
+
+  // The LDC acceleration on particle i (from rho and x); correction() applies it.
+  glm::dvec3 correction_force(size_t i) const;
+
+  // The walls are mirrors (shaders/common.glsl): behind each wall within h of a particle,
+  // and behind each pair and the triple of them at edges and corners, lies the reflection
+  // of its neighbours. The image of x is sign * x + offset. Ghost particles made this way
+  // continue any lattice exactly, so walls read rho0 at faces, edges and corners alike;
+  // and they mirror the fluid that is really there, so a wall next to a free surface does
+  // not add density that is not there (the earlier wall term counted a full lattice
+  // behind every wall, which pushed surface particles off the walls).
+  struct WallImage {
+    glm::dvec3 sign{1.0}, offset{0.0};  // the identity: the neighbour itself
+    int axes = 0;                       // bit a: reflected across axis a's wall (0: the identity)
+    glm::dvec3 of(const glm::dvec3& x) const { return sign * x + offset; }
+  };
+  struct WallImages {  // the identity first, then one image per combination of near walls
+    std::array<WallImage, 8> image;
+    size_t count = 1;
+    const WallImage* begin() const { return image.data(); }
+    const WallImage* end() const { return image.data() + count; }
+  };
+  WallImages walls_near(const glm::dvec3& x) const;
+
+  const Derived& derived() const { return d_; }
+  ParticleState state;
+
+ private:
+  // The step's neighbour sets, as the GPU's lists (shaders/neighbour_lists.comp): built
+  // after a grid build, at x for density or at x_pred for constraint_lambda, from the 27
+  // cells, keeping those within h and then their images within h; read by every pass of
+  // the step, which places an image behind the walls near the particle's position then.
+  struct Neighbour {
+    size_t j;
+    int image;  // the walls' axes j is reflected across (WallImage::axes; 0: j itself)
+  };
+  void build_neighbours(const std::vector<glm::dvec3>& at);
+  void density_at_positions();  // rho at x, from the last step's lists (GpuSolver::density_at_positions)
+  template <class F>
+  void for_each_candidate(const glm::dvec3& xi, F&& visit) const;
+  template <class F>
+  void for_each_neighbour(size_t i, const glm::dvec3& xi, F&& visit) const;
+
+  int wall_axes(const glm::dvec3& x) const;  // bit a: axis a has a wall within h of x
+  // The reflection across the nearer wall of each axis in `axes`, seen from x (0: the identity).
+  WallImage image_at(const glm::dvec3& x, int axes) const;
+  glm::ivec3 cell_of(const glm::dvec3& x) const;
+  size_t cell_id(const glm::ivec3& c) const { return (size_t(c.z) * d_.grid.y + c.y) * d_.grid.x + c.x; }
+  glm::dvec3 project_out_of_solids(glm::dvec3 x) const;  // out of the obstacles, then into the walls
+
+  double mean_compression() const;  // of state.rho
+  void watch_step(int step, Divergence& watch) const;  // the divergence watch (shaders/watch.comp)
+
+  Derived d_;
+  long iterations_run_ = 0;  // constraint iterations in the current advance()
+  std::vector<std::vector<size_t>> cells_;  // particles binned by cell at the last build_grid
+  std::vector<std::vector<Neighbour>> neighbours_;  // per particle: within h when the list was built
+  bool neighbours_current_ = false;              // built since the last build_grid
+  bool neighbours_built_ = false;                // built since the particles were set (GpuSolver::lists_built_)
+};
+
+}  // namespace pbflow

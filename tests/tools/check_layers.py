@@ -1,0 +1,115 @@
+#!/usr/bin/env python3
+"""Checks that host/, capture/ and bench/ include only their own layer and the layers below
+it (docs/design.md, "Layers"), and that no include cycle exists. Exit 1 names each breach."""
+import os
+import re
+import sys
+
+# Each layer and the layers it may include (besides its own).
+BELOW = {
+    "common": set(),
+    "vk": {"common"},
+    "sim": {"common"},
+    "scene": {"common", "sim"},
+    "gpu": {"common", "sim", "vk"},
+    "io": {"common", "sim"},
+    "capture": {"common", "sim", "scene", "vk", "gpu", "io"},
+    "bench": {"common", "sim", "scene", "vk", "gpu"},
+    "app": {"common", "sim", "scene", "vk", "gpu", "io", "capture", "bench"},
+}
+MAX_CPP_PER_FOLDER = 10
+
+
+def layer_of(path):
+    parts = path.split("/")
+    return parts[1] if parts[0] == "host" else parts[0]
+
+
+def main(root):
+    files = {}
+    for top in ("host", "capture", "bench"):
+        for folder, _, names in os.walk(os.path.join(root, top)):
+            rel_folder = os.path.relpath(folder, root)
+            cpps = [n for n in names if n.endswith(".cpp")]
+            if len(cpps) > MAX_CPP_PER_FOLDER:
+                print(f"{rel_folder}: {len(cpps)} .cpp files, more than {MAX_CPP_PER_FOLDER}")
+                files["__too_many__"] = []
+            for n in names:
+                if n.endswith((".cpp", ".hpp")):
+                    rel = os.path.join(rel_folder, n)
+                    text = open(os.path.join(root, rel), encoding="utf-8").read()
+                    files[rel] = re.findall(r'^#include "([^"]+)"', text, re.M)
+    problems = "__too_many__" in files
+    files.pop("__too_many__", None)
+    # An include names its layer: "sim/params.hpp" is host/sim/params.hpp, "capture/png.hpp" capture/png.hpp.
+    def resolve(inc):
+        for candidate in (os.path.join("host", inc), inc):
+            if candidate in files:
+                return candidate
+        return None
+
+    graph = {}
+    for f, incs in files.items():
+        graph[f] = []
+        for inc in incs:
+            target = resolve(inc)
+            if target is None:
+                if not inc.endswith(".inc"):
+                    print(f"{f}: includes \"{inc}\", which is not a layer-prefixed project header")
+                    problems = True
+                continue
+            graph[f].append(target)
+            a, b = layer_of(f), layer_of(target)
+            if a != b and b not in BELOW[a]:
+                print(f"{f}: layer {a} includes {target} from layer {b}, which is not below it")
+                problems = True
+    # Cycles: depth-first search over the file graph.
+    state = {}
+
+    def visit(node, stack):
+        found = False
+        state[node] = 1
+        stack.append(node)
+        for nxt in graph[node]:
+            if state.get(nxt) == 1:
+                print("include cycle: " + " -> ".join(stack[stack.index(nxt):] + [nxt]))
+                found = True
+            elif state.get(nxt) is None:
+                found = visit(nxt, stack) or found
+        stack.pop()
+        state[node] = 2
+        return found
+
+    for node in graph:
+        if state.get(node) is None and visit(node, []):
+            problems = True
+    # Module cycles: a .cpp's header pair counts as one node (params.cpp -> scene.hpp -> params.hpp).
+    modules = {}
+    for f, targets in graph.items():
+        m = os.path.splitext(f)[0]
+        modules.setdefault(m, set()).update(os.path.splitext(t)[0] for t in targets if os.path.splitext(t)[0] != m)
+    state.clear()
+
+    def visit_module(node, stack):
+        found = False
+        state[node] = 1
+        stack.append(node)
+        for nxt in modules.get(node, ()):
+            if state.get(nxt) == 1:
+                print("module cycle: " + " -> ".join(stack[stack.index(nxt):] + [nxt]))
+                found = True
+            elif state.get(nxt) is None:
+                found = visit_module(nxt, stack) or found
+        stack.pop()
+        state[node] = 2
+        return found
+
+    for node in list(modules):
+        if state.get(node) is None and visit_module(node, []):
+            problems = True
+    print(f"{len(files)} files checked" + (": breaches above" if problems else ": layers hold, no cycle"))
+    return 1 if problems else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), "..", "..")))
