@@ -72,7 +72,7 @@ def accuracy_vs_cost(runs, out_dir, device):
                 for r, xi, yi in zip(rs, x, y):
                     ax.annotate(r["iterations"], (xi, yi), textcoords="offset points", xytext=(4, 4), fontsize=8)
             if column == "energy_gain":
-                ax.axhline(1.0, color="grey", linestyle="--", linewidth=0.8)  # DESIGN.md's bound
+                ax.axhline(1.0, color="grey", linestyle="--", linewidth=0.8)  # docs/design.md's bound
             ax.set_xlabel("ms per step")
             ax.set_ylabel(label)
             ax.set_yscale(scale)

@@ -3,7 +3,7 @@
 # Release build) on its own dam break (bench/peer/peer_dam_break_pbf.json: 6859 particles,
 # pbf@2, dt 4 ms, 2 s) and `pbflow run bench/scenes/peer_dam_break.json --no-render`,
 # alternated. Why alternated: a shared machine drifts by up to 1.5x from minute to minute,
-# and did so between the sessions whose figures the README quotes; only runs taken side by
+# and did so between the sessions whose figures the docs quote; only runs taken side by
 # side compare.
 #   bench/peer.sh [ROUNDS] [ITERATIONS]   (defaults 3 and 2: the peer scene's pbf@2)
 #     -> a line per run, then the medians and the ratio

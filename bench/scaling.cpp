@@ -16,6 +16,7 @@
 #include "gpu/make_solver.hpp"
 #include "gpu/memory_estimate.hpp"
 #include "scene/derive.hpp"
+#include "scene/parse.hpp"
 #include "scene/scene.hpp"
 #include "scene/seeding.hpp"
 #include "vk/context.hpp"

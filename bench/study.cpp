@@ -15,6 +15,7 @@
 #include "gpu/gpu_solver.hpp"
 #include "gpu/make_solver.hpp"
 #include "scene/derive.hpp"
+#include "scene/parse.hpp"
 #include "scene/scene.hpp"
 #include "scene/seeding.hpp"
 #include "sim/settle.hpp"
@@ -52,7 +53,7 @@ struct Run {
 constexpr int kMaxAdaptive = 41;   // 1 + 20 pairs
 constexpr double kBlownUp = 9.0;   // max compression (rho = 10 rho0) at which a run counts as diverged
 constexpr double kCompressed = 0.02;  // time-averaged mean compression above which a run counts as compressed
-constexpr double kGainsEnergy = 0.01;  // energy gain (of PE_0) above which a run is unsound (DESIGN.md)
+constexpr double kGainsEnergy = 0.01;  // energy gain (of PE_0) above which a run is unsound (docs/design.md)
 
 struct Outcome {
   std::vector<std::string> cells;  // runs.csv row

@@ -12,6 +12,7 @@
 
 #include "gpu/make_solver.hpp"
 #include "scene/derive.hpp"
+#include "scene/parse.hpp"
 #include "scene/scene.hpp"
 #include "scene/seeding.hpp"
 #include "vk/context.hpp"

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The throughput table of README "Performance": GPU solver (Vulkan device `auto`) and the
+# The throughput table of docs/performance.md: GPU solver (Vulkan device `auto`) and the
 # C++ reference, dam_break during its first frames. Usage: bench/throughput.sh > table.md
 set -euo pipefail
 cd "$(dirname "$0")/.."

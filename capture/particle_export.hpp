@@ -1,7 +1,7 @@
 #pragma once
 // Particle files per frame, in particle-id order (stable across frames):
 //   ply: binary little-endian PLY, one `vertex` element, float x y z vx vy vz density
-//        (DESIGN.md);
+//        (docs/design.md);
 //   vtk: VTK XML PolyData (.vtp), points plus `velocity` and `density` point data,
 //        raw appended binary; opens in ParaView.
 // Each file is written atomically.

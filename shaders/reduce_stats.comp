@@ -1,7 +1,7 @@
 #version 450
 // Per-workgroup partial measures: (sum c_i, max c_i, sum |v_i|^2, max |v_i|^2) and
 // (sum of |g| times heights, 0, 0, 0), c_i = max(rho_i/rho0 - 1, 0), heights measured
-// along -g from the domain's lowest corner (DESIGN.md's potential energy, per unit mass). reduce_final.comp combines the partials.
+// along -g from the domain's lowest corner (docs/design.md's potential energy, per unit mass). reduce_final.comp combines the partials.
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x = 256) in;
 #include "common.glsl"

@@ -91,7 +91,7 @@ INSTANTIATE_TEST_SUITE_P(RealTimeStep, EnergyTest,
                          name);
 
 // Smoothing lambda is what holds pbf@2 at the real-time step: the same dam break compresses
-// at least twice as much without it (measured 3x on the full-size scenes, README), and
+// at least twice as much without it (measured 3x on the full-size scenes, docs/physics.md), and
 // with it no energy is made.
 TEST_F(EnergyTestBase, SmoothedLambdaHoldsTheDensityBetter) {
   const Setting pbf2{"pbf", 2, 2};

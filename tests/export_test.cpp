@@ -10,6 +10,7 @@
 
 #include "capture/particle_export.hpp"
 #include "io/frame_files.hpp"
+#include "scene/parse.hpp"
 #include "scene/scene.hpp"
 #include "scene/seeding.hpp"
 

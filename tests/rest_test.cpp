@@ -16,11 +16,11 @@ namespace {
 struct Setting {
   const char* method;
   int iterations;
-  double mean_compression;  // the most it may settle at (measured in this tank, README)
+  double mean_compression;  // the most it may settle at (measured in this tank, docs/physics.md)
 };
 void PrintTo(const Setting& s, std::ostream* os) { *os << s.method << "@" << s.iterations; }
 
-// DESIGN.md asks for max speed well under 0.1 m/s at 2 s. These bounds fail for the
+// docs/design.md asks for max speed well under 0.1 m/s at 2 s. These bounds fail for the
 // solver before the dashpot (LDC's free surface jittered at 0.5 m/s, pbf@1's squeezed
 // fluid at 0.8 m/s), before the walls were mirrors (ldc@1: a 0.3 m/s jet down every wall),
 // before the settle (the column breathing at 0.1-0.2 m/s) and before the relaxation
@@ -30,7 +30,7 @@ void PrintTo(const Setting& s, std::ostream* os) { *os << s.method << "@" << s.i
 // surface particles lost their support and dived; against the neighbourhood's mean 0.02-0.03.
 constexpr double kP99Speed = 0.05, kMaxSpeed = 0.1, kLastSecondMaxSpeed = 0.08;
 
-// DESIGN.md: walls neither push fluid away nor let it pile up. Under its own weight the
+// docs/design.md: walls neither push fluid away nor let it pile up. Under its own weight the
 // settled column is squeezed more the deeper it is (a single pass holds it only squeezed);
 // the layer against the side walls must be squeezed as much as the fluid inside at the same
 // height, not more. Returns the wall layer's excess density (rho/rho0 - 1) over the inner

@@ -1,4 +1,4 @@
-// A run owns its --out directory (README "What a run guarantees about its directory"):
+// A run owns its --out directory (docs/design.md, "What a run guarantees about its directory"):
 // one run at a time, no foreign file touched, never two runs mixed, every write checked,
 // interrupts leave whole files and a manifest that says why the run stopped.
 #include <gtest/gtest.h>
@@ -19,6 +19,7 @@
 
 #include "capture/png.hpp"
 #include "gpu/memory_estimate.hpp"
+#include "scene/parse.hpp"
 #include "scene/scene.hpp"
 #include "support.hpp"
 #include "vk/context.hpp"

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "scene/derive.hpp"
+#include "scene/parse.hpp"
 #include "scene/seeding.hpp"
 #include "sim/params.hpp"
 #include "sim/solver.hpp"

@@ -107,7 +107,7 @@ TEST(WatchCli, ABlownUpRunExitsWith3AndKeepsCompleteFrames) {
 namespace pbflow {
 namespace {
 
-// README "Where it breaks": ldc as the scenes ship (2 substeps, 1 iteration) and pbf at
+// docs/physics.md, "Where it breaks": ldc as the scenes ship (2 substeps, 1 iteration) and pbf at
 // 2 substeps x 2 iterations lie in their safe regions. Every built-in scene at twice its
 // spacing runs 300 steps without the watch tripping, inside its domain, out of its obstacles.
 class SafeRegionTest : public test::GpuTest, public ::testing::WithParamInterface<const char*> {};

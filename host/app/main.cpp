@@ -1,4 +1,4 @@
-// pbflow command line: run, bench, scenes, devices.
+// pbflow command line: run, bench, scenes, devices, keys.
 #include <CLI/CLI.hpp>
 #include <malloc.h>
 
@@ -10,6 +10,8 @@
 #include "bench/scaling.hpp"
 #include "bench/study.hpp"
 #include "capture/gl_context.hpp"
+#include "scene/keys.hpp"
+#include "scene/parse.hpp"
 #include "scene/scene.hpp"
 #include "vk/check.hpp"
 #include "vk/context.hpp"
@@ -126,6 +128,7 @@ int main(int argc, char** argv) {
 
   CLI::App* scenes_cmd = app.add_subcommand("scenes", "list the built-in scenes");
   CLI::App* devices_cmd = app.add_subcommand("devices", "list the Vulkan devices and their limits");
+  CLI::App* keys_cmd = app.add_subcommand("keys", "list every scene key: default, range, unit, meaning (Markdown)");
 
   try {
     app.parse(argc, argv);
@@ -141,6 +144,7 @@ int main(int argc, char** argv) {
   try {
     if (*scenes_cmd) return list_scenes();
     if (*devices_cmd) return list_devices();
+    if (*keys_cmd) return std::cout << pbflow::scene_keys_markdown(), 0;
     if (*bench_cmd && scaling) return pbflow::bench::run_scaling(scaling_options(bench, budget_minutes));
     if (*bench_cmd) return pbflow::bench::run_study(bench);
     return pbflow::run(run);  // `pbflow` alone runs the default scene

@@ -18,6 +18,7 @@
 #include "io/run_directory.hpp"
 #include "io/stats_csv.hpp"
 #include "scene/derive.hpp"
+#include "scene/parse.hpp"
 #include "scene/scene.hpp"
 #include "scene/seeding.hpp"
 #include "sim/settle.hpp"

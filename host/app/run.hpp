@@ -37,7 +37,7 @@ struct RunOptions {
 // The scene's overrides: --param entries, then the dedicated options (which win).
 std::vector<std::string> scene_overrides(const RunOptions& o);
 
-// Runs the scene; returns the exit status (DESIGN.md). Throws InputError for bad input.
+// Runs the scene; returns the exit status (docs/design.md). Throws InputError for bad input.
 int run(const RunOptions& o);
 
 }  // namespace pbflow

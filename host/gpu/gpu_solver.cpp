@@ -444,7 +444,7 @@ void GpuSolver::density_at_positions() {
   // Where the step ran its viscosity pass, that pass summed rho at x already, over the
   // same lists (viscosity_vorticity.comp).
   if (density_current_) return;
-  // The last step's lists, built at its x* (DESIGN.md step 5: once per step), serve the
+  // The last step's lists, built at its x* (docs/design.md step 5: once per step), serve the
   // density at x, as they served its iterations and XSPH: a pair that came within h in
   // the projection adds W(r ~ h) ~ 0 (poly6 is flat there), and a grid build and list
   // pass would cost more than the density itself. Only before the first step after an

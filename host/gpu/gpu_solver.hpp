@@ -1,5 +1,5 @@
 #pragma once
-// The solver on Vulkan compute: every pass of DESIGN.md's step is one shader, and a
+// The solver on Vulkan compute: every pass of docs/design.md's step is one shader, and a
 // whole frame (all its steps and the measures) is one command buffer.
 #include <array>
 #include <functional>

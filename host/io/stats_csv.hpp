@@ -1,5 +1,5 @@
 #pragma once
-// DIR/stats.csv as DESIGN.md defines it: one complete, flushed row per frame.
+// DIR/stats.csv as docs/design.md defines it: one complete, flushed row per frame.
 #include <cstdio>
 #include <filesystem>
 

@@ -1,6 +1,6 @@
 #pragma once
-// Scenes: the JSON format of DESIGN.md, built-in scenes, --param overrides, and the
-// particles a scene's fluid blocks start with.
+// A scene as pbflow holds it once parsed (scene/parse.hpp reads it from JSON), and the
+// measures of it that are known before any particle is made.
 #include <glm/glm.hpp>
 
 #include <string>
@@ -51,17 +51,6 @@ struct Scene {
   SolverParams solver;
   Camera camera;
 };
-
-// SCENE is a built-in name or a JSON file; overrides are "dotted.key=value" (value
-// read as JSON, else as a string). Throws InputError naming the problem.
-Scene load_scene(const std::string& name_or_path, const std::vector<std::string>& overrides = {});
-Scene parse_scene(const std::string& json_text, const std::string& origin,
-                  const std::vector<std::string>& overrides = {});
-
-struct BuiltinScene {
-  std::string name, description;
-};
-std::vector<BuiltinScene> builtin_scenes();
 
 // The fluid's volume as the scene states it (blocks and spheres, overlaps counted twice),
 // m^3: the particle-count estimate before any particle is made.

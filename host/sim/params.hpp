@@ -1,6 +1,6 @@
 #pragma once
-// Solver parameters: what a scene sets (SolverParams, with every default and its
-// reason in params.cpp) and what the passes read (SimConstants, derived from them).
+// Solver parameters: what a scene sets (SolverParams; every key's default, range and reason
+// are in the key table, scene/keys.cpp) and what the passes read (SimConstants, derived from them).
 #include <glm/glm.hpp>
 
 #include <cstdint>
@@ -38,7 +38,6 @@ struct SolverParams {
   bool ldc_clamp;          // LDC reads densities below rho0 as rho0 (only compression pushes)
   bool ldc_mean_reference; // LDC compares rho_j with the neighbourhood's mean, not with rho_i
 
-  static SolverParams defaults();
   static constexpr int kChosenSmoothing = -1;
   // XSPH, vorticity and the damping share one neighbour pass (viscosity_vorticity).
   bool viscosity_pass() const { return xsph > 0 || vorticity > 0 || damping > 0; }
@@ -82,7 +81,7 @@ struct Derived {
   // (jacobi_schedule); an odd count's last pass runs alone, unsmoothed, at jacobi_gain_max's:
   // a lone pass sits at the linear model's edge (its worst mode corrected exactly), and
   // smoothed there, 2.8x bolder, the squeezed floor of a pbf@1 tank oscillated (0.4-2.9 m/s
-  // at 0.5-1x that boldness, README).
+  // at 0.5-1x that boldness, docs/physics.md).
   std::vector<ConstraintPass> constraint_schedule(int passes) const;
   // LDC: the K the force uses (1/s^2; 0 for pbf) and the K at which the explicit force
   // alone goes unstable at this dt and h / spacing (K dt^2 s = 4).
@@ -108,7 +107,7 @@ struct Derived {
 int default_smoothing(int iterations, double travel);
 
 // A list holds the neighbours of fluid squeezed to this multiple of rho0. The default scenes
-// stay under 1.3x at the real-time step; only a collapsing column (README) passes 2x.
+// stay under 1.3x at the real-time step; only a collapsing column (docs/physics.md) passes 2x.
 constexpr double kNeighbourHeadroom = 2.0;
 
 

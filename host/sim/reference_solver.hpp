@@ -24,7 +24,7 @@ class ReferenceSolver : public Solver {
   void step();
   FrameStats measure();  // density at x (from the last step's lists, as the GPU), then the measures
 
-  // The passes of one step (DESIGN.md), public so that tests can run them one by one.
+  // The passes of one step (docs/design.md), public so that tests can run them one by one.
   void build_grid(const std::vector<glm::dvec3>& at);  // bins particles by cell
   void density();                                      // rho at x, from the lists of the last build (at x after build_grid)
   void correction();                                   // v += f_LDC dt

@@ -11,7 +11,7 @@
 
 namespace pbflow {
 
-// The passes of a step, grouped as the benchmarks report them (DESIGN.md's list).
+// The passes of a step, grouped as the benchmarks report them (docs/design.md's list).
 enum class PassGroup { Grid, Lists, Density, Correction, Predict, Constraints, Velocity, Viscosity, Count };
 constexpr size_t kPassGroups = size_t(PassGroup::Count);
 constexpr const char* kPassGroupNames[kPassGroups] = {"grid", "lists", "density",  "correction", "predict",
@@ -27,11 +27,11 @@ struct Divergence {
   std::string describe(double speed_limit) const;  // "3 particles with ... ; 12 faster than ..."
 };
 
-// DESIGN.md's measures, taken at the end of the last step from a fresh density pass.
+// docs/design.md's measures, taken at the end of the last step from a fresh density pass.
 struct FrameStats {
   double mean_compression = 0, max_compression = 0, kinetic_energy = 0, max_speed = 0;
   // sum m |g| (height above the domain's lowest corner along g), J: with kinetic_energy the
-  // mechanical energy that must never rise (DESIGN.md).
+  // mechanical energy that must never rise (docs/design.md).
   double potential_energy = 0;
   double step_ms = 0;  // mean time of one step (GPU timestamps, else wall time); 0 when no step ran
   double iterations = 0;  // constraint iterations per step, on average (adaptive runs vary)
@@ -40,7 +40,7 @@ struct FrameStats {
   Divergence divergence;
 };
 
-// DESIGN.md's energy gain of a run: the largest (E_k - E_0) / PE_0 over its frames, with
+// docs/design.md's energy gain of a run: the largest (E_k - E_0) / PE_0 over its frames, with
 // E = kinetic + potential energy and frame 0 (the first added) giving E_0 and PE_0. A
 // sound run stays at or below 0.01. Also the largest rise of E over its running minimum
 // (energy stored in compression and given back), in the same unit.

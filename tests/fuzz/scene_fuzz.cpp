@@ -7,6 +7,7 @@
 #include <string>
 
 #include "scene/derive.hpp"
+#include "scene/parse.hpp"
 #include "scene/seeding.hpp"
 #include "sim/params.hpp"
 

@@ -1,0 +1,173 @@
+#include "scene/keys.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <sstream>
+
+namespace pbflow {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+using K = KeyKind;
+using P = SolverParams;
+
+// The rows. A comment above a row says why its default is what it is, in a sentence; the
+// measurements behind it are in docs/physics.md.
+const SceneKey kKeys[] = {
+    {"description", K::Text, "\"\"", {}, {}, "", "a line for `pbflow scenes`", "", {}},
+    {"domain", K::Box, "required", {}, {}, "m", "the tank `{min, max}`: closed walls", "", {}},
+    {"particle_spacing", K::Number, "required", {}, KeyRange{1e-6, 1e6}, "m",
+     "lattice spacing of the fluid; halving it makes 8x the particles", "", &Scene::particle_spacing},
+    {"fluid_blocks", K::Boxes, "[]", {}, {}, "m", "boxes `{min, max}` filled with particles (lattice from the box's corner)",
+     "", {}},
+    {"fluid_spheres", K::Balls, "[]", {}, {}, "m",
+     "balls `{centre, radius}` filled with particles (lattice from the domain's corner); blocks or spheres must hold "
+     "some fluid",
+     "", {}},
+    {"obstacles", K::Shapes, "[]", {}, {}, "m",
+     "static solids `{\"type\": \"box\", min, max}` or `{\"type\": \"sphere\", centre, radius}`; particles are "
+     "projected out of them like out of the walls",
+     "", {}},
+    {"gravity", K::Vector, "[0, -9.81, 0]", {}, {}, "m/s²", "at most 1e4 m/s² (a thousand g)", "", {}},
+    // A tank starts in the solver's own equilibrium only when asked: a drop in the air must not settle.
+    {"settle", K::Boolean, "false", 0.0, {}, "",
+     "start at rest in the solver's own equilibrium (sim/settle.hpp): for a tank, not for a drop in the air", "",
+     &Scene::settle},
+    {"fps", K::Number, "60", 60.0, KeyRange{1e-3, 1e5}, "", "output rate: frame k shows time k/fps", "", &Scene::fps},
+    {"frames", K::Whole, "240", 240.0, KeyRange{1, double(kMaxFrames)}, "", "frames written, frame 0 the initial state", "",
+     &Scene::frames},
+    // The seed paper's claim is about ldc at one iteration; that is what a user gets first.
+    {"solver.method", K::Method, "ldc", {}, {}, "", "`pbf` or `ldc` (PBF with the local density correction force)", "",
+     {}},
+    {"solver.iterations", K::Whole, "1", 1.0, KeyRange{1, 1000}, "",
+     "constraint iterations per step (the minimum when adaptive)", "", &P::iterations},
+    // SPlisHSPlasH's PBF stops at an average density error; here the mean compression.
+    {"solver.target_compression", K::Number, "0", 0.0, KeyRange{0, 1, false, true}, "",
+     "adaptive iterations when > 0: after `iterations`, pairs run while the mean compression exceeds it",
+     "0 is a fixed number of iterations", &P::target_compression},
+    {"solver.max_iterations", K::Whole, "100", 100.0, KeyRange{1, 1000}, "",
+     "the adaptive mode's limit per step, at least `iterations`", "", &P::max_iterations},
+    // dt = 1/120 s at 60 fps: a falling column of 0.8 m reaches ~4 m/s, under two spacings a step.
+    {"solver.substeps", K::Whole, "2", 2.0, KeyRange{1, 1000}, "", "steps per frame, dt = 1/(fps·substeps)", "",
+     &P::substeps},
+    // h = 2 spacings: ~33 neighbours inside h on a lattice, the usual SPH choice.
+    {"solver.kernel_ratio", K::Number, "2", 2.0, KeyRange{1, 4, true}, "", "h / particle_spacing", "",
+     &P::kernel_ratio},
+    {"solver.rest_density", K::Number, "1000", 1000.0, KeyRange{0, 1e6, true}, "kg/m³", "ρ0 (water)", "",
+     &P::rest_density},
+    // Relative to the denominator's own scale, so that it means the same at any spacing.
+    {"solver.relaxation", K::Number, "0.01", 0.01, KeyRange{0, 1e6, true}, "",
+     "ε as a fraction of an interior particle's Σ‖∇C‖²: keeps λ bounded where neighbours are few", "",
+     &P::relaxation},
+    // Gain 1 corrects no density mode by more than its own error; past 4/3 a step grows it.
+    {"solver.jacobi_gain", K::Number, "1", 1.0, KeyRange{0, 1, true}, "",
+     "the most any density mode is corrected per step, as a fraction of its error (sets each pass's under-relaxation)",
+     "a constraint pass that moves a mode past its error makes energy", &P::jacobi_gain},
+    // Averaging λ cuts the worst mode's gain and leaves the long modes': the pairs run bolder.
+    {"solver.lambda_smoothing", K::Whole, "chosen", double(P::kChosenSmoothing), KeyRange{0, 4}, "",
+     "0, 2 or 4 averages of λ before a pair of iterations' Δp; left out: four from 3 iterations on where a step moves "
+     "at most h, else two (the run's first line says which)",
+     "", &P::lambda_smoothing},
+    // Off: the constraint is one-sided, so the negative pressures the term was made for do not arise.
+    {"solver.scorr_k", K::Number, "0", 0.0, KeyRange{0, 1e3}, "", "tensile term strength, as an equivalent compression",
+     "", &P::scorr_k},
+    // Macklin & Müller 2013, section 4.
+    {"solver.scorr_n", K::Number, "4", 4.0, KeyRange{1, 16}, "", "tensile term exponent", "", &P::scorr_n},
+    {"solver.scorr_dq", K::Number, "0.2", 0.2, KeyRange{0, 1, true, true}, "",
+     "tensile term reference distance, a fraction of h", "", &P::scorr_dq},
+    // 2 % of the kernel-averaged relative velocity a step damps noise without thickening a dam break.
+    {"solver.xsph", K::Number, "0.02", 0.02, KeyRange{0, 1}, "", "XSPH viscosity c", "", &P::xsph},
+    // Off unless a scene asks: it adds energy and a pass.
+    {"solver.vorticity", K::Number, "0", 0.0, KeyRange{0, 1e6}, "m/s", "vorticity confinement ε (0: pass not run)", "",
+     &P::vorticity},
+    // 0.2 times the sum's largest eigenvalue (~5 at h = 2 spacings) is 1: the most an explicit
+    // damping takes off a mode in one step without reversing it.
+    {"solver.damping", K::Number, "0.2", 0.2, KeyRange{0, 0.3}, "",
+     "a pairwise dashpot on the relative normal velocity; keeps momentum, only removes energy",
+     "past that the explicit dashpot reverses the fastest modes", &P::damping},
+    // Half the stiffness the step carries: 0.25-0.9 all lose energy; 0.5 keeps a margin below the limit.
+    {"solver.ldc_strength", K::Number, "0.5", 0.5, KeyRange{0, 1, false, true}, "",
+     "LDC's K as a fraction of the largest K the step carries, 4/(dt² s): the same meaning at any dt and spacing",
+     "a fraction of the stiffness the step carries", &P::ldc_strength},
+    {"solver.ldc_k", K::Number, "from `ldc_strength`", -1.0, KeyRange{0, kInf}, "1/s²",
+     "LDC strength K stated directly; refused at or past the step's limit", "", &P::ldc_k},
+    // The seed's force reads a free surface's missing neighbours as low density and lifts a tank at rest.
+    {"solver.ldc_clamp", K::Boolean, "true", 1.0, {}, "",
+     "LDC reads densities below ρ0 as ρ0 (false: the seed's force)", "", &P::ldc_clamp},
+    // Against ρ_i a surface particle that reads dense is pulled into the fluid; the mean barely counts it.
+    {"solver.ldc_mean_reference", K::Boolean, "true", 1.0, {}, "",
+     "LDC compares each ρ_j with the weighted mean density around i (false: the paper's ρ_i)", "",
+     &P::ldc_mean_reference},
+    {"camera.eye", K::Vector, "framing the domain", {}, {}, "m", "where the renderer looks from", "", {}},
+    {"camera.target", K::Vector, "the domain's centre", {}, {}, "m", "where it looks at; must differ from the eye", "",
+     {}},
+    {"camera.fov", K::Number, "45", 45.0, KeyRange{1, 179, true, true}, "°", "vertical field of view", "", {}},
+};
+
+// A number as a message shows it: %g without the exponent's sign and padding (1e-6, 1e6).
+std::string show(double v) {
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", v);
+  std::string out;
+  for (const char* c = text; *c; ++c) {
+    const bool exponent_sign = *c == '+' && c > text && c[-1] == 'e';
+    const bool exponent_pad = *c == '0' && c - text >= 2 && (c[-1] == '-' || c[-1] == '+') && c[-2] == 'e';
+    if (!exponent_sign && !exponent_pad) out += *c;
+  }
+  return out;
+}
+
+}  // namespace
+
+std::span<const SceneKey> scene_keys() { return kKeys; }
+
+const SceneKey* find_scene_key(std::string_view dotted) {
+  for (const SceneKey& k : kKeys)
+    if (k.name == dotted) return &k;
+  return nullptr;
+}
+
+std::string describe_range(const KeyRange& r) {
+  std::ostringstream m;
+  m << (r.lo_open ? "(" : "[") << show(r.lo) << ", " << show(r.hi) << (r.hi_open || std::isinf(r.hi) ? ")" : "]");
+  return m.str();
+}
+
+Scene scene_defaults() {
+  Scene s{};
+  s.solver.method = Method::Ldc;
+  s.gravity = {0, -9.81, 0};
+  for (const SceneKey& k : kKeys) {
+    if (!k.value) continue;
+    const double v = *k.value;
+    std::visit(
+        [&](auto member) {
+          using T = decltype(member);
+          if constexpr (std::is_same_v<T, double Scene::*>) s.*member = v;
+          else if constexpr (std::is_same_v<T, int Scene::*>) s.*member = int(v);
+          else if constexpr (std::is_same_v<T, bool Scene::*>) s.*member = v != 0;
+          else if constexpr (std::is_same_v<T, double SolverParams::*>) s.solver.*member = v;
+          else if constexpr (std::is_same_v<T, int SolverParams::*>) s.solver.*member = int(v);
+          else if constexpr (std::is_same_v<T, bool SolverParams::*>) s.solver.*member = v != 0;
+        },
+        k.target);
+  }
+  s.camera.fov_degrees = *find_scene_key("camera.fov")->value;
+  return s;
+}
+
+std::string scene_keys_markdown() {
+  std::ostringstream m;
+  m << "| key | default | range | unit | meaning |\n|---|---|---|---|---|\n";
+  for (const SceneKey& k : kKeys) {
+    std::string range = k.range ? describe_range(*k.range) : "";
+    if (k.kind == K::Whole && k.range) range = show(k.range->lo).append(" to ").append(show(k.range->hi));
+    m << "| `" << k.name << "` | " << k.shown << " | " << range << " | " << k.unit << " | " << k.meaning << " |\n";
+  }
+  return m.str();
+}
+
+}  // namespace pbflow

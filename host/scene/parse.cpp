@@ -1,0 +1,288 @@
+#include "scene/parse.hpp"
+
+#include "scene/keys.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+namespace pbflow {
+
+const std::vector<std::pair<std::string_view, std::string_view>>& builtin_scenes_text();  // generated (cmake/embed.cmake)
+
+namespace {
+
+using nlohmann::json;
+
+// The JSON pointer of a dotted key: "solver.iterations" -> /solver/iterations.
+json::json_pointer pointer(std::string_view dotted) {
+  std::string path = "/";
+  for (char c : dotted) path += c == '.' ? '/' : c;
+  return json::json_pointer(path);
+}
+
+// The keys a scene may have (the key table, nested by its dots); anything else is an error
+// naming its path. The lists' own members are checked where they are read.
+const json& schema() {
+  static const json s = [] {
+    json tree = json::object();
+    for (const SceneKey& k : scene_keys())
+      tree[pointer(k.name)] = k.kind == KeyKind::Box ? json{{"min", 0}, {"max", 0}} : json(0);
+    return tree;
+  }();
+  return s;
+}
+
+void reject_unknown(const json& j, const json& allowed, const std::string& path) {
+  if (!j.is_object()) throw InputError("scene key '" + path + "' must be an object");
+  for (auto it = j.begin(); it != j.end(); ++it) {
+    std::string key = path.empty() ? it.key() : path + "." + it.key();
+    if (!allowed.contains(it.key())) throw InputError("unknown scene key '" + key + "'");
+    if (allowed[it.key()].is_object()) reject_unknown(it.value(), allowed[it.key()], key);
+  }
+}
+
+// Lengths and coordinates, m: a scene beyond a thousand kilometres is a mistake, and past it
+// the arithmetic of particle counts and time steps would overflow.
+constexpr double kMaxCoordinate = 1e6;
+
+double number(const json& j, const std::string& key, double fallback) {
+  if (!j.contains(key)) return fallback;
+  if (!j[key].is_number()) throw InputError("scene key '" + key + "' must be a number");
+  return j[key].get<double>();
+}
+
+glm::dvec3 vec3(const json& j, const std::string& key, const std::string& path, glm::dvec3 fallback) {
+  if (!j.contains(key)) return fallback;
+  const json& a = j[key];
+  if (!a.is_array() || a.size() != 3 || !a[0].is_number() || !a[1].is_number() || !a[2].is_number())
+    throw InputError("scene key '" + path + "' must be an array of three numbers");
+  glm::dvec3 v(a[0].get<double>(), a[1].get<double>(), a[2].get<double>());
+  if (glm::any(glm::greaterThan(glm::abs(v), glm::dvec3(kMaxCoordinate))))
+    throw InputError("scene key '" + path + "' must lie within 1e6 of the origin");
+  return v;
+}
+
+Box box(const json& j, const std::string& path) {
+  if (!j.is_object()) throw InputError("scene key '" + path + "' must be an object with min and max");
+  for (auto it = j.begin(); it != j.end(); ++it)
+    if (it.key() != "min" && it.key() != "max") throw InputError("unknown scene key '" + path + "." + it.key() + "'");
+  if (!j.contains("min") || !j.contains("max")) throw InputError("scene key '" + path + "' needs min and max");
+  Box b{vec3(j, "min", path + ".min", {}), vec3(j, "max", path + ".max", {})};
+  if (!(b.max.x > b.min.x && b.max.y > b.min.y && b.max.z > b.min.z))
+    throw InputError("scene key '" + path + "': max must exceed min on every axis");
+  return b;
+}
+
+Ball ball(const json& j, const std::string& path) {
+  if (!j.is_object()) throw InputError("scene key '" + path + "' must be an object with centre and radius");
+  for (auto it = j.begin(); it != j.end(); ++it)
+    if (it.key() != "centre" && it.key() != "radius")
+      throw InputError("unknown scene key '" + path + "." + it.key() + "'");
+  if (!j.contains("centre") || !j.contains("radius")) throw InputError("scene key '" + path + "' needs centre and radius");
+  Ball b{vec3(j, "centre", path + ".centre", {}), number(j, "radius", 0)};
+  if (!(b.radius > 0)) throw InputError("scene key '" + path + ".radius' must be positive");
+  return b;
+}
+
+void require(bool ok, const std::string& message) {
+  if (!ok) throw InputError(message);
+}
+
+// A scalar key's value, type- and range-checked as its row in the key table says; none
+// when the scene leaves it out.
+std::optional<double> scalar(const json& root, const SceneKey& k) {
+  const json::json_pointer at = pointer(k.name);
+  if (!root.contains(at)) return std::nullopt;
+  const json& v = root[at];
+  const std::string name(k.name);
+  if (k.kind == KeyKind::Boolean) {
+    require(v.is_boolean(), name + " must be true or false");
+    return v.get<bool>() ? 1.0 : 0.0;
+  }
+  require(v.is_number(), "scene key '" + name + "' must be a number");
+  const double x = v.get<double>();
+  const bool whole = k.kind == KeyKind::Whole;
+  if ((whole && x != std::floor(x)) || !k.range->contains(x)) {
+    std::ostringstream m;
+    m << name << " must be ";
+    if (whole) m << "a whole number from " << (long long)k.range->lo << " to " << (long long)k.range->hi;
+    else m << "in " << describe_range(*k.range) << (k.unit.empty() ? "" : " ") << k.unit;
+    if (!k.why_range.empty()) m << ": " << k.why_range;
+    throw InputError(m.str());
+  }
+  return x;
+}
+
+// Every scalar key the scene states, into its place in `s`.
+void read_scalars(const json& root, Scene& s) {
+  for (const SceneKey& k : scene_keys()) {
+    if (k.kind != KeyKind::Number && k.kind != KeyKind::Whole && k.kind != KeyKind::Boolean) continue;
+    const std::optional<double> v = scalar(root, k);
+    if (!v) continue;
+    std::visit(
+        [&](auto member) {
+          using T = decltype(member);
+          if constexpr (std::is_same_v<T, double Scene::*>) s.*member = *v;
+          else if constexpr (std::is_same_v<T, int Scene::*>) s.*member = int(*v);
+          else if constexpr (std::is_same_v<T, bool Scene::*>) s.*member = *v != 0;
+          else if constexpr (std::is_same_v<T, double SolverParams::*>) s.solver.*member = *v;
+          else if constexpr (std::is_same_v<T, int SolverParams::*>) s.solver.*member = int(*v);
+          else if constexpr (std::is_same_v<T, bool SolverParams::*>) s.solver.*member = *v != 0;
+        },
+        k.target);
+  }
+}
+
+void apply_override(json& j, const std::string& assignment) {
+  auto eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0) throw InputError("--param '" + assignment + "' must be key=value");
+  std::string key = assignment.substr(0, eq), text = assignment.substr(eq + 1);
+  // Walk the schema so that a typo is caught here, naming the key.
+  const json* allowed = &schema();
+  json* target = &j;
+  std::stringstream parts(key);
+  std::string part, done;
+  while (std::getline(parts, part, '.')) {
+    done += (done.empty() ? "" : ".") + part;
+    if (!allowed->is_object() || !allowed->contains(part)) throw InputError("--param: unknown scene key '" + done + "'");
+    allowed = &(*allowed)[part];
+    target = &(*target)[part];
+  }
+  json value = json::parse(text, nullptr, false);
+  *target = value.is_discarded() ? json(text) : value;
+}
+
+}  // namespace
+
+Scene parse_scene(const std::string& json_text, const std::string& origin, const std::vector<std::string>& overrides) {
+  json j;
+  try {
+    j = json::parse(json_text);
+  } catch (const json::exception& e) {  // parse_error, and out_of_range for numbers past double's range
+    throw InputError(origin + ": JSON syntax error: " + e.what());
+  }
+  if (!j.is_object()) throw InputError(origin + ": a scene must be a JSON object ({...})");
+  for (const std::string& o : overrides) apply_override(j, o);
+  reject_unknown(j, schema(), "");
+
+  Scene s = scene_defaults();
+  s.name = origin;
+  s.resolved = j.dump();
+  require(!j.contains("description") || j["description"].is_string(), "scene key 'description' must be a string");
+  s.description = j.value("description", "");
+  require(j.contains("domain"), "scene needs a 'domain'");
+  s.domain = box(j["domain"], "domain");
+  require(j.contains("particle_spacing"), "scene needs a 'particle_spacing'");
+  read_scalars(j, s);
+  SolverParams& p = s.solver;
+  if (!j.contains(json::json_pointer("/solver/max_iterations"))) p.max_iterations = std::max(p.max_iterations, p.iterations);
+  require(p.max_iterations >= p.iterations, "solver.max_iterations must be at least solver.iterations");
+  require(p.lambda_smoothing == SolverParams::kChosenSmoothing || p.lambda_smoothing % 2 == 0,
+          "solver.lambda_smoothing must be 0, 2 or 4: a single average turns some density modes' correction around");
+  auto inside_domain = [&](glm::dvec3 lo, glm::dvec3 hi) {
+    return glm::all(glm::greaterThanEqual(lo, s.domain.min)) && glm::all(glm::lessThanEqual(hi, s.domain.max));
+  };
+  for (const char* key : {"fluid_blocks", "fluid_spheres", "obstacles"})
+    require(!j.contains(key) || j[key].is_array(), std::string("scene key '") + key + "' must be an array");
+  static const json none = json::array();
+  auto array = [&](const char* key) -> const json& { return j.contains(key) ? j[key] : none; };
+  for (size_t i = 0; i < array("fluid_blocks").size(); ++i) {
+    std::string path = "fluid_blocks[" + std::to_string(i) + "]";
+    Box b = box(array("fluid_blocks")[i], path);
+    require(inside_domain(b.min, b.max), path + " must lie inside the domain");
+    s.fluid_blocks.push_back(b);
+  }
+  for (size_t i = 0; i < array("fluid_spheres").size(); ++i) {
+    std::string path = "fluid_spheres[" + std::to_string(i) + "]";
+    Ball b = ball(array("fluid_spheres")[i], path);
+    require(inside_domain(b.centre - b.radius, b.centre + b.radius), path + " must lie inside the domain");
+    s.fluid_spheres.push_back(b);
+  }
+  require(!s.fluid_blocks.empty() || !s.fluid_spheres.empty(),
+          "scene needs fluid: a non-empty 'fluid_blocks' or 'fluid_spheres'");
+  // Checked before any particle is made, so that a tiny spacing fails here, not in an allocation.
+  double estimate = particle_estimate(s);
+  if (!(estimate <= kMaxParticles)) {
+    std::ostringstream m;
+    m.precision(3);
+    m << "the fluid would hold about " << estimate << " particles, more than pbflow's limit of " << kMaxParticles
+      << " (raise particle_spacing)";
+    throw InputError(m.str());
+  }
+  for (size_t i = 0; i < array("obstacles").size(); ++i) {
+    std::string path = "obstacles[" + std::to_string(i) + "]";
+    const json& o = array("obstacles")[i];
+    require(o.is_object() && o.contains("type") && o["type"].is_string(),
+            path + " needs a \"type\": \"box\" or \"sphere\"");
+    json shape = o;
+    shape.erase("type");
+    Obstacle ob;
+    if (o["type"] == "box") {
+      Box b = box(shape, path);
+      ob.min = b.min, ob.max = b.max;
+    } else if (o["type"] == "sphere") {
+      Ball b = ball(shape, path);
+      ob.kind = Obstacle::Kind::Sphere, ob.centre = b.centre, ob.radius = b.radius;
+    } else {
+      throw InputError(path + ".type must be \"box\" or \"sphere\"");
+    }
+    glm::dvec3 lo = ob.kind == Obstacle::Kind::Box ? ob.min : ob.centre - ob.radius;
+    glm::dvec3 hi = ob.kind == Obstacle::Kind::Box ? ob.max : ob.centre + ob.radius;
+    require(glm::all(glm::lessThan(lo, s.domain.max)) && glm::all(glm::greaterThan(hi, s.domain.min)),
+            path + " lies wholly outside the domain");
+    s.obstacles.push_back(ob);
+  }
+  s.gravity = vec3(j, "gravity", "gravity", s.gravity);
+  require(glm::length(s.gravity) <= 1e4, "gravity must not exceed 1e4 m/s^2 (a thousand g)");
+  const json solver = j.value("solver", json::object());
+  if (solver.contains("method")) {
+    require(solver["method"].is_string(), "solver.method must be \"pbf\" or \"ldc\"");
+    try {
+      p.method = parse_method(solver["method"].get<std::string>());
+    } catch (const std::invalid_argument& e) {
+      throw InputError(std::string("solver.") + e.what());
+    }
+  }
+
+  glm::dvec3 centre = 0.5 * (s.domain.min + s.domain.max), size = s.domain.max - s.domain.min;
+  const json camera = j.value("camera", json::object());
+  s.camera.target = vec3(camera, "target", "camera.target", centre);
+  s.camera.eye = vec3(camera, "eye", "camera.eye", centre + glm::dvec3(0, 0.4 * size.y, 1.6 * glm::length(size)));
+  if (std::optional<double> fov = scalar(j, *find_scene_key("camera.fov"))) s.camera.fov_degrees = *fov;
+  require(glm::length(s.camera.eye - s.camera.target) > 0, "camera.eye and camera.target must differ");
+  return s;
+}
+
+Scene load_scene(const std::string& name_or_path, const std::vector<std::string>& overrides) {
+  for (const auto& [name, text] : builtin_scenes_text())
+    if (name == name_or_path) return parse_scene(std::string(text), std::string(name), overrides);
+  // A scene is a regular file of modest size: a directory, FIFO or device (/dev/zero) is
+  // refused before it is read, and so is a file too large to be a scene.
+  std::error_code error;
+  const std::filesystem::file_status status = std::filesystem::status(name_or_path, error);
+  if (error || !std::filesystem::exists(status))
+    throw InputError("no built-in scene or readable file named '" + name_or_path + "' (see 'pbflow scenes')");
+  if (!std::filesystem::is_regular_file(status))
+    throw InputError("scene '" + name_or_path + "' is not a regular file (a directory, FIFO or device)");
+  if (std::filesystem::file_size(name_or_path, error) > kMaxSceneBytes)
+    throw InputError("scene '" + name_or_path + "' is larger than " + std::to_string(kMaxSceneBytes >> 20) +
+                     " MiB, too large to be a scene");
+  std::ifstream file(name_or_path);
+  if (!file) throw InputError("cannot read scene '" + name_or_path + "'");
+  std::stringstream text;
+  text << file.rdbuf();
+  return parse_scene(text.str(), name_or_path, overrides);
+}
+
+std::vector<BuiltinScene> builtin_scenes() {
+  std::vector<BuiltinScene> out;
+  for (const auto& [name, text] : builtin_scenes_text())
+    out.push_back({std::string(name), json::parse(text).value("description", "")});
+  return out;
+}
+
+}  // namespace pbflow
