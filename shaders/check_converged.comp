@@ -8,7 +8,7 @@ layout(local_size_x = 1) in;
 layout(std430, binding = 0) readonly buffer Measure { vec4 measure; };  // x: mean compression (reduce_final)
 layout(std430, binding = 1) buffer Indirect {
   uint groups_x, groups_y, groups_z;  // VkDispatchIndirectCommand of the next iteration
-  uint iterations;                    // run so far this frame
+  uint iterations;                    // run so far this frame (word INDIRECT_ITERATIONS_WORD, shaders/contract.h)
 };
 // The same for the cell walkers of the iteration (neighbours.glsl): the lists pass's
 // overflow dispatch where the iteration runs, none where it does not.

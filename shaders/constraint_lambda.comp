@@ -8,6 +8,7 @@
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x_id = 0) in;
 #include "common.glsl"
+#include "contract.h"
 
 layout(binding = 1, rgba32f) uniform readonly imageBuffer x_pred;
 layout(std430, binding = 2) writeonly buffer XLambda { vec4 x_lambda[]; };
@@ -53,9 +54,8 @@ void main() {
   float c = max(rho / sim.rho0 - 1.0, 0.0);
   rho_out[i] = rho;
   // A pass's gain grows with the neighbours inside h: the relaxation, sized at rho0, shrinks
-  // as 1 / (1 + c / 3), the growth a squeezed lattice shows (host/stability.hpp,
-  // kCompressedGain). Without it pbf@1 blew up in the dam break (+46 % energy); with
-  // 1 / (1 + c) it could not hold the column and collapsed to the floor.
-  const float COMPRESSED_GAIN = 1.0 / 3.0;
-  x_lambda[i] = vec4(xi, -c / ((s * s * grad_sq + dot(own, own) + sim.epsilon) * (1.0 + COMPRESSED_GAIN * c)));
+  // as 1 / (1 + c / 3), the growth a squeezed lattice shows (host/sim/stability.hpp). Without
+  // it pbf@1 blew up in the dam break (+46 % energy); with 1 / (1 + c) it could not hold the
+  // column and collapsed to the floor.
+  x_lambda[i] = vec4(xi, -c / ((s * s * grad_sq + dot(own, own) + sim.epsilon) * (1.0 + float(COMPRESSED_GAIN) * c)));
 }

@@ -1,17 +1,28 @@
 #include "gpu/gpu_solver.hpp"
 
 #include <bit>
+#include <cstddef>
 #include <chrono>
 #include <numeric>
 #include <stdexcept>
 
 #include "gpu/memory_estimate.hpp"
+#include "shaders/contract.h"
 #include "vk/check.hpp"
 #include "vk/context.hpp"
 
 namespace pbflow {
 
 namespace {
+
+// The frame's read-back, one host-visible buffer: reduce_final.comp's two vec4 (mean
+// compression, max compression, kinetic energy, max speed; potential energy), the adaptive
+// iteration count copied from check_converged's indirect buffer, and watch.comp's words.
+struct FrameResult {
+  glm::vec4 measures, energy;
+  uint32_t iterations, unused[3];
+  uint32_t watch_flags, watch_first_step, watch_counts[3];
+};
 constexpr uint32_t kReduceThreads = 256;  // reduce_stats.comp and reduce_final.comp
 struct ReduceFinalPush {
   uint32_t partial_count, particle_count;
@@ -91,7 +102,7 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
       neighbour_list_(ctx, size_t(n_) * list_words(d.neighbour_capacity) * sizeof(uint32_t)),
       x_lambda_(ctx, n_ * sizeof(glm::vec4)),
       partials_(ctx, 2 * partial_count(n_) * sizeof(glm::vec4)),
-      result_(ctx, 5 * sizeof(glm::vec4), vk::Memory::Host),  // measures (2 vec4), adaptive count, watch (2 vec4)
+      result_(ctx, sizeof(FrameResult), vk::Memory::Host),
       obstacles_(ctx, pack_obstacles(d.obstacles).size() * sizeof(glm::vec4)),
       watch_buf_(ctx, 6 * sizeof(uint32_t)),
       cmd_(ctx),
@@ -458,24 +469,23 @@ void GpuSolver::record_measures() {
   density_at_positions();
   reduce_measures(result_);
   if (d_.solver.target_compression > 0) {  // the frame's adaptive iteration count, beside the measures
-    VkBufferCopy count{3 * sizeof(uint32_t), 2 * sizeof(glm::vec4), sizeof(uint32_t)};
+    VkBufferCopy count{INDIRECT_ITERATIONS_WORD * sizeof(uint32_t), offsetof(FrameResult, iterations), sizeof(uint32_t)};
     vkCmdCopyBuffer(cmd_.handle(), indirect_.handle(), result_.handle(), 1, &count);
   }
-  VkBufferCopy watch{0, 3 * sizeof(glm::vec4), 5 * sizeof(uint32_t)};  // and what the watch saw
+  VkBufferCopy watch{0, offsetof(FrameResult, watch_flags), 5 * sizeof(uint32_t)};  // and what the watch saw
   vkCmdCopyBuffer(cmd_.handle(), watch_buf_.handle(), result_.handle(), 1, &watch);
   vk::memory_barrier(cmd_.handle());
 }
 
 FrameStats GpuSolver::read_measures() const {
-  const auto* r = static_cast<const float*>(result_.mapped());
+  const auto& r = *static_cast<const FrameResult*>(result_.mapped());
   FrameStats s;
-  s.mean_compression = r[0];
-  s.max_compression = r[1];
-  s.kinetic_energy = r[2];
-  s.max_speed = r[3];
-  s.potential_energy = r[4];
-  const auto* w = static_cast<const uint32_t*>(result_.mapped()) + 12;  // watch.comp's flags, first step, counts
-  if (w[0]) s.divergence = {int(w[1]), w[2], w[3], w[4]};
+  s.mean_compression = r.measures.x;
+  s.max_compression = r.measures.y;
+  s.kinetic_energy = r.measures.z;
+  s.max_speed = r.measures.w;
+  s.potential_energy = r.energy.x;
+  if (r.watch_flags) s.divergence = {int(r.watch_first_step), r.watch_counts[0], r.watch_counts[1], r.watch_counts[2]};
   return s;
 }
 
@@ -511,7 +521,7 @@ FrameStats GpuSolver::advance(int steps) {
     s.step_ms = ms / steps;
     s.iterations = d_.solver.iterations;
     if (d_.solver.target_compression > 0)
-      s.iterations += double(static_cast<const uint32_t*>(result_.mapped())[8]) / steps;
+      s.iterations += double(static_cast<const FrameResult*>(result_.mapped())->iterations) / steps;
     if (timer_->available())
       for (size_t k = 0; k < segments_.size(); ++k) s.pass_ms[size_t(segments_[k])] += (t[k + 1] - t[k]) / steps;
   }

@@ -12,6 +12,8 @@
 
 #include <vector>
 
+#include "shaders/contract.h"
+
 namespace pbflow {
 
 // Largest gain mu of one Jacobi pass of the density constraint (lambda_i + lambda_j form,
@@ -34,9 +36,9 @@ double jacobi_long_mode_gain(double kernel_ratio, double relaxation, int smoothi
 
 // The gain's growth with compression: jacobi_gain_max at rho0 (1 + C) stays within 3 % of
 // (1 + kCompressedGain C) times its value at rho0 for C up to 1 (tests/energy_test.cpp);
-// lambda is divided by that factor so that compressed fluid is not over-corrected.
-// shaders/constraint_lambda.comp has the same constant.
-inline constexpr double kCompressedGain = 1.0 / 3.0;
+// lambda is divided by that factor so that compressed fluid is not over-corrected. The
+// constant is shared with constraint_lambda.comp through shaders/contract.h.
+inline constexpr double kCompressedGain = COMPRESSED_GAIN;
 
 // Largest stiffness s of the LDC force per unit K (the acceleration of a mode of unit
 // amplitude is K s): dimensionless; K dt^2 s < 4 is the explicit force's stability limit.
