@@ -136,25 +136,26 @@ std::string describe_range(const KeyRange& r) {
   return m.str();
 }
 
+void assign(const SceneKey& k, double v, Scene& s) {
+  std::visit(
+      [&](auto member) {
+        using T = decltype(member);
+        if constexpr (std::is_same_v<T, double Scene::*>) s.*member = v;
+        else if constexpr (std::is_same_v<T, int Scene::*>) s.*member = int(v);
+        else if constexpr (std::is_same_v<T, bool Scene::*>) s.*member = v != 0;
+        else if constexpr (std::is_same_v<T, double SolverParams::*>) s.solver.*member = v;
+        else if constexpr (std::is_same_v<T, int SolverParams::*>) s.solver.*member = int(v);
+        else if constexpr (std::is_same_v<T, bool SolverParams::*>) s.solver.*member = v != 0;
+      },
+      k.target);
+}
+
 Scene scene_defaults() {
   Scene s{};
   s.solver.method = Method::Ldc;
   s.gravity = {0, -9.81, 0};
-  for (const SceneKey& k : kKeys) {
-    if (!k.value) continue;
-    const double v = *k.value;
-    std::visit(
-        [&](auto member) {
-          using T = decltype(member);
-          if constexpr (std::is_same_v<T, double Scene::*>) s.*member = v;
-          else if constexpr (std::is_same_v<T, int Scene::*>) s.*member = int(v);
-          else if constexpr (std::is_same_v<T, bool Scene::*>) s.*member = v != 0;
-          else if constexpr (std::is_same_v<T, double SolverParams::*>) s.solver.*member = v;
-          else if constexpr (std::is_same_v<T, int SolverParams::*>) s.solver.*member = int(v);
-          else if constexpr (std::is_same_v<T, bool SolverParams::*>) s.solver.*member = v != 0;
-        },
-        k.target);
-  }
+  for (const SceneKey& k : kKeys)
+    if (k.value) assign(k, *k.value, s);
   s.camera.fov_degrees = *find_scene_key("camera.fov")->value;
   return s;
 }

@@ -55,6 +55,10 @@ const SceneKey* find_scene_key(std::string_view dotted);
 // The range as a message shows it: "[0, 0.3]", "(1, 4]".
 std::string describe_range(const KeyRange& r);
 
+// Puts a scalar key's value where its row says (a whole number or boolean as such); nothing
+// for a key without a target.
+void assign(const SceneKey& k, double value, Scene& s);
+
 // A Scene holding every default of the table (the structured keys empty).
 Scene scene_defaults();
 

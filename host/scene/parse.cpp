@@ -122,18 +122,7 @@ void read_scalars(const json& root, Scene& s) {
   for (const SceneKey& k : scene_keys()) {
     if (k.kind != KeyKind::Number && k.kind != KeyKind::Whole && k.kind != KeyKind::Boolean) continue;
     const std::optional<double> v = scalar(root, k);
-    if (!v) continue;
-    std::visit(
-        [&](auto member) {
-          using T = decltype(member);
-          if constexpr (std::is_same_v<T, double Scene::*>) s.*member = *v;
-          else if constexpr (std::is_same_v<T, int Scene::*>) s.*member = int(*v);
-          else if constexpr (std::is_same_v<T, bool Scene::*>) s.*member = *v != 0;
-          else if constexpr (std::is_same_v<T, double SolverParams::*>) s.solver.*member = *v;
-          else if constexpr (std::is_same_v<T, int SolverParams::*>) s.solver.*member = int(*v);
-          else if constexpr (std::is_same_v<T, bool SolverParams::*>) s.solver.*member = *v != 0;
-        },
-        k.target);
+    if (v) assign(k, *v, s);
   }
 }
 
