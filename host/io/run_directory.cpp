@@ -162,12 +162,12 @@ std::array<std::pair<const char*, std::string>, 2> RunDirectory::frame_folders()
 }
 
 fs::path RunDirectory::frame_path(int frame) const {
-  const auto& [sub, extension] = frame_folders()[0];
+  const auto [sub, extension] = frame_folders()[0];  // a copy: the array is a temporary
   return capture::frame_file(dir_ / sub, frame, files_.frame_count, extension);
 }
 
 fs::path RunDirectory::particle_path(int frame) const {
-  const auto& [sub, extension] = frame_folders()[1];
+  const auto [sub, extension] = frame_folders()[1];
   return capture::frame_file(dir_ / sub, frame, files_.frame_count, extension);
 }
 
