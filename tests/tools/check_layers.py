@@ -25,6 +25,29 @@ def layer_of(path):
     return parts[1] if parts[0] == "host" else parts[0]
 
 
+def report_cycles(name, graph):
+    """Prints each cycle a depth-first search over `graph` meets; True when there is one."""
+    state, found = {}, False
+
+    def visit(node, stack):
+        nonlocal found
+        state[node] = 1
+        stack.append(node)
+        for nxt in graph.get(node, ()):
+            if state.get(nxt) == 1:
+                print(f"{name} cycle: " + " -> ".join(stack[stack.index(nxt):] + [nxt]))
+                found = True
+            elif state.get(nxt) is None:
+                visit(nxt, stack)
+        stack.pop()
+        state[node] = 2
+
+    for node in list(graph):
+        if state.get(node) is None:
+            visit(node, [])
+    return found
+
+
 def main(root):
     files = {}
     for top in ("host", "capture", "bench"):
@@ -64,49 +87,13 @@ def main(root):
             if a != b and b not in BELOW[a]:
                 print(f"{f}: layer {a} includes {target} from layer {b}, which is not below it")
                 problems = True
-    # Cycles: depth-first search over the file graph.
-    state = {}
-
-    def visit(node, stack):
-        found = False
-        state[node] = 1
-        stack.append(node)
-        for nxt in graph[node]:
-            if state.get(nxt) == 1:
-                print("include cycle: " + " -> ".join(stack[stack.index(nxt):] + [nxt]))
-                found = True
-            elif state.get(nxt) is None:
-                found = visit(nxt, stack) or found
-        stack.pop()
-        state[node] = 2
-        return found
-
-    for node in graph:
-        if state.get(node) is None and visit(node, []):
-            problems = True
-    # Module cycles: a .cpp's header pair counts as one node (params.cpp -> scene.hpp -> params.hpp).
+    # Module cycles: a .cpp and its header count as one node (params.cpp -> scene.hpp -> params.hpp).
     modules = {}
     for f, targets in graph.items():
         m = os.path.splitext(f)[0]
         modules.setdefault(m, set()).update(os.path.splitext(t)[0] for t in targets if os.path.splitext(t)[0] != m)
-    state.clear()
-
-    def visit_module(node, stack):
-        found = False
-        state[node] = 1
-        stack.append(node)
-        for nxt in modules.get(node, ()):
-            if state.get(nxt) == 1:
-                print("module cycle: " + " -> ".join(stack[stack.index(nxt):] + [nxt]))
-                found = True
-            elif state.get(nxt) is None:
-                found = visit_module(nxt, stack) or found
-        stack.pop()
-        state[node] = 2
-        return found
-
-    for node in list(modules):
-        if state.get(node) is None and visit_module(node, []):
+    for name, g in (("include", graph), ("module", modules)):
+        if report_cycles(name, g):
             problems = True
     print(f"{len(files)} files checked" + (": breaches above" if problems else ": layers hold, no cycle"))
     return 1 if problems else 0
