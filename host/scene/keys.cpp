@@ -103,7 +103,8 @@ const SceneKey kKeys[] = {
     {"camera.eye", K::Vector, "framing the domain", {}, {}, "m", "where the renderer looks from", "", {}},
     {"camera.target", K::Vector, "the domain's centre", {}, {}, "m", "where it looks at; must differ from the eye", "",
      {}},
-    {"camera.fov", K::Number, "45", 45.0, KeyRange{1, 179, true, true}, "°", "vertical field of view", "", {}},
+    {"camera.fov", K::Number, "45", 45.0, KeyRange{1, 179, true, true}, "°", "vertical field of view", "",
+     &Camera::fov_degrees},
 };
 
 // A number as a message shows it: %g without the exponent's sign and padding (1e-6, 1e6).
@@ -124,12 +125,6 @@ std::string show(double v) {
 
 std::span<const SceneKey> scene_keys() { return kKeys; }
 
-const SceneKey* find_scene_key(std::string_view dotted) {
-  for (const SceneKey& k : kKeys)
-    if (k.name == dotted) return &k;
-  return nullptr;
-}
-
 std::string describe_range(const KeyRange& r) {
   std::ostringstream m;
   m << (r.lo_open ? "(" : "[") << show(r.lo) << ", " << show(r.hi) << (r.hi_open || std::isinf(r.hi) ? ")" : "]");
@@ -146,6 +141,7 @@ void assign(const SceneKey& k, double v, Scene& s) {
         else if constexpr (std::is_same_v<T, double SolverParams::*>) s.solver.*member = v;
         else if constexpr (std::is_same_v<T, int SolverParams::*>) s.solver.*member = int(v);
         else if constexpr (std::is_same_v<T, bool SolverParams::*>) s.solver.*member = v != 0;
+        else if constexpr (std::is_same_v<T, double Camera::*>) s.camera.*member = v;
       },
       k.target);
 }
@@ -156,7 +152,6 @@ Scene scene_defaults() {
   s.gravity = {0, -9.81, 0};
   for (const SceneKey& k : kKeys)
     if (k.value) assign(k, *k.value, s);
-  s.camera.fov_degrees = *find_scene_key("camera.fov")->value;
   return s;
 }
 

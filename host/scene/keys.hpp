@@ -35,7 +35,7 @@ struct KeyRange {
 // Where a scalar key lands in the Scene; structured keys (vectors, boxes, lists) are read
 // by the parser's own functions and land where it puts them.
 using KeyTarget = std::variant<std::monostate, double Scene::*, int Scene::*, bool Scene::*, double SolverParams::*,
-                               int SolverParams::*, bool SolverParams::*>;
+                               int SolverParams::*, bool SolverParams::*, double Camera::*>;
 
 struct SceneKey {
   std::string_view name;       // dotted: "solver.iterations"
@@ -50,7 +50,6 @@ struct SceneKey {
 };
 
 std::span<const SceneKey> scene_keys();
-const SceneKey* find_scene_key(std::string_view dotted);
 
 // The range as a message shows it: "[0, 0.3]", "(1, 4]".
 std::string describe_range(const KeyRange& r);

@@ -117,13 +117,11 @@ std::optional<double> scalar(const json& root, const SceneKey& k) {
   return x;
 }
 
-// Every scalar key the scene states, into its place in `s`.
+// Every scalar key the scene states (those with a place in the Scene), into that place.
 void read_scalars(const json& root, Scene& s) {
-  for (const SceneKey& k : scene_keys()) {
-    if (k.kind != KeyKind::Number && k.kind != KeyKind::Whole && k.kind != KeyKind::Boolean) continue;
-    const std::optional<double> v = scalar(root, k);
-    if (v) assign(k, *v, s);
-  }
+  for (const SceneKey& k : scene_keys())
+    if (!std::holds_alternative<std::monostate>(k.target))
+      if (const std::optional<double> v = scalar(root, k)) assign(k, *v, s);
 }
 
 void apply_override(json& j, const std::string& assignment) {
@@ -241,7 +239,6 @@ Scene parse_scene(const std::string& json_text, const std::string& origin, const
   const json camera = j.value("camera", json::object());
   s.camera.target = vec3(camera, "target", "camera.target", centre);
   s.camera.eye = vec3(camera, "eye", "camera.eye", centre + glm::dvec3(0, 0.4 * size.y, 1.6 * glm::length(size)));
-  if (std::optional<double> fov = scalar(j, *find_scene_key("camera.fov"))) s.camera.fov_degrees = *fov;
   require(glm::length(s.camera.eye - s.camera.target) > 0, "camera.eye and camera.target must differ");
   return s;
 }
