@@ -8,7 +8,6 @@
 #include <random>
 
 #include "sim/reference_solver.hpp"
-#include "sim/stability.hpp"
 #include "support.hpp"
 
 namespace pbflow {

@@ -2,11 +2,8 @@
 // lavapipe at the scenes' real spacing (0.02 m) and the real-time step (60 fps x 2
 // substeps): no method or iteration count makes energy, and smaller steps are as sound.
 #include <cmath>
-#include <random>
 
 #include "gpu/gpu_solver.hpp"
-#include "sim/reference_solver.hpp"
-#include "sim/stability.hpp"
 #include "support.hpp"
 
 namespace pbflow {
