@@ -248,25 +248,19 @@ void GpuSolver::neighbour_lists(const vk::Buffer& x) {
   cmd_.dispatch(n_);
 }
 
-void GpuSolver::grid_at_positions() {
-  grid_.build(cmd_, sim_, {&at(X), &at(V), &id_[id_current_]}, {&at(Spare0), &at(Spare1), &id_[1 - id_current_]});
-  swap_roles(X, Spare0);
-  swap_roles(V, Spare1);
-  id_current_ = 1 - id_current_;
-  end_of(PassGroup::Grid);
-  neighbour_lists(at(X));
-  end_of(PassGroup::Lists);
-}
+void GpuSolver::grid_at_positions() { sort_by_cells(X, V); }
 
-void GpuSolver::grid_at_predictions() {
-  // v is not carried: velocity_update() recomputes it from x and x_pred.
-  grid_.build(cmd_, sim_, {&at(XPred), &at(X), &id_[id_current_]},
+// v is not carried: velocity_update() recomputes it from x and x_pred.
+void GpuSolver::grid_at_predictions() { sort_by_cells(XPred, X); }
+
+void GpuSolver::sort_by_cells(Slot keyed, Slot carried) {
+  grid_.build(cmd_, sim_, {&at(keyed), &at(carried), &id_[id_current_]},
               {&at(Spare0), &at(Spare1), &id_[1 - id_current_]});
-  swap_roles(XPred, Spare0);
-  swap_roles(X, Spare1);
+  swap_roles(keyed, Spare0);
+  swap_roles(carried, Spare1);
   id_current_ = 1 - id_current_;
   end_of(PassGroup::Grid);
-  neighbour_lists(at(XPred));
+  neighbour_lists(at(keyed));
   end_of(PassGroup::Lists);
 }
 

@@ -60,6 +60,8 @@ class GpuSolver : public Solver {
   enum Slot { X, V, XPred, Spare0, Spare1, kSlots };  // roles of the vec4 arrays, swapped on the host
   const vk::Buffer& at(Slot s) const { return vec4_[role_[s]]; }
   void swap_roles(Slot a, Slot b) { std::swap(role_[a], role_[b]); }
+  // Sorts `keyed`, `carried` and the ids by the cells of `keyed`, then lists its neighbours.
+  void sort_by_cells(Slot keyed, Slot carried);
   // A neighbour pass's two variants (shaders/neighbours.glsl, WALK_CELLS): the list
   // readers, and the cell walkers for overflowed lists (for every particle without lists).
   struct NeighbourPass {
