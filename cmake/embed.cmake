@@ -13,7 +13,7 @@ function(embed_spirv out_var shaders includes)
     set(inc ${gen}/spirv/${name}.inc)
     add_custom_command(
       OUTPUT ${inc}
-      COMMAND ${GLSLC} --target-env=vulkan1.2 -O -Werror -mfmt=c
+      COMMAND ${GLSLC} --target-env=vulkan1.2 -O -g -Werror -mfmt=c
               -I ${CMAKE_SOURCE_DIR}/shaders -o ${inc} ${src}
       DEPENDS ${src} ${includes}
       COMMENT "glslc ${name}.comp"

@@ -21,7 +21,7 @@ struct Sorted {
 Sorted gpu_sort(const Derived& d, const std::vector<glm::vec4>& x) {
   vk::Context& ctx = test::gpu();
   SimConstants sim = d.to_gpu(uint32_t(x.size()));
-  GpuGrid grid(ctx, sim);
+  GpuGrid grid(ctx, plan_buffers(d, x.size()).grid);
   const size_t n = x.size();
   vk::Buffer x_in(ctx, n * 16), payload_in(ctx, n * 16), id_in(ctx, n * 4);
   vk::Buffer x_out(ctx, n * 16), payload_out(ctx, n * 16), id_out(ctx, n * 4);

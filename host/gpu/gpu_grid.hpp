@@ -4,6 +4,7 @@
 // cell count), then a scatter that reorders the particle data by cell.
 #include <vector>
 
+#include "gpu/buffer_plan.hpp"
 #include "sim/params.hpp"
 #include "vk/buffer.hpp"
 #include "vk/program.hpp"
@@ -17,7 +18,7 @@ class Context;
 
 class GpuGrid {
  public:
-  GpuGrid(const vk::Context& ctx, const SimConstants& sim);
+  GpuGrid(const vk::Context& ctx, const GridBuffers& plan);
 
   // Particle data that travels with the sort: positions, one more vec4 array, ids.
   struct Particles {

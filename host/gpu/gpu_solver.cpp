@@ -15,15 +15,6 @@ namespace pbflow {
 
 namespace {
 
-// The frame's read-back, one host-visible buffer: reduce_final.comp's two vec4 (mean
-// compression, max compression, kinetic energy, max speed; potential energy), the adaptive
-// iteration count copied from check_converged's indirect buffer, and watch.comp's words.
-struct FrameResult {
-  glm::vec4 measures, energy;
-  uint32_t iterations, unused[3];
-  uint32_t watch_flags, watch_first_step, watch_counts[3];
-};
-constexpr uint32_t kReduceThreads = 256;  // reduce_stats.comp and reduce_final.comp
 struct ReduceFinalPush {
   uint32_t partial_count, particle_count;
   float mass;
@@ -34,18 +25,6 @@ struct CheckPush {  // check_converged.comp
   uint32_t full_x, full_y, per_check;
 };
 uint32_t partial_count(uint32_t n) { return (n + kReduceThreads - 1) / kReduceThreads; }
-
-// The formats the neighbour passes gather through (storage texel buffers, vk/program.hpp).
-constexpr VkFormat kVec4 = VK_FORMAT_R32G32B32A32_SFLOAT, kFloat = VK_FORMAT_R32_SFLOAT, kUint = VK_FORMAT_R32_UINT,
-                   kUvec4 = VK_FORMAT_R32G32B32A32_UINT;
-
-// A neighbour pass's texel bindings: the grid's cell_start (0), the lists' counts and
-// entries (`lists`, lists + 1; shaders/neighbours.glsl) and the arrays it gathers from.
-std::vector<vk::TexelBinding> neighbour_texels(uint32_t lists, std::initializer_list<vk::TexelBinding> gathered) {
-  std::vector<vk::TexelBinding> t{{0, kUint}, {lists, kUint}, {lists + 1, kUvec4}};
-  t.insert(t.end(), gathered);
-  return t;
-}
 
 // Bad input rather than a Vulkan failure: the scene asks for more than this device holds.
 // run.cpp checks the same estimate before any particle is made; this guards every other caller.
@@ -60,65 +39,58 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
       d_(d),
       sim_(d.to_gpu(checked_count(ctx, d, x0.size()))),
       n_(sim_.count),
+      plan_(plan_buffers(d, n_)),
       viscosity_pass_(d.solver.viscosity_pass()),
       vorticity_pass_(d.solver.vorticity > 0),
       correction_pass_(d.solver.method == Method::Ldc),
-      lists_(ctx, "neighbour_lists", 5, sizeof(SimConstants), 0,
-             std::array<uint32_t, 2>{d.neighbour_capacity, ctx.limits().maxComputeWorkGroupCount[0]},
-             std::array<vk::TexelBinding, 2>{{{0, kUint}, {1, kVec4}}}),
-      predict_(ctx, "predict", 4, sizeof(SimConstants)),
-      velocity_(ctx, "velocity_update", 4, sizeof(SimConstants)),
-      density_(neighbour_pass("density", 5, {}, 3, {{1, kVec4}})),
+      lists_(ctx, "neighbour_lists", sizeof(SimConstants), 0,
+             std::array<vk::Constant, 2>{{{"NEIGHBOUR_CAPACITY", d.neighbour_capacity},
+                                          {"MAX_GROUPS_X", ctx.limits().maxComputeWorkGroupCount[0]}}}),
+      predict_(ctx, "predict", sizeof(SimConstants)),
+      velocity_(ctx, "velocity_update", sizeof(SimConstants)),
+      density_(neighbour_pass("density", {})),
       // The optional passes' programs are built only for a scene that runs them (each
       // neighbour pass is two pipelines, ~5 ms each to create on lavapipe).
-      correction_(correction_pass_ ? neighbour_pass("correction_force", 6,
-                                                    {d.solver.ldc_clamp ? 1u : 0u,
-                                                     std::bit_cast<uint32_t>(float(d.ldc_room)),
-                                                     d.solver.ldc_mean_reference ? 1u : 0u},
-                                                    4, {{1, kVec4}, {2, kFloat}})
+      correction_(correction_pass_ ? neighbour_pass("correction_force",
+                                                    {{"CLAMP_DENSITY", d.solver.ldc_clamp ? 1u : 0u},
+                                                     {"LDC_ROOM", std::bit_cast<uint32_t>(float(d.ldc_room))},
+                                                     {"MEAN_REFERENCE", d.solver.ldc_mean_reference ? 1u : 0u}})
                                    : NeighbourPass{}),
-      lambda_(neighbour_pass("constraint_lambda", 6, {}, 4, {{1, kVec4}})),
-      smooth_(d.solver.lambda_smoothing > 0 ? neighbour_pass("constraint_smooth", 5, {}, 3, {{1, kVec4}})
-                                            : NeighbourPass{}),
-      apply_(neighbour_pass("constraint_apply", 6,
-                            {std::bit_cast<uint32_t>(d.solver.scorr_k > 0 ? float(d.solver.scorr_n) : 0.0f)}, 4,
-                            {{1, kVec4}})),
-      viscosity_(viscosity_pass_ ? neighbour_pass("viscosity_vorticity", 8,
-                                                  {std::bit_cast<uint32_t>(float(d.solver.damping)),
-                                                   std::bit_cast<uint32_t>(float(d.damping_limit)),
-                                                   vorticity_pass_ ? 1u : 0u},
-                                                  6, {{1, kVec4}, {2, kVec4}})
+      lambda_(neighbour_pass("constraint_lambda", {})),
+      smooth_(d.solver.lambda_smoothing > 0 ? neighbour_pass("constraint_smooth", {}) : NeighbourPass{}),
+      apply_(neighbour_pass("constraint_apply",
+                            {{"TENSILE_N", std::bit_cast<uint32_t>(d.solver.scorr_k > 0 ? float(d.solver.scorr_n) : 0.0f)}})),
+      viscosity_(viscosity_pass_ ? neighbour_pass("viscosity_vorticity",
+                                                  {{"DAMPING", std::bit_cast<uint32_t>(float(d.solver.damping))},
+                                                   {"DAMPING_LIMIT", std::bit_cast<uint32_t>(float(d.damping_limit))},
+                                                   {"VORTICITY", vorticity_pass_ ? 1u : 0u}})
                                  : NeighbourPass{}),
-      vorticity_(vorticity_pass_ ? neighbour_pass("vorticity_force", 6, {}, 4, {{1, kVec4}, {2, kVec4}})
-                                 : NeighbourPass{}),
-      reduce_(ctx, "reduce_stats", 4, sizeof(SimConstants), kReduceThreads),
-      reduce_final_(ctx, "reduce_final", 2, sizeof(ReduceFinalPush), kReduceThreads),
-      check_converged_(ctx, "check_converged", 4, sizeof(CheckPush), 1),
-      watch_(ctx, "watch", 3, sizeof(SimConstants), 0,
-             std::array<uint32_t, 1>{std::bit_cast<uint32_t>(float(d.speed_limit))}),
-      grid_(ctx, sim_),
-      rho_(ctx, n_ * sizeof(float)),
-      neighbour_count_(ctx, (2 * size_t(n_) + 1) * sizeof(uint32_t)),  // counts, then the overflow list
-      neighbour_list_(ctx, size_t(n_) * list_words(d.neighbour_capacity) * sizeof(uint32_t)),
-      x_lambda_(ctx, n_ * sizeof(glm::vec4)),
-      partials_(ctx, 2 * partial_count(n_) * sizeof(glm::vec4)),
-      result_(ctx, sizeof(FrameResult), vk::Memory::Host),
-      obstacles_(ctx, pack_obstacles(d.obstacles).size() * sizeof(glm::vec4)),
-      watch_buf_(ctx, 6 * sizeof(uint32_t)),
+      vorticity_(vorticity_pass_ ? neighbour_pass("vorticity_force", {}) : NeighbourPass{}),
+      reduce_(ctx, "reduce_stats", sizeof(SimConstants), kReduceThreads),
+      reduce_final_(ctx, "reduce_final", sizeof(ReduceFinalPush), kReduceThreads),
+      check_converged_(ctx, "check_converged", sizeof(CheckPush), 1),
+      watch_(ctx, "watch", sizeof(SimConstants), 0,
+             std::array<vk::Constant, 1>{{{"SPEED_LIMIT", std::bit_cast<uint32_t>(float(d.speed_limit))}}}),
+      grid_(ctx, plan_.grid),
+      rho_(ctx, plan_.rho),
+      neighbour_count_(ctx, plan_.neighbour_count),
+      neighbour_list_(ctx, plan_.neighbour_list),
+      x_lambda_(ctx, plan_.particle_vec4),
+      partials_(ctx, plan_.partials),
+      result_(ctx, plan_.result, vk::Memory::Host),
+      obstacles_(ctx, plan_.obstacles),
+      overflow_groups_(ctx, plan_.overflow_groups),
+      watch_buf_(ctx, plan_.watch),
       cmd_(ctx),
       timer_(std::make_unique<vk::GpuTimer>(ctx, 2)) {
-  for (auto& b : vec4_) b = vk::Buffer(ctx, n_ * sizeof(glm::vec4));
+  for (auto& b : vec4_) b = vk::Buffer(ctx, plan_.particle_vec4);
+  for (auto& b : id_) b = vk::Buffer(ctx, plan_.id);
   obstacles_.upload(std::span<const glm::vec4>(pack_obstacles(d.obstacles)));
-  if (d.solver.target_compression > 0) {
-    check_ = vk::Buffer(ctx, 2 * sizeof(glm::vec4));
-    indirect_ = vk::Buffer(ctx, 4 * sizeof(uint32_t));
-    overflow_gated_ = vk::Buffer(ctx, 4 * sizeof(uint32_t));
-  }
-  overflow_groups_ = vk::Buffer(ctx, 4 * sizeof(uint32_t));
-  for (auto& b : id_) b = vk::Buffer(ctx, n_ * sizeof(uint32_t));
-  // Model no more than the scene needs: vorticity storage only when a pass uses it.
-  if (vorticity_pass_) omega_ = vk::Buffer(ctx, n_ * sizeof(glm::vec4));
-  if (d.solver.lambda_smoothing > 0) x_lambda_spare_ = vk::Buffer(ctx, n_ * sizeof(glm::vec4));
+  // Model no more than the scene needs: the plan leaves out what its passes never use.
+  if (plan_.adaptive_words)
+    for (vk::Buffer* b : {&check_, &indirect_, &overflow_gated_}) *b = vk::Buffer(ctx, plan_.adaptive_words);
+  if (plan_.omega) omega_ = vk::Buffer(ctx, plan_.omega);
+  if (plan_.x_lambda_spare) x_lambda_spare_ = vk::Buffer(ctx, plan_.x_lambda_spare);
   ParticleState s;
   s.x = x0;
   s.v.assign(n_, glm::dvec3(0.0));
@@ -196,39 +168,34 @@ void GpuSolver::bind_particle_pass(const vk::Program& p) {
   cmd_.push(sim_);
 }
 
-// Every neighbour pass: the grid at binding 0, the lists' counts and entries at `lists`
-// and lists + 1 (shaders/neighbours.glsl).
-void GpuSolver::bind_neighbours(uint32_t lists) {
-  cmd_.bind(0, grid_.cell_start());
-  cmd_.bind(lists, neighbour_count_);
-  cmd_.bind(lists + 1, neighbour_list_);
+// Every neighbour pass reads the grid and the lists (shaders/neighbours.glsl).
+void GpuSolver::bind_neighbours() {
+  cmd_.bind("cell_start", grid_.cell_start());
+  cmd_.bind("neighbour_count", neighbour_count_);
+  cmd_.bind("neighbour_list", neighbour_list_);
 }
 
-GpuSolver::NeighbourPass GpuSolver::neighbour_pass(std::string_view shader, uint32_t bindings,
-                                                   std::vector<uint32_t> constants, uint32_t lists,
-                                                   std::initializer_list<vk::TexelBinding> gathered) const {
-  const std::vector<vk::TexelBinding> texels = neighbour_texels(lists, gathered);
-  // The shader's own constants, then NEIGHBOUR_CAPACITY and WALK_CELLS (neighbours.glsl).
-  constants.push_back(d_.neighbour_capacity);
+GpuSolver::NeighbourPass GpuSolver::neighbour_pass(std::string_view shader, std::vector<vk::Constant> constants) const {
+  constants.push_back({"NEIGHBOUR_CAPACITY", d_.neighbour_capacity});
   auto variant = [&](bool walk_cells) {
-    constants.push_back(walk_cells ? 1u : 0u);
-    vk::Program p(ctx_, shader, bindings, sizeof(SimConstants), 0, constants, texels);
+    constants.push_back({"WALK_CELLS", walk_cells ? 1u : 0u});
+    vk::Program p(ctx_, shader, sizeof(SimConstants), 0, constants);
     constants.pop_back();
     return p;
   };
-  return {variant(false), variant(true), lists};
+  return {variant(false), variant(true)};
 }
 
 void GpuSolver::run_neighbour_pass(const NeighbourPass& pass, const vk::Buffer* indirect,
                                    const std::function<void()>& bind) {
   const bool lists = d_.neighbour_capacity > 0;
   bind_particle_pass(lists ? pass.lists : pass.cells);
-  bind_neighbours(pass.lists_binding);
+  bind_neighbours();
   bind();
   run_particle_pass(indirect);
   if (!lists) return;
   bind_particle_pass(pass.cells);
-  bind_neighbours(pass.lists_binding);
+  bind_neighbours();
   bind();
   cmd_.dispatch_indirect(indirect ? overflow_gated_ : overflow_groups_);
 }
@@ -240,11 +207,11 @@ void GpuSolver::neighbour_lists(const vk::Buffer& x) {
   const uint32_t zero = 0;  // the overflow list's length
   cmd_.update(neighbour_count_, &zero, sizeof zero, n_ * sizeof(uint32_t));
   bind_particle_pass(lists_);
-  cmd_.bind(0, grid_.cell_start());
-  cmd_.bind(1, x);
-  cmd_.bind(2, neighbour_count_);
-  cmd_.bind(3, neighbour_list_);
-  cmd_.bind(4, overflow_groups_);
+  cmd_.bind("cell_start", grid_.cell_start());
+  cmd_.bind("x", x);
+  cmd_.bind("neighbour_count", neighbour_count_);
+  cmd_.bind("neighbour_list", neighbour_list_);
+  cmd_.bind("overflow_groups", overflow_groups_);
   cmd_.dispatch(n_);
 }
 
@@ -266,25 +233,25 @@ void GpuSolver::sort_by_cells(Slot keyed, Slot carried) {
 
 void GpuSolver::density() {
   run_neighbour_pass(density_, nullptr, [&] {
-    cmd_.bind(1, at(X));
-    cmd_.bind(2, rho_);
+    cmd_.bind("x", at(X));
+    cmd_.bind("rho", rho_);
   });
 }
 
 void GpuSolver::correction() {
   run_neighbour_pass(correction_, nullptr, [&] {
-    cmd_.bind(1, at(X));
-    cmd_.bind(2, rho_);
-    cmd_.bind(3, at(V));
+    cmd_.bind("x", at(X));
+    cmd_.bind("rho", rho_);
+    cmd_.bind("v", at(V));
   });
 }
 
 void GpuSolver::predict() {
   bind_particle_pass(predict_);
-  cmd_.bind(0, at(X));
-  cmd_.bind(1, at(V));
-  cmd_.bind(2, at(XPred));
-  cmd_.bind(3, obstacles_);
+  cmd_.bind("x", at(X));
+  cmd_.bind("v", at(V));
+  cmd_.bind("x_pred", at(XPred));
+  cmd_.bind("obstacles", obstacles_);
   cmd_.dispatch(n_);
 }
 
@@ -297,9 +264,9 @@ void GpuSolver::run_particle_pass(const vk::Buffer* indirect) {
 
 void GpuSolver::constraint_lambda(const vk::Buffer* indirect) {
   run_neighbour_pass(lambda_, indirect, [&] {
-    cmd_.bind(1, at(XPred));
-    cmd_.bind(2, x_lambda_);
-    cmd_.bind(3, rho_);
+    cmd_.bind("x_pred", at(XPred));
+    cmd_.bind("x_lambda", x_lambda_);
+    cmd_.bind("rho", rho_);
   });
 }
 
@@ -308,8 +275,8 @@ void GpuSolver::constraint_smooth(const vk::Buffer* indirect) {
   for (int pass = 0; pass < d_.solver.lambda_smoothing; ++pass) {
     const bool back = pass % 2;
     run_neighbour_pass(smooth_, indirect, [&] {
-      cmd_.bind(1, back ? x_lambda_spare_ : x_lambda_);
-      cmd_.bind(2, back ? x_lambda_ : x_lambda_spare_);
+      cmd_.bind("x_lambda_in", back ? x_lambda_spare_ : x_lambda_);
+      cmd_.bind("x_lambda_out", back ? x_lambda_ : x_lambda_spare_);
     });
   }
 }
@@ -318,9 +285,9 @@ void GpuSolver::constraint_apply(double relax, const vk::Buffer* indirect) {
   // Jacobi: every particle reads the same x_pred, so the result goes to a spare array.
   sim_.relax = float(relax);
   run_neighbour_pass(apply_, indirect, [&] {
-    cmd_.bind(1, x_lambda_);  // x_pred, with lambda beside it
-    cmd_.bind(2, at(Spare0));
-    cmd_.bind(3, obstacles_);
+    cmd_.bind("x_lambda", x_lambda_);  // x_pred, with lambda beside it
+    cmd_.bind("x_out", at(Spare0));
+    cmd_.bind("obstacles", obstacles_);
   });
   swap_roles(XPred, Spare0);
 }
@@ -328,15 +295,15 @@ void GpuSolver::constraint_apply(double relax, const vk::Buffer* indirect) {
 void GpuSolver::reduce_measures(const vk::Buffer& into) {
   cmd_.set_program(reduce_);
   cmd_.push(sim_);
-  cmd_.bind(0, rho_);
-  cmd_.bind(1, at(V));
-  cmd_.bind(2, at(X));
-  cmd_.bind(3, partials_);
+  cmd_.bind("rho", rho_);
+  cmd_.bind("v", at(V));
+  cmd_.bind("x", at(X));
+  cmd_.bind("partials", partials_);
   cmd_.dispatch(n_);
   cmd_.set_program(reduce_final_);
   cmd_.push(ReduceFinalPush{partial_count(n_), n_, sim_.mass});
-  cmd_.bind(0, partials_);
-  cmd_.bind(1, into);
+  cmd_.bind("partials", partials_);
+  cmd_.bind("result", into);
   cmd_.dispatch(1);
 }
 
@@ -353,10 +320,10 @@ void GpuSolver::adaptive_iterations() {
     reduce_measures(check_);
     cmd_.set_program(check_converged_);
     cmd_.push(CheckPush{float(p.target_compression), full[0], full[1], kAdaptiveStride});
-    cmd_.bind(0, check_);
-    cmd_.bind(1, indirect_);
-    cmd_.bind(2, overflow_groups_);
-    cmd_.bind(3, overflow_gated_);
+    cmd_.bind("measure", check_);
+    cmd_.bind("indirect", indirect_);
+    cmd_.bind("overflow", overflow_groups_);
+    cmd_.bind("overflow_gated", overflow_gated_);
     cmd_.dispatch(1);
     for (const Derived::ConstraintPass& pass : d_.constraint_schedule(kAdaptiveStride)) {
       constraint_lambda(&indirect_);
@@ -368,31 +335,31 @@ void GpuSolver::adaptive_iterations() {
 
 void GpuSolver::velocity_update() {
   bind_particle_pass(velocity_);
-  cmd_.bind(0, at(X));
-  cmd_.bind(1, at(XPred));
-  cmd_.bind(2, at(V));
-  cmd_.bind(3, rho_);  // into v's w, for viscosity_vorticity
+  cmd_.bind("x", at(X));
+  cmd_.bind("x_pred", at(XPred));
+  cmd_.bind("v", at(V));
+  cmd_.bind("rho", rho_);  // into v's w, for viscosity_vorticity
   cmd_.dispatch(n_);
   swap_roles(X, XPred);  // x = x_pred, without a copy
 }
 
 void GpuSolver::viscosity_vorticity() {
   run_neighbour_pass(viscosity_, nullptr, [&] {
-    cmd_.bind(1, at(X));
-    cmd_.bind(2, at(V));
-    cmd_.bind(3, at(Spare0));
+    cmd_.bind("x", at(X));
+    cmd_.bind("v_rho", at(V));
+    cmd_.bind("v_out", at(Spare0));
     // Without vorticity the shader never touches omega (VORTICITY): any buffer fills the slot.
-    cmd_.bind(4, vorticity_pass_ ? omega_ : at(Spare0));
-    cmd_.bind(5, rho_);
+    cmd_.bind("omega", vorticity_pass_ ? omega_ : at(Spare0));
+    cmd_.bind("rho", rho_);
   });
   swap_roles(V, Spare0);
 }
 
 void GpuSolver::vorticity_force() {
   run_neighbour_pass(vorticity_, nullptr, [&] {
-    cmd_.bind(1, at(X));
-    cmd_.bind(2, omega_);
-    cmd_.bind(3, at(V));
+    cmd_.bind("x", at(X));
+    cmd_.bind("omega", omega_);
+    cmd_.bind("v", at(V));
   });
 }
 
@@ -438,9 +405,9 @@ void GpuSolver::record_step() {
 void GpuSolver::watch() {
   cmd_.update(watch_buf_, &step_in_frame_, sizeof step_in_frame_, 5 * sizeof(uint32_t));
   bind_particle_pass(watch_);
-  cmd_.bind(0, at(X));
-  cmd_.bind(1, at(V));
-  cmd_.bind(2, watch_buf_);
+  cmd_.bind("x", at(X));
+  cmd_.bind("v", at(V));
+  cmd_.bind("watch", watch_buf_);
   cmd_.dispatch(n_);
   ++step_in_frame_;
 }

@@ -3,11 +3,11 @@
 // whole frame (all its steps and the measures) is one command buffer.
 #include <array>
 #include <functional>
-#include <initializer_list>
 #include <memory>
 #include <string_view>
 #include <vector>
 
+#include "gpu/buffer_plan.hpp"
 #include "gpu/gpu_grid.hpp"
 #include "sim/obstacles.hpp"
 #include "sim/params.hpp"
@@ -58,6 +58,7 @@ class GpuSolver : public Solver {
 
  private:
   enum Slot { X, V, XPred, Spare0, Spare1, kSlots };  // roles of the vec4 arrays, swapped on the host
+  static_assert(kSlots == SolverBuffers::kParticleVec4s);
   const vk::Buffer& at(Slot s) const { return vec4_[role_[s]]; }
   void swap_roles(Slot a, Slot b) { std::swap(role_[a], role_[b]); }
   // Sorts `keyed`, `carried` and the ids by the cells of `keyed`, then lists its neighbours.
@@ -66,17 +67,15 @@ class GpuSolver : public Solver {
   // readers, and the cell walkers for overflowed lists (for every particle without lists).
   struct NeighbourPass {
     vk::Program lists, cells;
-    uint32_t lists_binding;  // the counts; the entries at the next binding (bind_neighbours)
   };
-  // `gathered`: the texel bindings of the arrays the pass reads at j, besides the grid and lists.
-  NeighbourPass neighbour_pass(std::string_view shader, uint32_t bindings, std::vector<uint32_t> constants,
-                               uint32_t lists, std::initializer_list<vk::TexelBinding> gathered) const;
+  // `constants`: the shader's own; neighbour_pass adds those of shaders/neighbours.glsl.
+  NeighbourPass neighbour_pass(std::string_view shader, std::vector<vk::Constant> constants) const;
   // Runs `pass` with the grid, its lists and the bindings `bind` makes: the list readers
   // over every particle, then the cell walkers over the particles whose lists overflowed
   // (an empty dispatch, mostly).
   void run_neighbour_pass(const NeighbourPass& pass, const vk::Buffer* indirect, const std::function<void()>& bind);
   void bind_particle_pass(const vk::Program& p);
-  void bind_neighbours(uint32_t lists);
+  void bind_neighbours();
   void neighbour_lists(const vk::Buffer& x);
   void density_at_positions();  // rho at x for the LDC force and the measures, from the last step's lists
   FrameStats read_measures() const;
@@ -90,6 +89,7 @@ class GpuSolver : public Solver {
   Derived d_;
   SimConstants sim_;
   uint32_t n_;
+  SolverBuffers plan_;  // every buffer below, in bytes
   bool viscosity_pass_, vorticity_pass_, correction_pass_;
   bool density_current_ = false;  // rho already matches x (the viscosity pass or a density pass left it)
   bool lists_built_ = false;      // the grid and lists follow the particles' order (built since the upload)
@@ -98,9 +98,9 @@ class GpuSolver : public Solver {
   NeighbourPass density_, correction_, lambda_, smooth_, apply_, viscosity_, vorticity_;
   vk::Program reduce_, reduce_final_, check_converged_, watch_;
   GpuGrid grid_;
-  std::array<vk::Buffer, kSlots> vec4_;
+  std::array<vk::Buffer, SolverBuffers::kParticleVec4s> vec4_;
   std::array<int, kSlots> role_{X, V, XPred, Spare0, Spare1};
-  std::array<vk::Buffer, 2> id_;
+  std::array<vk::Buffer, SolverBuffers::kIdArrays> id_;
   int id_current_ = 0;
   vk::Buffer rho_, neighbour_count_, neighbour_list_;
   vk::Buffer x_lambda_, x_lambda_spare_;  // (x_pred, lambda) and its smoothing spare (constraint_lambda.comp)

@@ -3,23 +3,21 @@
 #include <sys/resource.h>
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <limits>
 #include <sstream>
 
 #include "common/input_error.hpp"
+#include "gpu/buffer_plan.hpp"
 #include "vk/context.hpp"
 
 namespace pbflow {
 
 namespace {
 
-// Bytes per particle, counted from the arrays each solver allocates (rounded up):
-// GPU: five vec4 arrays, two id arrays, rho, (x_pred, lambda) and its smoothing spare (vec4s), the vorticity vec4 and the grid's cell
-// and rank, then the neighbour lists, their counts and the overflow list (4 bytes an entry); host: the initial
-// lattice (dvec3), the state uploaded once (x, v, x_pred) and a frame read back for
-// rendering or export (x, v, rho, id).
-constexpr double kGpuPerParticle = 152, kGpuPerCell = 4.5;
+// Host bytes per particle of a GPU run: the initial lattice (dvec3), the state uploaded once
+// (x, v, x_pred) and a frame read back for rendering or export (x, v, rho, id).
 constexpr double kHostPerParticleGpuRun = 24 + 72 + 48 + 40;
 // Reference: x, v, x_pred, omega (dvec3), rho, lambda, its cell lists, two scratch dvec3
 // arrays, the initial lattice, a frame read back, and its neighbour lists (~40 entries of 8 bytes).
@@ -69,10 +67,13 @@ MemoryNeed memory_need(const Derived& d, double particles, const vk::DeviceInfo*
   const double cells = double(d.grid.x) * d.grid.y * d.grid.z;
   double gpu = 0, host = kBytesPerPixel * pixels, largest = 0;
   if (device) {
-    const uint32_t capacity = neighbour_capacity_on(d, particles, *device);
-    gpu = (kGpuPerParticle + 4.0 * (list_words(capacity) + 2)) * particles + kGpuPerCell * cells;
+    Derived on_device = d;
+    on_device.neighbour_capacity = neighbour_capacity_on(d, particles, *device);
+    // Capped where the count is past any machine, so that the conversion stays defined.
+    const SolverBuffers plan = plan_buffers(on_device, uint64_t(std::ceil(std::min(particles, 1e15))));
+    gpu = double(plan.total());
     host += kHostPerParticleGpuRun * particles;
-    largest = std::max<double>(sizeof(glm::vec4), sizeof(uint32_t) * list_words(capacity)) * particles;
+    largest = double(plan.largest());
   } else {
     host += kHostPerParticleCpuRun * particles + kHostPerCellCpuRun * cells;
   }

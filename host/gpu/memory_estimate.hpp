@@ -14,14 +14,10 @@ struct DeviceInfo;
 }
 
 struct MemoryNeed {
-  uint64_t device = 0;  // GPU buffers (none for the reference solver)
+  uint64_t device = 0;  // GPU buffers (gpu/buffer_plan.hpp; none for the reference solver)
   uint64_t host = 0;    // the solver's host arrays, host copies of a frame, framebuffers
   uint64_t largest_array = 0;  // one GPU buffer (a vec4 per particle), against the storage buffer range
 };
-
-// The words per particle of the neighbour list buffer for `capacity` entries: whole groups
-// of four (shaders/neighbour_lists.comp), one group without lists.
-inline uint32_t list_words(uint32_t capacity) { return 4 * ((capacity + 3) / 4 + (capacity == 0)); }
 
 // The neighbour capacity a GPU run gets: the scene's (Derived::neighbour_capacity), or 0
 // where one list for `particles` would pass the device's storage buffer range (llvmpipe's

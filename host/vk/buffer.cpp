@@ -39,6 +39,7 @@ Buffer::Buffer(const Context& ctx, VkDeviceSize bytes, Memory memory) : ctx_(&ct
     VK_CHECK(vkAllocateMemory(ctx.device(), &alloc, nullptr, &memory_));
     VK_CHECK(vkBindBufferMemory(ctx.device(), buffer_, memory_, 0));
     if (memory == Memory::Host) VK_CHECK(vkMapMemory(ctx.device(), memory_, 0, VK_WHOLE_SIZE, 0, &mapped_));
+    ctx.count_buffer_bytes(int64_t(bytes_));
   } catch (...) {
     release();
     throw;
@@ -65,7 +66,10 @@ void Buffer::release() noexcept {
     if (v.view) vkDestroyBufferView(ctx_->device(), v.view, nullptr);
   views_ = {};
   if (buffer_) vkDestroyBuffer(ctx_->device(), buffer_, nullptr);
-  if (memory_) vkFreeMemory(ctx_->device(), memory_, nullptr);  // unmaps too
+  if (memory_) {
+    vkFreeMemory(ctx_->device(), memory_, nullptr);  // unmaps too
+    ctx_->count_buffer_bytes(-int64_t(bytes_));
+  }
   buffer_ = VK_NULL_HANDLE;
   memory_ = VK_NULL_HANDLE;
   mapped_ = nullptr;

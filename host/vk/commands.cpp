@@ -58,11 +58,11 @@ void CommandList::set_program(const Program& program) {
   vkCmdBindPipeline(cb_, VK_PIPELINE_BIND_POINT_COMPUTE, program.pipeline());
 }
 
-void CommandList::bind(uint32_t binding, const Buffer& buffer) {
-  if (!program_ || binding >= program_->bindings())
-    throw Error("bind(" + std::to_string(binding) + ") outside the bindings of the current program");
-  bound_[binding] = {buffer.handle(), 0, VK_WHOLE_SIZE};
-  if (VkFormat format = program_->texel_format(binding)) views_[binding] = buffer.view(format);
+void CommandList::bind(std::string_view name, const Buffer& buffer) {
+  if (!program_) throw Error("bind(" + std::string(name) + ") without a program");
+  const size_t i = program_->binding(name);
+  bound_[i] = {buffer.handle(), 0, VK_WHOLE_SIZE};
+  if (VkFormat format = program_->bindings()[i].format) views_[i] = buffer.view(format);
 }
 
 void CommandList::push_bytes(const void* data, uint32_t bytes) {
@@ -73,22 +73,20 @@ void CommandList::push_bytes(const void* data, uint32_t bytes) {
 }
 
 void CommandList::push_descriptors() {
+  const auto& bindings = program_->bindings();
   std::array<VkWriteDescriptorSet, Program::kMaxBindings> writes{};
-  for (uint32_t i = 0; i < program_->bindings(); ++i) {
-    if (!bound_[i].buffer)
-      throw Error("program " + program_->name() + ": binding " + std::to_string(i) + " was not bound");
+  for (size_t i = 0; i < bindings.size(); ++i) {
+    if (!bound_[i].buffer) throw Error("program " + program_->name() + ": " + bindings[i].name + " was not bound");
     writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-    writes[i].dstBinding = i;
+    writes[i].dstBinding = bindings[i].slot;
     writes[i].descriptorCount = 1;
-    if (views_[i]) {
-      writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;
+    writes[i].descriptorType = bindings[i].type;
+    if (bindings[i].format)
       writes[i].pTexelBufferView = &views_[i];
-    } else {
-      writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    else
       writes[i].pBufferInfo = &bound_[i];
-    }
   }
-  ctx_->push_descriptor_set(cb_, VK_PIPELINE_BIND_POINT_COMPUTE, program_->layout(), 0, program_->bindings(),
+  ctx_->push_descriptor_set(cb_, VK_PIPELINE_BIND_POINT_COMPUTE, program_->layout(), 0, uint32_t(bindings.size()),
                             writes.data());
 }
 

@@ -5,6 +5,7 @@
 #include <vulkan/vulkan.h>
 
 #include <array>
+#include <string_view>
 
 #include "vk/program.hpp"
 
@@ -24,7 +25,9 @@ class CommandList {
   void submit_and_wait();  // ends recording, submits, waits for the GPU to finish
 
   void set_program(const Program& program);
-  void bind(uint32_t binding, const Buffer& buffer);
+  // Binds `buffer` to the current program's binding that the shader names `name`
+  // (vk/spirv_layout.hpp), as a storage buffer or a texel view as the shader declares it.
+  void bind(std::string_view name, const Buffer& buffer);
   template <class T>
   void push(const T& constants) { push_bytes(&constants, sizeof(T)); }
   // Runs the program over `invocations` threads (gl_GlobalInvocationID folded to 1D by

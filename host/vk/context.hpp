@@ -4,6 +4,7 @@
 #include <vulkan/vulkan.h>
 
 #include <array>
+#include <atomic>
 #include <functional>
 #include <mutex>
 #include <string>
@@ -61,6 +62,11 @@ class Context {
   // Records commands into a one-time command buffer, submits them and waits.
   void submit_and_wait(const std::function<void(VkCommandBuffer)>& record) const;
 
+  // Bytes of the vk::Buffers alive in this context, as requested (each allocation rounds
+  // them up to the device's alignment); the memory estimate's test holds the plan to it.
+  uint64_t buffer_bytes() const { return buffer_bytes_; }
+  void count_buffer_bytes(int64_t delta) const { buffer_bytes_ += uint64_t(delta); }
+
   // Validation messages (warnings and errors) seen so far; tests require none.
   std::vector<std::string> validation_messages() const;
 
@@ -86,6 +92,7 @@ class Context {
   uint32_t workgroup_size_ = 64;
   bool external_memory_fd_ = false;
   std::array<uint8_t, VK_UUID_SIZE> device_uuid_{};
+  mutable std::atomic<uint64_t> buffer_bytes_{0};
   mutable std::mutex messages_mutex_;
   std::vector<std::string> messages_;
 };

@@ -1,5 +1,6 @@
 #include "vk/program.hpp"
 
+#include <algorithm>
 #include <string>
 #include <utility>
 #include <vector>
@@ -10,28 +11,35 @@
 
 namespace pbflow::vk {
 
-Program::Program(const Context& ctx, std::string_view shader, uint32_t bindings, uint32_t push_bytes,
-                 uint32_t workgroup_size, std::span<const uint32_t> constants,
-                 std::span<const TexelBinding> texels)
+Program::Program(const Context& ctx, std::string_view shader, uint32_t push_bytes, uint32_t workgroup_size,
+                 std::span<const Constant> constants)
     : ctx_(&ctx),
       name_(shader),
-      bindings_(bindings),
       push_bytes_(push_bytes),
       workgroup_size_(workgroup_size ? workgroup_size : ctx.workgroup_size()) {
-  if (bindings > kMaxBindings) throw Error("program " + name_ + " has more than " + std::to_string(kMaxBindings) + " bindings");
-  for (const TexelBinding& t : texels) {
-    if (t.binding >= bindings) throw Error("program " + name_ + ": texel binding outside its bindings");
-    texel_formats_[t.binding] = t.format;
+  const std::span<const uint32_t> words = shaders::spirv(shader);
+  ShaderLayout layout = reflect_layout(words);
+  bindings_ = std::move(layout.bindings);
+  if (bindings_.size() > kMaxBindings) throw Error("program " + name_ + " has more than " + std::to_string(kMaxBindings) + " bindings");
+  // Constant 0 is local_size_x; the shader's own constants follow by id, each set by name.
+  std::vector<VkSpecializationMapEntry> entries{{0, 0, sizeof(uint32_t)}};
+  std::vector<uint32_t> values{workgroup_size_};
+  for (const Constant& c : constants)
+    if (std::ranges::find(layout.constants, c.name, &ShaderLayout::Constant::name) == layout.constants.end())
+      throw Error("program " + name_ + " declares no constant " + std::string(c.name));
+  for (const ShaderLayout::Constant& c : layout.constants) {
+    auto given = std::ranges::find(constants, c.name, &Constant::name);
+    if (given == constants.end()) throw Error("program " + name_ + ": constant " + c.name + " was not set");
+    entries.push_back({c.id, uint32_t(values.size() * sizeof(uint32_t)), sizeof(uint32_t)});
+    values.push_back(given->value);
   }
   VkShaderModule module = VK_NULL_HANDLE;
   try {
-    std::vector<VkDescriptorSetLayoutBinding> slots(bindings);
-    for (uint32_t i = 0; i < bindings; ++i)
-      slots[i] = {i, texel_formats_[i] ? VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                  1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
+    std::vector<VkDescriptorSetLayoutBinding> slots;
+    for (const ShaderLayout::Binding& b : bindings_) slots.push_back({b.slot, b.type, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr});
     VkDescriptorSetLayoutCreateInfo set{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     set.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
-    set.bindingCount = bindings;
+    set.bindingCount = uint32_t(slots.size());
     set.pBindings = slots.data();
     VK_CHECK(vkCreateDescriptorSetLayout(ctx.device(), &set, nullptr, &set_layout_));
 
@@ -43,17 +51,11 @@ Program::Program(const Context& ctx, std::string_view shader, uint32_t bindings,
     layout.pPushConstantRanges = &range;
     VK_CHECK(vkCreatePipelineLayout(ctx.device(), &layout, nullptr, &layout_));
 
-    auto words = shaders::spirv(shader);
     VkShaderModuleCreateInfo code{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
     code.codeSize = words.size_bytes();
     code.pCode = words.data();
     VK_CHECK(vkCreateShaderModule(ctx.device(), &code, nullptr, &module));
 
-    // Constant 0 is local_size_x; the shader's own constants follow as 1, 2, ...
-    std::vector<uint32_t> values{workgroup_size_};
-    values.insert(values.end(), constants.begin(), constants.end());
-    std::vector<VkSpecializationMapEntry> entries;
-    for (uint32_t k = 0; k < values.size(); ++k) entries.push_back({k, k * uint32_t(sizeof(uint32_t)), sizeof(uint32_t)});
     VkSpecializationInfo spec{uint32_t(entries.size()), entries.data(), values.size() * sizeof(uint32_t), values.data()};
     VkComputePipelineCreateInfo pipe{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
     pipe.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
@@ -79,12 +81,17 @@ Program& Program::operator=(Program&& o) noexcept {
     set_layout_ = std::exchange(o.set_layout_, VK_NULL_HANDLE);
     layout_ = std::exchange(o.layout_, VK_NULL_HANDLE);
     pipeline_ = std::exchange(o.pipeline_, VK_NULL_HANDLE);
-    bindings_ = o.bindings_;
+    bindings_ = std::move(o.bindings_);
     push_bytes_ = o.push_bytes_;
     workgroup_size_ = o.workgroup_size_;
-    texel_formats_ = o.texel_formats_;
   }
   return *this;
+}
+
+size_t Program::binding(std::string_view name) const {
+  auto b = std::ranges::find(bindings_, name, &ShaderLayout::Binding::name);
+  if (b == bindings_.end()) throw Error("program " + name_ + " has no binding named " + std::string(name));
+  return size_t(b - bindings_.begin());
 }
 
 void Program::release() noexcept {

@@ -1,0 +1,61 @@
+#include "gpu/buffer_plan.hpp"
+
+#include <algorithm>
+
+#include "sim/obstacles.hpp"
+
+namespace pbflow {
+
+namespace {
+
+uint64_t scan_blocks(uint64_t values) { return (values + kScanBlock - 1) / kScanBlock; }
+
+GridBuffers plan_grid(const Derived& d, uint64_t particles) {
+  GridBuffers g;
+  g.cell = g.rank = particles * sizeof(uint32_t);
+  // One more entry than cells: after the exclusive scan it holds the particle count, so
+  // that cell c's particles are [start[c], start[c + 1]) for every c.
+  uint64_t size = uint64_t(d.grid.x) * d.grid.y * d.grid.z + 1;
+  for (;;) {
+    g.level_entries.push_back(uint32_t(size));
+    g.levels.push_back(scan_blocks(size) * kScanBlock * sizeof(uint32_t));  // the scan moves whole blocks
+    if (size == 1) break;
+    // The next level holds this one's block sums, or only its total where it scans in one group.
+    size = scan_blocks(size) <= kOneGroupBlocks ? 1 : scan_blocks(size);
+  }
+  return g;
+}
+
+}  // namespace
+
+SolverBuffers plan_buffers(const Derived& d, uint64_t particles) {
+  const uint64_t vec4 = particles * sizeof(glm::vec4), word = particles * sizeof(uint32_t);
+  SolverBuffers b;
+  b.particle_vec4 = vec4;
+  b.id = b.rho = word;
+  b.neighbour_count = (2 * particles + 1) * sizeof(uint32_t);
+  b.neighbour_list = word * list_words(d.neighbour_capacity);
+  b.x_lambda_spare = d.solver.lambda_smoothing > 0 ? vec4 : 0;
+  b.omega = d.solver.vorticity > 0 ? vec4 : 0;
+  b.partials = 2 * ((particles + kReduceThreads - 1) / kReduceThreads) * sizeof(glm::vec4);
+  b.obstacles = pack_obstacles(d.obstacles).size() * sizeof(glm::vec4);
+  b.watch = 6 * sizeof(uint32_t);
+  b.overflow_groups = 4 * sizeof(uint32_t);
+  b.adaptive_words = d.solver.target_compression > 0 ? 2 * sizeof(glm::vec4) : 0;
+  b.grid = plan_grid(d, particles);
+  return b;
+}
+
+uint64_t SolverBuffers::total() const {
+  uint64_t sum = (kParticleVec4s + 1) * particle_vec4 + kIdArrays * id + rho + neighbour_count + neighbour_list +
+                 x_lambda_spare + omega + partials + obstacles + watch + overflow_groups + 3 * adaptive_words +
+                 result + grid.cell + grid.rank;
+  for (uint64_t level : grid.levels) sum += level;
+  return sum;
+}
+
+uint64_t SolverBuffers::largest() const {
+  return std::max({particle_vec4, neighbour_list, neighbour_count, grid.levels.front()});
+}
+
+}  // namespace pbflow

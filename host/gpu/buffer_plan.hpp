@@ -1,0 +1,56 @@
+#pragma once
+// The device buffers of a GPU run and their sizes in bytes, from the scene alone. GpuSolver
+// and GpuGrid allocate from this plan and the memory estimate sums it, so that the estimate
+// is what a run holds (tests/memory_test.cpp measures both).
+#include <cstdint>
+#include <vector>
+
+#include "sim/params.hpp"
+
+namespace pbflow {
+
+// The frame's read-back, one host-visible buffer: reduce_final.comp's two vec4 (mean
+// compression, max compression, kinetic energy, max speed; potential energy), the adaptive
+// iteration count copied from check_converged's indirect buffer, and watch.comp's words.
+struct FrameResult {
+  glm::vec4 measures, energy;
+  uint32_t iterations, unused[3];
+  uint32_t watch_flags, watch_first_step, watch_counts[3];
+};
+
+// The grid's counting sort (gpu_grid.hpp): each particle's cell and rank, and the scan's levels.
+struct GridBuffers {
+  uint64_t cell = 0, rank = 0;
+  std::vector<uint32_t> level_entries;  // [0]: a count per cell and the total; then block sums
+  std::vector<uint64_t> levels;         // bytes of each level: whole scan blocks
+};
+
+struct SolverBuffers {
+  static constexpr int kParticleVec4s = 5;  // x, v, x_pred and two spares, whose roles swap
+  static constexpr int kIdArrays = 2;       // the particles' ids before and after a sort
+  uint64_t particle_vec4 = 0;               // each of those, and (x_pred, lambda)
+  uint64_t id = 0, rho = 0;
+  uint64_t neighbour_count = 0, neighbour_list = 0;  // counts then the overflow list; entries
+  uint64_t x_lambda_spare = 0, omega = 0;            // 0 where the scene has no smoothing, no vorticity
+  uint64_t partials = 0, obstacles = 0, watch = 0, overflow_groups = 0;
+  uint64_t adaptive_words = 0;  // each of check_converged's three buffers; 0 without adaptive iterations
+  uint64_t result = sizeof(FrameResult);
+  GridBuffers grid;
+
+  uint64_t total() const;
+  uint64_t largest() const;  // one buffer, against the storage buffer range
+};
+
+constexpr uint32_t kReduceThreads = 256;  // reduce_stats.comp and reduce_final.comp: particles per partial sum
+constexpr uint32_t kScanBlock = 1024;     // values per workgroup in scan_blocks.comp (64 threads x 16)
+// Up to this many blocks scan in one workgroup, in one dispatch (gpu_grid.cpp).
+constexpr uint32_t kOneGroupBlocks = 32;
+
+// The words per particle of the neighbour list buffer for `capacity` entries: whole groups
+// of four (shaders/neighbour_lists.comp), one group without lists.
+inline uint32_t list_words(uint32_t capacity) { return 4 * ((capacity + 3) / 4 + (capacity == 0)); }
+
+// `d.neighbour_capacity` as the run will use it (neighbour_capacity_on).
+SolverBuffers plan_buffers(const Derived& d, uint64_t particles);
+
+}  // namespace pbflow

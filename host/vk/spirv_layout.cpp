@@ -1,0 +1,114 @@
+#include "vk/spirv_layout.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cstring>
+#include <map>
+
+#include "vk/check.hpp"
+
+namespace pbflow::vk {
+
+namespace {
+
+// The few SPIR-V opcodes, decorations and enumerants the layout needs (SPIR-V 1.5 spec, 3.x).
+enum Op : uint32_t {
+  OpName = 5,
+  OpTypeImage = 25,
+  OpTypePointer = 32,
+  OpSpecConstantTrue = 48,
+  OpSpecConstantFalse = 49,
+  OpSpecConstant = 50,
+  OpVariable = 59,
+  OpDecorate = 71,
+};
+enum Decoration : uint32_t { SpecId = 1, Binding = 33, DescriptorSet = 34 };
+enum StorageClass : uint32_t { UniformConstant = 0, StorageBuffer = 12 };
+constexpr uint32_t kMagic = 0x07230203, kDimBuffer = 5, kSampledStorage = 2, kHeaderWords = 5;
+
+VkFormat texel_format(uint32_t spirv_format) {
+  switch (spirv_format) {
+    case 1: return VK_FORMAT_R32G32B32A32_SFLOAT;  // Rgba32f
+    case 3: return VK_FORMAT_R32_SFLOAT;           // R32f
+    case 30: return VK_FORMAT_R32G32B32A32_UINT;   // Rgba32ui
+    case 33: return VK_FORMAT_R32_UINT;            // R32ui
+    default: throw Error("shader layout: an image format the programs do not use (" + std::to_string(spirv_format) + ")");
+  }
+}
+
+std::string literal_string(std::span<const uint32_t> words) {
+  const char* text = reinterpret_cast<const char*>(words.data());
+  return std::string(text, strnlen(text, words.size_bytes()));
+}
+
+// A block's name as the host binds it: XLambdaOut -> x_lambda_out.
+std::string snake_case(const std::string& block) {
+  std::string name;
+  for (char c : block) {
+    if (std::isupper(static_cast<unsigned char>(c)) && !name.empty()) name += '_';
+    name += char(std::tolower(static_cast<unsigned char>(c)));
+  }
+  return name;
+}
+
+}  // namespace
+
+ShaderLayout reflect_layout(std::span<const uint32_t> spirv) {
+  if (spirv.size() < kHeaderWords || spirv[0] != kMagic) throw Error("shader layout: not SPIR-V");
+  std::map<uint32_t, std::string> names;
+  std::map<uint32_t, uint32_t> slot, set, spec_id, pointee;
+  std::map<uint32_t, VkFormat> texel_images;  // storage image buffers, by type id
+  struct Variable {
+    uint32_t pointer_type, id, storage;
+  };
+  std::vector<Variable> variables;
+  std::vector<uint32_t> spec_constants;
+  for (size_t at = kHeaderWords; at < spirv.size();) {
+    const uint32_t count = spirv[at] >> 16, op = spirv[at] & 0xffff;
+    if (count == 0 || at + count > spirv.size()) throw Error("shader layout: truncated SPIR-V");
+    const std::span<const uint32_t> arg = spirv.subspan(at + 1, count - 1);
+    switch (op) {
+      case OpName: names[arg[0]] = literal_string(arg.subspan(1)); break;
+      case OpDecorate:
+        if (arg[1] == Binding) slot[arg[0]] = arg[2];
+        if (arg[1] == DescriptorSet) set[arg[0]] = arg[2];
+        if (arg[1] == SpecId) spec_id[arg[0]] = arg[2];
+        break;
+      case OpTypeImage:  // result, sampled type, dim, depth, arrayed, ms, sampled, format
+        if (arg[2] == kDimBuffer && arg[6] == kSampledStorage) texel_images[arg[0]] = texel_format(arg[7]);
+        break;
+      case OpTypePointer: pointee[arg[0]] = arg[2]; break;
+      case OpVariable: variables.push_back({arg[0], arg[1], arg[2]}); break;
+      case OpSpecConstantTrue:
+      case OpSpecConstantFalse:
+      case OpSpecConstant: spec_constants.push_back(arg[1]); break;
+      default: break;
+    }
+    at += count;
+  }
+
+  ShaderLayout layout;
+  for (const auto [pointer_type, id, storage] : variables) {
+    if (!slot.count(id)) continue;
+    if (set[id] != 0) throw Error("shader layout: a descriptor set other than 0");
+    ShaderLayout::Binding b{slot[id], names[id], VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_FORMAT_UNDEFINED};
+    const uint32_t type = pointee[pointer_type];
+    if (storage == StorageBuffer) {
+      if (b.name.empty()) b.name = snake_case(names[type]);
+    } else if (storage == UniformConstant && texel_images.count(type)) {
+      b.type = VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;
+      b.format = texel_images[type];
+    } else {
+      throw Error("shader layout: binding " + std::to_string(b.slot) + " is neither a storage buffer nor a storage image buffer");
+    }
+    if (b.name.empty()) throw Error("shader layout: binding " + std::to_string(b.slot) + " has no name (compile with -g)");
+    layout.bindings.push_back(std::move(b));
+  }
+  for (uint32_t id : spec_constants)
+    if (spec_id.count(id) && spec_id[id] != 0) layout.constants.push_back({spec_id[id], names[id]});
+  std::ranges::sort(layout.bindings, {}, &ShaderLayout::Binding::slot);
+  std::ranges::sort(layout.constants, {}, &ShaderLayout::Constant::id);
+  return layout;
+}
+
+}  // namespace pbflow::vk

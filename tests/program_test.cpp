@@ -1,0 +1,112 @@
+// The C++/GLSL contract: a program's bindings and constants are read from its SPIR-V and
+// the host names them, so a mismatch fails where it is made, not as a wrong result.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <stdexcept>
+#include <vector>
+
+#include "support.hpp"
+#include "vk/buffer.hpp"
+#include "vk/check.hpp"
+#include "vk/commands.hpp"
+#include "vk/program.hpp"
+#include "vk/shader_library.hpp"
+#include "vk/spirv_layout.hpp"
+
+namespace pbflow {
+namespace {
+
+using vk::ShaderLayout;
+
+const ShaderLayout::Binding* find(const ShaderLayout& layout, const std::string& name) {
+  for (const auto& b : layout.bindings)
+    if (b.name == name) return &b;
+  return nullptr;
+}
+
+TEST(ShaderLayout, ANeighbourPassReadsItsSlotsTypesAndConstantsFromTheSpirv) {
+  const ShaderLayout density = vk::reflect_layout(shaders::spirv("density"));
+  ASSERT_EQ(density.bindings.size(), 5u);
+  const struct {
+    const char* name;
+    uint32_t slot;
+    VkFormat format;  // VK_FORMAT_UNDEFINED: a storage buffer
+  } expected[] = {{"cell_start", 0, VK_FORMAT_R32_UINT},
+                  {"x", 1, VK_FORMAT_R32G32B32A32_SFLOAT},
+                  {"rho", 2, VK_FORMAT_UNDEFINED},
+                  {"neighbour_count", 3, VK_FORMAT_R32_UINT},
+                  {"neighbour_list", 4, VK_FORMAT_R32G32B32A32_UINT}};
+  for (const auto& e : expected) {
+    const auto* b = find(density, e.name);
+    ASSERT_NE(b, nullptr) << e.name;
+    EXPECT_EQ(b->slot, e.slot) << e.name;
+    EXPECT_EQ(b->format, e.format) << e.name;
+    EXPECT_EQ(b->type, e.format ? VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER) << e.name;
+  }
+  ASSERT_EQ(density.constants.size(), 2u);
+  EXPECT_EQ(density.constants[0].name, "NEIGHBOUR_CAPACITY");
+  EXPECT_EQ(density.constants[1].name, "WALK_CELLS");
+  EXPECT_EQ(density.constants[1].id, density.constants[0].id + 1);
+}
+
+TEST(ShaderLayout, AnonymousBlocksBindByTheirNameInSnakeCase) {
+  const ShaderLayout scatter = vk::reflect_layout(shaders::spirv("grid_scatter"));
+  for (const char* name : {"cell", "rank", "cell_start", "x_in", "payload_in", "id_in", "x_out", "payload_out", "id_out"})
+    EXPECT_NE(find(scatter, name), nullptr) << name;
+}
+
+TEST(ShaderLayout, WordsThatAreNotSpirvAreRefused) {
+  const std::vector<uint32_t> junk{1, 2, 3, 4, 5, 6};
+  EXPECT_THROW(vk::reflect_layout(junk), vk::Error);
+  std::vector<uint32_t> truncated(shaders::spirv("density").begin(), shaders::spirv("density").begin() + 40);
+  truncated[5] = 0xffff0000u | (truncated[5] & 0xffff);  // an instruction longer than the words left
+  EXPECT_THROW(vk::reflect_layout(truncated), vk::Error);
+}
+
+class ProgramContract : public test::GpuTest {};
+
+TEST_F(ProgramContract, AConstantTheShaderLacksOrOmitsIsRefusedByName) {
+  const std::array<vk::Constant, 1> typo{{{"SPEED_LIMT", 0u}}};
+  try {
+    vk::Program(test::gpu(), "watch", 64, 0, typo);
+    FAIL() << "a constant the shader does not declare was accepted";
+  } catch (const vk::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("SPEED_LIMT"), std::string::npos) << e.what();
+  }
+  try {
+    vk::Program(test::gpu(), "watch", 64);
+    FAIL() << "a constant the shader declares was left unset";
+  } catch (const vk::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("SPEED_LIMIT"), std::string::npos) << e.what();
+  }
+}
+
+TEST_F(ProgramContract, BindingANameTheShaderLacksThrowsNamingIt) {
+  const vk::Program scan(test::gpu(), "scan_add", sizeof(uint32_t), 64);
+  vk::Buffer buffer(test::gpu(), 1024);
+  vk::CommandList cmd(test::gpu());
+  cmd.begin();
+  cmd.set_program(scan);
+  cmd.bind("data", buffer);
+  try {
+    cmd.bind("sum", buffer);
+    FAIL() << "a binding the shader does not have was accepted";
+  } catch (const vk::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("sum"), std::string::npos) << e.what();
+  }
+  // A binding left unbound is refused at the dispatch, by name.
+  try {
+    cmd.dispatch(64);
+    FAIL() << "a dispatch with an unbound binding was recorded";
+  } catch (const vk::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("sums"), std::string::npos) << e.what();
+  }
+  cmd.bind("sums", buffer);
+  cmd.push(uint32_t(64));
+  cmd.dispatch(64);
+  cmd.submit_and_wait();
+}
+
+}  // namespace
+}  // namespace pbflow
