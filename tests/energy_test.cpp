@@ -63,10 +63,9 @@ Scene small_tank(const Setting& s) {
 class EnergyTestBase : public test::GpuTest {};
 class EnergyTest : public EnergyTestBase, public testing::WithParamInterface<Setting> {};
 
-// Before the relaxation (host/stability.hpp) every one of these but pbf@4 and ldc@2 gained
-// 11-120 % of the initial potential energy or blew up at this step; pbf@1 then collapsed
-// (lambda's 1 / (1 + C)) or blew up (no such factor) until lambda's factor was sized by the
-// squeezed lattice's gain.
+// Unrelaxed Jacobi passes (sim/stability.hpp) make 11-120 % of the initial potential energy
+// or blow up at this step for all of these but pbf@4 and ldc@2; pbf@1 collapses or blows up
+// unless lambda's compressed gain is the squeezed lattice's (docs/physics.md).
 TEST_P(EnergyTest, DamBreakNeverGainsEnergy) {
   Outcome r = simulate(small_dam_break(GetParam()), 1.5);
   std::printf("  dam break: energy gain %+.4f, mean compression %.4f\n", r.gain, r.mean_compression);

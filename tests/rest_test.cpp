@@ -80,8 +80,9 @@ TEST_P(RestTest, TankLosesEnergyAndSettles) {
   ASSERT_TRUE(settled.converged) << settled.steps << " steps";
   EXPECT_GT(settled.potential_drop, 0.0);
   FrameStats s = solver.advance(0);
-  // Before the neighbours' images were neighbours of their own in lambda's sum (constraint_lambda.comp),
-  // the wall layer read 1.08 (ldc@1) to 1.31 (pbf@1) here, and the surface sank along the walls.
+  // With a neighbour's wall images summed into its own term of lambda's denominator
+  // (constraint_lambda.comp squares each apart), the wall layer reads 1.08 (ldc@1) to 1.31
+  // (pbf@1) here, and the surface sinks along the walls.
   const double wall_ratio = wall_layer_excess_ratio(solver.download(), d);
   std::printf("  settled: the wall layer's excess density over the inner fluid's, lower half: %.3f\n", wall_ratio);
   EXPECT_NEAR(wall_ratio, 1.0, 0.05) << "the walls squeeze the fluid beside them more (or less) than it is squeezed inside";

@@ -1,5 +1,5 @@
 // The walls are mirrors: a lattice at rest reads rho0 beside faces, edges and corners as inside
-// the fluid, at the scene's own spacing and a coarser one (docs/physics.md, "Walls").
+// the fluid, at the scene's own spacing and a coarser one (docs/physics.md, "Walls as mirrors").
 
 #include <gtest/gtest.h>
 

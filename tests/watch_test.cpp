@@ -73,8 +73,8 @@ TEST(WatchCli, ABlownUpRunExitsWith3AndKeepsCompleteFrames) {
   fs::remove_all(dir);
   fs::path log = dir.string() + ".log";
   // Vorticity confinement adds energy every step (the one force that may): at 20 m/s it spins
-  // the dam break up past the watch's bound within a few frames. (An LDC K past its limit,
-  // the old way to blow a run up, is now refused as bad input.)
+  // the dam break up past the watch's bound within a few frames. (An LDC K past its limit is
+  // refused as bad input, so it cannot serve.)
   std::string cmd = std::string(PBFLOW_BINARY) +
                     " run --param solver.vorticity=20 --param particle_spacing=0.04 --frames 60 --style particles"
                     " --width 64 --height 32 --export ply --out " + dir.string() + " > " + log.string() + " 2>&1";
