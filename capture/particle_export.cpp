@@ -1,7 +1,9 @@
 #include "capture/particle_export.hpp"
 
 #include <bit>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <stdexcept>
 #include <vector>
 
@@ -39,7 +41,7 @@ std::vector<float> records_by_id(const ParticleFrame& f) {
 }
 
 void put(std::FILE* out, const void* data, size_t bytes) {
-  if (bytes && std::fwrite(data, 1, bytes, out) != bytes) throw std::runtime_error("short write");
+  if (bytes && std::fwrite(data, 1, bytes, out) != bytes) throw std::runtime_error(std::strerror(errno));
 }
 
 void write_ply(std::FILE* out, const std::vector<float>& records, size_t n) {

@@ -2,6 +2,8 @@
 
 #include <png.h>
 
+#include <cerrno>
+#include <cstring>
 #include <stdexcept>
 
 #include "io/atomic_file.hpp"
@@ -16,8 +18,10 @@ void write_png(const std::filesystem::path& path, const Image& image) {
     png.height = png_uint_32(image.height);
     png.format = PNG_FORMAT_RGB;
     png.flags = PNG_IMAGE_FLAG_FAST;  // frame sequences favour speed over the last few percent of size
+    // libpng reports a failed fwrite as "Write Error"; the stream's errno names the cause
+    // (No space left on device, File too large).
     if (!png_image_write_to_stdio(&png, f, 0, image.rgb.data(), 0, nullptr))
-      throw std::runtime_error(png.message);
+      throw std::runtime_error(std::ferror(f) && errno ? std::strerror(errno) : png.message);
   });
 }
 

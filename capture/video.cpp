@@ -2,12 +2,15 @@
 
 #include <fcntl.h>
 #include <spawn.h>
+#include <sys/resource.h>
+#include <sys/statvfs.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
+#include <random>
 #include <vector>
 #include <sstream>
 #include <stdexcept>
@@ -29,11 +32,20 @@ std::filesystem::path find_ffmpeg() {
 
 VideoEncoder::VideoEncoder(const std::filesystem::path& file, int width, int height, double fps)
     : file_(file), width_(width), height_(height) {
+  const std::string extension = file.extension().string();
+  if (extension != ".mp4" && extension != ".mkv" && extension != ".mov")
+    throw InputError("--video " + file.string() + " needs the extension .mp4, .mkv or .mov (H.264)");
+  if (std::filesystem::is_directory(file)) throw InputError("--video " + file.string() + " is a directory: name a file");
   std::filesystem::path ffmpeg = find_ffmpeg();
   if (ffmpeg.empty()) throw InputError("--video needs ffmpeg, which is not on PATH (apt-get install ffmpeg)");
   if (width % 2 || height % 2) throw InputError("--video needs an even --width and --height (H.264 with 4:2:0)");
+  // A name no other run can produce (its pid and 64 random bits), created exclusively below:
+  // a run removes only its own temporary, never by a prefix or a name from a file.
+  std::random_device random;
+  std::ostringstream token;
+  token << std::hex << getpid() << "-" << ((uint64_t(random()) << 32) | random());
   tmp_ = file;
-  tmp_ += ".part" + std::to_string(getpid()) + file.extension().string();
+  tmp_ += ".part" + token.str() + extension;
   // Found now, not after the whole run: the folder must exist (or be made) and take a file.
   std::error_code error;
   if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path(), error);
@@ -85,17 +97,35 @@ int VideoEncoder::wait() {
   return status;
 }
 
+// ffmpeg's own message goes to stderr; the two causes a user can act on are named here too.
+std::string VideoEncoder::cause() const {
+  struct statvfs disk {};
+  const std::filesystem::path folder = tmp_.has_parent_path() ? tmp_.parent_path() : ".";
+  if (statvfs(folder.c_str(), &disk) == 0 && uint64_t(disk.f_bavail) * disk.f_frsize < (64u << 10))
+    return ": " + std::string(std::strerror(ENOSPC));
+  rlimit limit{};
+  std::error_code error;
+  const uintmax_t size = std::filesystem::file_size(tmp_, error);
+  if (!error && getrlimit(RLIMIT_FSIZE, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY && size + (64u << 10) >= limit.rlim_cur)
+    return ": " + std::string(std::strerror(EFBIG));
+  return "";
+}
+
 void VideoEncoder::add(const Image& frame) {
   if (frame.width != width_ || frame.height != height_) throw std::runtime_error("video frame of the wrong size");
   if (std::fwrite(frame.rgb.data(), 1, frame.rgb.size(), pipe_) != frame.rgb.size())
-    throw std::runtime_error("ffmpeg stopped taking frames for " + file_.string());
+    throw std::runtime_error("ffmpeg stopped taking frames for " + file_.string() + cause());
 }
 
 void VideoEncoder::finish() {
   int status = wait();
-  if (status != 0) {
+  // ffmpeg 5.1 exits 0 when it cannot write the trailer of a full disk's file, so a video
+  // that ends with the disk (or the file size limit) full is not trusted either.
+  const std::string why = cause();
+  if (status != 0 || !why.empty()) {
     std::filesystem::remove(tmp_);
-    throw std::runtime_error("ffmpeg failed to encode " + file_.string() + " (status " + std::to_string(status) + ")");
+    throw std::runtime_error("ffmpeg failed to encode " + file_.string() +
+                             (status ? " (status " + std::to_string(status) + ")" : "") + why);
   }
   std::filesystem::rename(tmp_, file_);
 }

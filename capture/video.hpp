@@ -28,6 +28,7 @@ class VideoEncoder {
   void finish();  // waits for ffmpeg, renames the video; throws if ffmpeg failed
 
  private:
+  std::string cause() const;  // ": No space left on device", ": File too large" or empty
   std::filesystem::path file_, tmp_;
   int width_, height_;
   std::FILE* pipe_ = nullptr;

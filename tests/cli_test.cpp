@@ -113,7 +113,10 @@ TEST(Cli, BadRenderOptionsExitWithStatus2AndWriteNothing) {
       {"--style watercolour", "", "--style"},
       {"--width 4", "", "--width"},
       {"--video " + (dir / "v.mp4").string(), "PATH=/nonexistent", "ffmpeg"},
+      {"--video " + (dir / "v.gif").string(), "", ".mp4, .mkv or .mov"},
+      {"--video " + (dir / "folder.mp4").string(), "", "is a directory"},
   };
+  fs::create_directories(dir / "folder.mp4");
   for (const Case& c : cases) {
     Result r = run_pbflow("run --frames 2 --param particle_spacing=0.04 --out " + (dir / "out").string() + " " + c.args,
                       c.env);
@@ -121,6 +124,7 @@ TEST(Cli, BadRenderOptionsExitWithStatus2AndWriteNothing) {
     EXPECT_NE(r.output.find(c.expect), std::string::npos) << c.args << ": " << r.output;
     EXPECT_FALSE(fs::exists(dir / "out")) << c.args << " wrote output despite bad input";
   }
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1) << "a temporary was left beside --out";
 }
 
 TEST(Cli, VideoHoldsEveryFrame) {
@@ -140,6 +144,43 @@ TEST(Cli, VideoHoldsEveryFrame) {
   EXPECT_EQ(probe.output, "160,96,5\n");
   for (const auto& entry : fs::directory_iterator(dir / "clip"))
     EXPECT_EQ(entry.path().filename(), "dam.mp4") << "left behind: " << entry.path();
+}
+
+// Files beside the video that merely look like its temporary, and another run's video of
+// the same name in progress, are never pbflow's to remove.
+TEST(Cli, AVideoRunRemovesNothingBesideItsVideo) {
+  if (pbflow::capture::find_ffmpeg().empty()) GTEST_SKIP() << "ffmpeg is not installed (scripts/setup.sh --test installs it)";
+  fs::path dir = fresh_dir("video_neighbours");
+  fs::create_directories(dir / "clip");
+  const std::vector<std::string> mine = {"dam.mp4.part1234.mp4", "dam.mp4.partial-notes.txt", "dam.mp4.part"};
+  for (const std::string& name : mine) std::ofstream(dir / "clip" / name) << "mine\n";
+  for (const char* out : {"a", "a", "b"}) {
+    Result r = run_pbflow("run --frames 3 --width 64 --height 32 --style particles --quiet --param particle_spacing=0.04 "
+                          "--out " + (dir / out).string() + " --video " + (dir / "clip" / "dam.mp4").string());
+    ASSERT_EQ(r.status, 0) << r.output;
+  }
+  for (const std::string& name : mine) EXPECT_TRUE(fs::exists(dir / "clip" / name)) << name << " was removed";
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir / "clip"), fs::directory_iterator()), 4) << "a temporary was left";
+}
+
+// Nesting past any scene's is refused with one line, from a file and from --param alike:
+// 100 000 levels overflowed the stack when the resolved scene was serialised.
+TEST(Cli, DeeplyNestedJsonIsRefusedNotACrash) {
+  fs::path dir = fresh_dir("nested");
+  fs::create_directories(dir);
+  const std::string deep = std::string(100000, '[') + std::string(100000, ']');
+  std::ofstream(dir / "deep.json") << R"({"domain": {"min": [0,0,0], "max": [1,1,1]}, "particle_spacing": 0.1,)"
+                                   << R"("fluid_blocks": [{"min": [0,0,0], "max": [0.5,0.5,0.5]}], "description": )"
+                                   << deep << "}";
+  const std::string shallow = std::string(30000, '[') + std::string(30000, ']');  // one argument holds 128 KiB
+  for (const std::string& args : {(dir / "deep.json").string(), "dam_break --param description=" + shallow,
+                                   "dam_break --param solver.iterations=" + shallow}) {
+    Result r = run_pbflow("run " + args + " --no-render --out " + (dir / "out").string());
+    EXPECT_EQ(r.status, 2) << r.output.substr(0, 300);
+    EXPECT_NE(r.output.find("nested deeper than 64 levels"), std::string::npos) << r.output.substr(0, 300);
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output.substr(0, 300);
+    EXPECT_FALSE(fs::exists(dir / "out"));
+  }
 }
 
 // tests/broken_scenes/: every file exits 2 with one line naming its problem, and

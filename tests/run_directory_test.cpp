@@ -148,6 +148,74 @@ TEST(RunDirectory, FilesPbflowDidNotWriteAreRefusedAndKept) {
   EXPECT_NE(r.output.find("not a pbflow manifest"), std::string::npos) << r.output;
 }
 
+// run.json is a file a user can edit, and pbflow removes what it lists: a manifest that
+// lists anything but pbflow's own names (outside --out, a pattern of its own making) is
+// refused before anything changes, and a pattern cannot make the matching slow.
+TEST(RunDirectory, AManifestListingWhatPbflowNeverWritesIsRefusedAndNothingChanges) {
+  fs::path dir = fresh_dir("edited");
+  ASSERT_EQ(run_pbflow("run" + kSmall + "--frames 3 --out " + dir.string()).status, 0);
+  const fs::path victim = dir.parent_path() / "pbflow_test_victim.txt";
+  std::ofstream(victim) << "mine\n";
+  std::ofstream(dir / "notes.txt") << "mine\n";
+  const json original = manifest(dir);
+  for (const std::string& listed : {std::string("../pbflow_test_victim.txt"), std::string("notes.txt"), std::string("*"),
+                                    std::string("frames/") + std::string(40, '*') + "a", std::string("frames/*.png")}) {
+    json edited = original;
+    edited["files"].push_back(listed);
+    std::ofstream(dir / "run.json") << edited.dump();
+    const auto start = std::chrono::steady_clock::now();
+    Result r = run_pbflow("run" + kSmall + "--frames 2 --out " + dir.string());
+    EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(60)) << listed;
+    EXPECT_EQ(r.status, 2) << listed << ": " << r.output;
+    EXPECT_NE(r.output.find("pbflow removes only its own files"), std::string::npos) << listed << ": " << r.output;
+    EXPECT_EQ(files_in(dir / "frames"), 3u) << listed;
+    EXPECT_TRUE(fs::exists(victim) && fs::exists(dir / "notes.txt")) << listed;
+    EXPECT_EQ(manifest(dir), edited) << listed << ": the manifest changed";
+  }
+  fs::remove(victim);
+}
+
+// The previous run is replaced as a whole: where one of its files cannot be removed (an
+// immutable frame), nothing is, and its manifest still tells the truth.
+TEST(RunDirectory, AFileThatCannotBeRemovedLeavesThePreviousRunWhole) {
+  fs::path dir = fresh_dir("immutable");
+  ASSERT_EQ(run_pbflow("run" + kSmall + "--frames 3 --export ply --out " + dir.string()).status, 0);
+  const fs::path stuck = dir / "frames" / "frame_00001.png";
+  if (std::system(("chattr +i " + stuck.string() + " 2>/dev/null").c_str()) != 0)
+    GTEST_SKIP() << "chattr +i is not available here (needs root and a filesystem with attributes)";
+  Result r = run_pbflow("run" + kSmall + "--frames 2 --out " + dir.string());
+  std::system(("chattr -i " + stuck.string()).c_str());
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find(stuck.string()), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("nothing was removed"), std::string::npos) << r.output;
+  EXPECT_EQ(files_in(dir / "frames"), 3u);
+  EXPECT_EQ(files_in(dir / "particles"), 3u);
+  EXPECT_EQ(rows(dir / "stats.csv").size(), 4u);
+  json m = manifest(dir);
+  EXPECT_EQ(m["status"], "complete");
+  EXPECT_EQ(m["frames"]["completed"], 3);
+  for (const auto& e : fs::directory_iterator(dir))
+    EXPECT_EQ(e.path().filename().string().find(".pbflow-replaced"), std::string::npos) << e.path();
+}
+
+// A full disk fails the run naming the file that did not fit and its cause, and the
+// manifest says so, even when the disk cannot take a new file any more.
+TEST(RunDirectory, AFullDiskFailsTheRunNamingTheFileAndTheManifestSaysSo) {
+  fs::path disk = fresh_dir("full_disk");
+  fs::create_directories(disk);
+  if (std::system(("mount -t tmpfs -o size=16k tmpfs " + disk.string() + " 2>/dev/null").c_str()) != 0)
+    GTEST_SKIP() << "cannot mount a small tmpfs here (needs root outside a restricted container)";
+  Result r = run_pbflow("run --param particle_spacing=0.04 --style particles --width 160 --height 96 --quiet "
+                        "--frames 20 --out " + (disk / "run").string());
+  json m = manifest(disk / "run");
+  std::system(("umount " + disk.string()).c_str());
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("frame_"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("No space left on device"), std::string::npos) << r.output;
+  EXPECT_EQ(m["status"], "failed");
+  EXPECT_NE(m["message"].get<std::string>().find("No space left on device"), std::string::npos) << m.dump();
+}
+
 TEST(RunDirectory, AnAbsurdFrameCountChangesNothing) {
   fs::path dir = fresh_dir("absurd");
   ASSERT_EQ(run_pbflow("run" + kSmall + "--frames 3 --out " + dir.string()).status, 0);
@@ -202,6 +270,13 @@ TEST(RunDirectory, BadOptionsAndScenesAreRefusedBeforeTheDirectoryIsTouched) {
       {"run " + fs::temp_directory_path().string() + " --no-render --out " + dir.string(), "not a regular file"},
       {"run /dev/zero --no-render --out " + dir.string(), "not a regular file"},
       {"bench --seconds -1 --out " + dir.string(), "--seconds"},
+      {"bench --seconds nan --out " + dir.string(), "--seconds"},
+      {"bench --seconds inf --out " + dir.string(), "--seconds"},
+      {"bench --ldc-strength 0.5,nan --out " + dir.string(), "--ldc-strength"},
+      {"bench --targets -inf --out " + dir.string(), "--targets"},
+      {"bench --scaling --budget-minutes nan --out " + dir.string(), "--budget-minutes"},
+      {"run --no-render --param particle_spacing=nan --out " + dir.string(), "particle_spacing"},
+      {"run --no-render --param solver.ldc_strength=inf --out " + dir.string(), "ldc_strength"},
   };
   for (const Case& c : cases) {
     Result r = run_pbflow(c.args);

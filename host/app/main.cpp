@@ -2,6 +2,7 @@
 #include <CLI/CLI.hpp>
 #include <malloc.h>
 
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <iostream>
@@ -52,6 +53,20 @@ pbflow::bench::ScalingOptions scaling_options(const pbflow::bench::StudyOptions&
   o.charts = b.charts;
   return o;
 }
+
+// A number option that is not NaN or infinite: CLI11's ranges let NaN through, since every
+// comparison with it is false. For a list option it checks every element.
+const CLI::Validator kFinite(
+    [](std::string& text) -> std::string {
+      try {
+        size_t used = 0;
+        const double value = std::stod(text, &used);
+        if (used == text.size() && std::isfinite(value)) return "";
+      } catch (const std::exception&) {
+      }
+      return "'" + text + "' is not a finite number";
+    },
+    "FINITE");
 
 }  // namespace
 
@@ -104,12 +119,15 @@ int main(int argc, char** argv) {
   bench_cmd->add_option("--device", bench.device, "auto | cpu | INDEX")->capture_default_str();
   bench_cmd->add_option("--counts", bench.counts, "particle counts, e.g. 10000,40000")->delimiter(',');
   bench_cmd->add_option("--iterations", bench.iterations, "iteration counts, e.g. 1,2,3")->delimiter(',');
-  bench_cmd->add_option("--seconds", bench.seconds, "simulated seconds per run")->check(CLI::Range(0.001, 3600.0));
+  bench_cmd->add_option("--seconds", bench.seconds, "simulated seconds per run")
+      ->check(kFinite & CLI::Range(0.001, 3600.0));
   bench_cmd->add_option("--ldc-strength", bench.ldc_strength,
                         "sweep the LDC strength (fraction of the step's limit), e.g. 0.25,0.5,0.9")
-      ->delimiter(',');
+      ->delimiter(',')
+      ->check(kFinite);
   bench_cmd->add_option("--targets", bench.targets, "adaptive runs to these mean compressions, e.g. 0.01,0.001")
-      ->delimiter(',');
+      ->delimiter(',')
+      ->check(kFinite);
   bench_cmd->add_option("--substeps", bench.substeps, "steps per frame to try, e.g. 1,2,4")->delimiter(',');
   bench_cmd->add_flag("--stability", bench.stability,
                       "the stability map: dam_break and drop, substeps x iterations x LDC strength, each run classified");
@@ -121,7 +139,7 @@ int main(int argc, char** argv) {
                       "the cost model: one scene (--scenes, default dam_break) at doubling particle counts from 10 000 "
                       "to 4 000 000, ms per step, bytes per particle, per-pass split, the fit");
   bench_cmd->add_option("--budget-minutes", budget_minutes, "with --scaling: start no count that would end past this")
-      ->check(CLI::PositiveNumber)
+      ->check(kFinite & CLI::PositiveNumber)
       ->capture_default_str();
   bool no_charts = false;
   bench_cmd->add_flag("--no-charts", no_charts, "CSV only");

@@ -208,7 +208,10 @@ int run(const RunOptions& o) {
       std::cout << "\nstats: " << dir.stats_path().string() << "\n";
     }
   } catch (const std::exception& e) {
-    dir.end("failed", e.what(), wall());
+    try {
+      dir.end("failed", e.what(), wall());
+    } catch (const std::exception&) {  // the disk that failed may refuse the manifest too: report the first error
+    }
     throw;
   }
   std::string problem;

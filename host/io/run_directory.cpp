@@ -11,10 +11,11 @@
 #include <cstring>
 #include <ctime>
 #include <fstream>
-#include <regex>
+#include <iostream>
 #include <sstream>
 
 #include "common/input_error.hpp"
+#include "common/json_input.hpp"
 #include "io/atomic_file.hpp"
 #include "io/frame_files.hpp"
 
@@ -32,33 +33,60 @@ double now_seconds() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
-// The files a manifest lists, as paths relative to the directory where '*' stands for a
-// frame number; a temporary of a listed file (NAME.tmpPID, capture/atomic_file.hpp) counts too.
+// Every name pbflow writes under DIR, with '*' for a frame number (io/frame_files.hpp). A
+// manifest may list these and nothing else: it is a file a user can edit, and pbflow removes
+// what it lists.
+const char* kOwnPatterns[] = {"stats.csv", "frames/frame_*.png", "particles/frame_*.ply", "particles/frame_*.vtp"};
+
+size_t skip_digits(std::string_view text, size_t at) {
+  while (at < text.size() && std::isdigit(static_cast<unsigned char>(text[at]))) ++at;
+  return at;
+}
+
+// Whether `name` is `pattern` ('*': one or more digits), or its temporary NAME.tmpPID
+// (io/atomic_file.hpp). One pass over the name.
+bool matches(std::string_view pattern, std::string_view name) {
+  const size_t star = pattern.find('*');
+  size_t at = 0;
+  if (star == std::string_view::npos) {
+    if (!name.starts_with(pattern)) return false;
+    at = pattern.size();
+  } else {
+    const std::string_view before = pattern.substr(0, star), after = pattern.substr(star + 1);
+    if (!name.starts_with(before)) return false;
+    const size_t digits_end = skip_digits(name, before.size());
+    if (digits_end == before.size() || name.substr(digits_end, after.size()) != after) return false;
+    at = digits_end + after.size();
+  }
+  if (at == name.size()) return true;
+  const std::string_view tmp = ".tmp";
+  return name.substr(at, tmp.size()) == tmp && at + tmp.size() < name.size() &&
+         skip_digits(name, at + tmp.size()) == name.size();
+}
+
+// The files a manifest lists (run.json always), checked against pbflow's own names.
 class Listed {
  public:
-  explicit Listed(const json& manifest) {
-    std::vector<std::string> names = {kManifest};
-    if (manifest.contains("files") && manifest["files"].is_array())
-      for (const json& f : manifest["files"])
-        if (f.is_string()) names.push_back(f.get<std::string>());
-    for (const std::string& name : names) {
-      std::string re;
-      for (char c : name) {
-        if (c == '*') re.append("\\d+");
-        else if (std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '/' || c == '-') re.push_back(c);
-        else re.append({'\\', c});
-      }
-      patterns_.emplace_back(re + "(\\.tmp\\d+)?");
+  Listed(const json& manifest, const fs::path& path) {
+    patterns_.push_back(kManifest);
+    if (!manifest.contains("files")) return;
+    if (!manifest["files"].is_array()) throw not_ours(path, "a 'files' entry that is not a list");
+    for (const json& f : manifest["files"]) {
+      const std::string* name = f.get_ptr<const std::string*>();
+      if (!name || std::find(std::begin(kOwnPatterns), std::end(kOwnPatterns), *name) == std::end(kOwnPatterns))
+        throw not_ours(path, "'" + (name ? *name : f.dump()) + "' among its files, which pbflow never writes");
+      patterns_.push_back(*name);
     }
   }
-  bool lists(const std::string& relative) const {
-    for (const std::regex& p : patterns_)
-      if (std::regex_match(relative, p)) return true;
-    return false;
+  bool lists(std::string_view relative) const {
+    return std::any_of(patterns_.begin(), patterns_.end(), [&](const std::string& p) { return matches(p, relative); });
   }
 
  private:
-  std::vector<std::regex> patterns_;
+  static InputError not_ours(const fs::path& path, const std::string& what) {
+    return InputError(path.string() + " names " + what + "; pbflow removes only its own files: choose another --out");
+  }
+  std::vector<std::string> patterns_;
 };
 
 // The previous run's manifest, or an empty object where there is none.
@@ -66,8 +94,13 @@ json previous_manifest(const fs::path& dir) {
   fs::path path = dir / kManifest;
   if (!fs::exists(path)) return json::object();
   std::ifstream in(path);
-  json m = json::parse(in, nullptr, false);
-  if (m.is_discarded() || !m.is_object() || !m.contains("pbflow"))
+  json m;
+  try {
+    m = parse_user_json(in, path.string());
+  } catch (const InputError&) {
+    m = nullptr;
+  }
+  if (!m.is_object() || !m.contains("pbflow"))
     throw InputError(path.string() + " is not a pbflow manifest; choose another --out");
   return m;
 }
@@ -79,7 +112,7 @@ InputError foreign(const fs::path& file) {
 // Every file where a run writes that `previous` (the manifest in `dir`) lists, relative to
 // `dir`. Throws InputError for one it does not list.
 std::vector<std::string> previous_files(const fs::path& dir, const json& previous) {
-  Listed listed(previous);
+  Listed listed(previous, dir / kManifest);
   std::vector<std::string> owned;
   for (const auto& entry : fs::directory_iterator(dir)) {
     std::string name = entry.path().filename().string();
@@ -115,6 +148,53 @@ long lock_holder(const fs::path& dir) {
     if (kind == "FLOCK" && (device + " ").find(inode.str()) != std::string::npos) return pid;
   }
   return 0;
+}
+
+// Moves every file of the previous run into DIR/.pbflow-replaced-PID (a rename: the same
+// filesystem), then deletes that folder. A file that cannot be moved (permissions, an
+// immutable file) stops it before anything is deleted: the files moved so far go back, and
+// the previous run and its manifest stay whole.
+void replace_previous_run(const fs::path& dir) {
+  const std::vector<std::string> files = previous_files(dir, previous_manifest(dir));
+  if (files.empty()) return;
+  const fs::path aside = dir / (".pbflow-replaced-" + std::to_string(getpid()));
+  std::error_code error;
+  if (!fs::create_directory(aside, error) || error)
+    throw InputError("cannot set the previous run aside in " + aside.string() + ": " +
+                     (error ? error.message() : "it exists"));
+  for (const char* sub : kSubdirs) fs::create_directory(aside / sub, error);
+  std::vector<std::string> moved;
+  for (const std::string& file : files) {
+    fs::rename(dir / file, aside / file, error);
+    if (error) {
+      const std::string why = error.message();
+      for (auto f = moved.rbegin(); f != moved.rend(); ++f) fs::rename(aside / *f, dir / *f, error);
+      fs::remove_all(aside, error);
+      throw InputError("cannot replace the previous run in " + dir.string() + ": " + (dir / file).string() + ": " + why +
+                       "; nothing was removed");
+    }
+    moved.push_back(file);
+  }
+  fs::remove_all(aside, error);
+  if (error) std::cerr << "pbflow: warning: the previous run's files stay in " << aside.string() << ": " << error.message() << "\n";
+}
+
+constexpr size_t kManifestRoom = 64 << 10;
+
+// The fallback where a new file cannot be written (no space, quota): the manifest rewritten
+// over the old one, into the room write_manifest held for it. Not atomic, so not the rule.
+bool overwrite_in_place(const fs::path& path, const std::string& text) {
+  const int fd = open(path.c_str(), O_WRONLY | O_CLOEXEC);
+  if (fd < 0) return false;
+  size_t done = 0;
+  while (done < text.size()) {
+    const ssize_t n = pwrite(fd, text.data() + done, text.size() - done, off_t(done));
+    if (n <= 0) break;
+    done += size_t(n);
+  }
+  const bool whole = done == text.size() && ftruncate(fd, off_t(text.size())) == 0 && fsync(fd) == 0;
+  close(fd);
+  return whole;
 }
 
 std::string utc_now() {
@@ -172,17 +252,7 @@ fs::path RunDirectory::particle_path(int frame) const {
 }
 
 void RunDirectory::begin(json about) {
-  const json previous = previous_manifest(dir_);
-  for (const std::string& file : previous_files(dir_, previous)) fs::remove(dir_ / file);
-  // The video of an interrupted encoder: NAME.partPID.EXT beside NAME (capture/video.hpp).
-  if (previous.contains("video") && previous["video"].is_string() && !previous["video"].get<std::string>().empty()) {
-    fs::path video = previous["video"].get<std::string>();
-    fs::path folder = video.has_parent_path() ? video.parent_path() : fs::path(".");
-    std::string prefix = video.filename().string() + ".part";
-    std::error_code ignored;
-    for (const auto& entry : fs::directory_iterator(folder, ignored))
-      if (entry.path().filename().string().rfind(prefix, 0) == 0) fs::remove(entry.path(), ignored);
-  }
+  replace_previous_run(dir_);
   std::vector<std::string> listed = {"stats.csv"};
   for (const auto& [sub, extension] : frame_folders()) {
     if (!extension.empty()) {
@@ -216,10 +286,17 @@ void RunDirectory::end(const std::string& status, const std::string& message, do
 }
 
 void RunDirectory::write_manifest() {
-  std::string text = manifest_.dump(2) + "\n";
-  capture::write_atomically(dir_ / kManifest, [&](std::FILE* f) {
-    if (std::fwrite(text.data(), 1, text.size(), f) != text.size()) throw std::runtime_error(std::strerror(errno));
-  });
+  const std::string text = manifest_.dump(2) + "\n";
+  try {
+    capture::write_atomically(dir_ / kManifest, [&](std::FILE* f) {
+      if (std::fwrite(text.data(), 1, text.size(), f) != text.size()) throw std::runtime_error(std::strerror(errno));
+      // Room for the manifests to come, held past the end of the file (not in its size): when
+      // the disk fills up mid-run, the last word (failed, and why) still fits in place.
+      fallocate(fileno(f), FALLOC_FL_KEEP_SIZE, 0, off_t(text.size() + kManifestRoom));
+    });
+  } catch (const std::exception&) {
+    if (!overwrite_in_place(dir_ / kManifest, text)) throw;
+  }
   last_write_ = now_seconds();
 }
 

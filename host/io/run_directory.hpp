@@ -2,6 +2,8 @@
 // A run owns its --out directory: it locks it for its lifetime (flock, so that a second
 // run into it is refused), writes only the files its manifest DIR/run.json lists, and
 // replaces the previous run's files as a whole, so that the directory never mixes two runs.
+// It removes only files inside DIR under pbflow's own names that the previous manifest
+// lists; a manifest that lists anything else is refused before anything changes.
 #include <array>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -30,9 +32,10 @@ class RunDirectory {
   RunDirectory(const RunDirectory&) = delete;
   RunDirectory& operator=(const RunDirectory&) = delete;
 
-  // Removes every file of the previous run (from its manifest, temporaries of a crashed run
-  // included) and writes this run's manifest, status "running". `about` holds what the
-  // manifest records of the run (scene, options, device); files and status are added here.
+  // Replaces the previous run's files (from its manifest, temporaries of a crashed run
+  // included) as a whole: all are removed, or, where one cannot be, none (InputError naming
+  // it). Then writes this run's manifest, status "running". `about` holds what the manifest
+  // records of the run (scene, options, device); files and status are added here.
   void begin(nlohmann::json about);
   // Frames 0..completed-1 are whole on disk; the manifest catches up at most once a second.
   void frames_done(int completed);

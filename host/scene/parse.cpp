@@ -1,13 +1,14 @@
 #include "scene/parse.hpp"
 
-#include "scene/keys.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+
+#include "common/json_input.hpp"
+#include "scene/keys.hpp"
 
 namespace pbflow {
 
@@ -139,19 +140,21 @@ void apply_override(json& j, const std::string& assignment) {
     allowed = &(*allowed)[part];
     target = &(*target)[part];
   }
-  json value = json::parse(text, nullptr, false);
-  *target = value.is_discarded() ? json(text) : value;
+  // A value that is not JSON is a string (--param camera.style=x); one nested too deep is refused.
+  json value;
+  try {
+    value = parse_user_json(text, "--param " + key);
+  } catch (const InputError&) {
+    if (json::accept(text)) throw;
+    value = text;
+  }
+  *target = value;
 }
 
 }  // namespace
 
 Scene parse_scene(const std::string& json_text, const std::string& origin, const std::vector<std::string>& overrides) {
-  json j;
-  try {
-    j = json::parse(json_text);
-  } catch (const json::exception& e) {  // parse_error, and out_of_range for numbers past double's range
-    throw InputError(origin + ": JSON syntax error: " + e.what());
-  }
+  json j = parse_user_json(json_text, origin);
   if (!j.is_object()) throw InputError(origin + ": a scene must be a JSON object ({...})");
   for (const std::string& o : overrides) apply_override(j, o);
   reject_unknown(j, schema(), "");
@@ -239,7 +242,11 @@ Scene parse_scene(const std::string& json_text, const std::string& origin, const
   const json camera = j.value("camera", json::object());
   s.camera.target = vec3(camera, "target", "camera.target", centre);
   s.camera.eye = vec3(camera, "eye", "camera.eye", centre + glm::dvec3(0, 0.4 * size.y, 1.6 * glm::length(size)));
-  require(glm::length(s.camera.eye - s.camera.target) > 0, "camera.eye and camera.target must differ");
+  // At the renderer's float precision, and by more than its rounding at that distance from the
+  // origin: eye and target that differ only in double give a view matrix of NaN, a blank frame.
+  const glm::vec3 eye(s.camera.eye), target(s.camera.target);
+  require(glm::length(eye - target) > 1e-5f * std::max({1.0f, glm::length(eye), glm::length(target)}),
+          "camera.eye and camera.target must differ (by more than 1e-5 of their distance from the origin)");
   return s;
 }
 
