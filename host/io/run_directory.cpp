@@ -94,9 +94,10 @@ json previous_manifest(const fs::path& dir) {
   fs::path path = dir / kManifest;
   if (!fs::exists(path)) return json::object();
   std::ifstream in(path);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   json m;
   try {
-    m = parse_user_json(in, path.string());
+    m = parse_user_json(text, path.string());
   } catch (const InputError&) {
     m = nullptr;
   }
