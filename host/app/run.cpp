@@ -106,7 +106,8 @@ int run(const RunOptions& o) {
   RunDirectory::check(out);  // before any work: a foreign file here is refused at once
   std::unique_ptr<vk::Context> ctx = make_context(o.device, o.validate);
   const vk::DeviceInfo* device = ctx ? &ctx->info() : nullptr;
-  check_memory(memory_need(d, particle_estimate(scene), device, o.render ? double(o.width) * o.height : 0.0), device);
+  const MemoryNeed need = memory_need(d, particle_estimate(scene), device, o.render ? double(o.width) * o.height : 0.0);
+  check_memory(need, device);
   std::vector<glm::dvec3> x0 = initial_particles(scene);
   std::unique_ptr<Solver> solver = make_solver(ctx.get(), d, x0);
   const capture::ExportFormat export_format = capture::parse_export_format(o.export_format);
@@ -116,7 +117,9 @@ int run(const RunOptions& o) {
   // Everything is checked: from here the run owns DIR and replaces the previous run's files.
   RunDirectory dir(out, RunFiles{scene.frames, bool(capture),
                                     export_format == capture::ExportFormat::None ? "" : capture::export_extension(export_format)});
-  dir.begin(describe_run(o, scene, d, *solver));
+  nlohmann::json about = describe_run(o, scene, d, *solver);
+  about["memory_estimate"] = {{"host_bytes", host_bytes(need, device)}, {"device_bytes", need.device}};
+  dir.begin(std::move(about));
   InterruptGuard interrupt;
   auto start = std::chrono::steady_clock::now();
   auto wall = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };

@@ -19,12 +19,18 @@ namespace {
 // Host bytes per particle of a GPU run: the initial lattice (dvec3), the state uploaded once
 // (x, v, x_pred) and a frame read back for rendering or export (x, v, rho, id).
 constexpr double kHostPerParticleGpuRun = 24 + 72 + 48 + 40;
-// Reference: x, v, x_pred, omega (dvec3), rho, lambda, its cell lists, two scratch dvec3
-// arrays, the initial lattice, a frame read back, and its neighbour lists (~40 entries of 8 bytes).
-constexpr double kHostPerParticleCpuRun = 96 + 16 + 8 + 48 + 24 + 40 + 24 + 320, kHostPerCellCpuRun = 24;
+// The reference solver: x, v, x_pred, omega (dvec3), rho, lambda, its cell lists, two scratch
+// dvec3 arrays, the initial lattice and a frame read back; its neighbour lists are as the
+// GPU's (8 bytes an entry, a count), bounded by the capacity.
+constexpr double kHostPerParticleCpuRun = 96 + 16 + 16 + 48 + 24 + 40, kHostPerCellCpuRun = 24;
 // Framebuffers and the image read back: colour and depth for the tank and for a frame (16),
 // the fluid's surface targets (24 at full size: two RG32F, R32F, depth), RGB copies.
 constexpr double kBytesPerPixel = 48;
+// What a run holds besides its arrays, measured as peak resident memory on lavapipe
+// (tests/memory_test.cpp holds the estimate above the measured peak): the process and its
+// libraries (8 MB), a CPU Vulkan device's compiler and JIT code (80 MB), llvmpipe's GL
+// context for the renderer (67 MB), each with room.
+constexpr double kMiB = 1 << 20, kProcessBytes = 16 * kMiB, kCpuDeviceBytes = 128 * kMiB, kRendererBytes = 96 * kMiB;
 
 double gib(uint64_t bytes) { return double(bytes) / double(1ULL << 30); }
 
@@ -65,17 +71,18 @@ uint32_t neighbour_capacity_on(const Derived& d, double particles, const vk::Dev
 
 MemoryNeed memory_need(const Derived& d, double particles, const vk::DeviceInfo* device, double pixels) {
   const double cells = double(d.grid.x) * d.grid.y * d.grid.z;
-  double gpu = 0, host = kBytesPerPixel * pixels, largest = 0;
+  double gpu = 0, host = kProcessBytes + (pixels > 0 ? kRendererBytes + kBytesPerPixel * pixels : 0.0), largest = 0;
   if (device) {
     Derived on_device = d;
     on_device.neighbour_capacity = neighbour_capacity_on(d, particles, *device);
     // Capped where the count is past any machine, so that the conversion stays defined.
     const SolverBuffers plan = plan_buffers(on_device, uint64_t(std::ceil(std::min(particles, 1e15))));
     gpu = double(plan.total());
-    host += kHostPerParticleGpuRun * particles;
+    host += kHostPerParticleGpuRun * particles + (device->kind == "cpu" ? kCpuDeviceBytes : 0.0);
     largest = double(plan.largest());
   } else {
-    host += kHostPerParticleCpuRun * particles + kHostPerCellCpuRun * cells;
+    const double list_bytes = 8.0 * d.neighbour_capacity + 4;  // ReferenceSolver's lists, as the GPU's
+    host += (kHostPerParticleCpuRun + list_bytes) * particles + kHostPerCellCpuRun * cells;
   }
   return {uint64_t(gpu), uint64_t(host), uint64_t(largest)};
 }
@@ -108,10 +115,14 @@ void check_device_memory(const MemoryNeed& need, const vk::DeviceInfo& device) {
   }
 }
 
+uint64_t host_bytes(const MemoryNeed& need, const vk::DeviceInfo* device) {
+  // A CPU Vulkan device (lavapipe) keeps its buffers in host memory.
+  return need.host + (device && device->kind == "cpu" ? need.device : 0);
+}
+
 void check_memory(const MemoryNeed& need, const vk::DeviceInfo* device) {
   if (device) check_device_memory(need, *device);
-  // A CPU Vulkan device (lavapipe) keeps its buffers in host memory.
-  const uint64_t host_need = need.host + (device && device->kind == "cpu" ? need.device : 0);
+  const uint64_t host_need = host_bytes(need, device);
   const uint64_t host = host_memory_available();
   if (host_need > host) {
     std::ostringstream m;

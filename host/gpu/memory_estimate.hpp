@@ -37,6 +37,8 @@ uint64_t host_memory_available();
 // Throws InputError when `need` does not fit the device: its largest array past the
 // storage buffer range, or all its buffers past the device's memory.
 void check_device_memory(const MemoryNeed& need, const vk::DeviceInfo& device);
+// The host memory a run needs: `need.host`, and its GPU buffers on a CPU Vulkan device.
+uint64_t host_bytes(const MemoryNeed& need, const vk::DeviceInfo* device);
 // As check_device_memory where `device` is not null, and then the host.
 void check_memory(const MemoryNeed& need, const vk::DeviceInfo* device);
 

@@ -52,21 +52,31 @@ void ReferenceSolver::for_each_candidate(const dvec3& xi, F&& visit) const {
 }
 
 void ReferenceSolver::build_neighbours(const std::vector<dvec3>& at) {
-  neighbours_.resize(at.size());
+  // As the GPU's lists: `capacity` entries a particle and a count, which past the capacity
+  // marks the list overflowed (its entries are then not kept: the passes walk the cells).
+  // Bounded, so that the memory estimate is exact whatever the compression.
+  const size_t capacity = d_.neighbour_capacity;
+  neighbour_count_.assign(at.size(), 0);
+  neighbour_list_.resize(at.size() * capacity);
   for (size_t i = 0; i < at.size(); ++i) {
-    std::vector<Neighbour>& list = neighbours_[i];
-    list.clear();
+    Neighbour* list = neighbour_list_.data() + i * capacity;
+    uint32_t count = 0;
+    auto add = [&](size_t j, uint32_t image) {
+      if (count < capacity) list[count] = {uint32_t(j), image};
+      ++count;
+    };
     for_each_candidate(at[i], [&](size_t j) {
       dvec3 d = at[i] - at[j];
-      if (glm::dot(d, d) < d_.h * d_.h) list.push_back({j, 0});
+      if (glm::dot(d, d) < d_.h * d_.h) add(j, 0);
     });
     // An image lies farther than its particle: only the neighbours' can be within h.
     const WallImages walls = walls_near(at[i]);
-    for (size_t n = list.size(), k = 0; k < n; ++k)
+    for (uint32_t n = count, k = 0; n <= capacity && k < n; ++k)
       for (const WallImage* m = walls.begin() + 1; m != walls.end(); ++m) {  // past the identity
         dvec3 d = at[i] - m->of(at[list[k].j]);
-        if (glm::dot(d, d) < d_.h * d_.h) list.push_back({list[k].j, m->axes});
+        if (glm::dot(d, d) < d_.h * d_.h) add(list[k].j, uint32_t(m->axes));
       }
+    neighbour_count_[i] = count;
   }
   neighbours_current_ = neighbours_built_ = true;
 }
@@ -76,13 +86,15 @@ void ReferenceSolver::build_neighbours(const std::vector<dvec3>& at) {
 // walls near xi. visit(j, image): the image is placed from xi.
 template <class F>
 void ReferenceSolver::for_each_neighbour(size_t i, const dvec3& xi, F&& visit) const {
-  if (neighbours_.at(i).size() > d_.neighbour_capacity) {
+  const uint32_t count = neighbour_count_.at(i);
+  if (count > d_.neighbour_capacity) {
     const WallImages walls = walls_near(xi);
     for_each_candidate(xi, [&](size_t j) {
       for (const WallImage& m : walls) visit(j, m);
     });
   } else {
-    for (const Neighbour& n : neighbours_[i]) visit(n.j, image_at(xi, n.image));
+    const Neighbour* list = neighbour_list_.data() + i * d_.neighbour_capacity;
+    for (uint32_t k = 0; k < count; ++k) visit(list[k].j, image_at(xi, int(list[k].image)));
   }
 }
 

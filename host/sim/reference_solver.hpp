@@ -68,8 +68,8 @@ class ReferenceSolver : public Solver {
   // cells, keeping those within h and then their images within h; read by every pass of
   // the step, which places an image behind the walls near the particle's position then.
   struct Neighbour {
-    size_t j;
-    int image;  // the walls' axes j is reflected across (WallImage::axes; 0: j itself)
+    uint32_t j;
+    uint32_t image;  // the walls' axes j is reflected across (WallImage::axes; 0: j itself)
   };
   void build_neighbours(const std::vector<glm::dvec3>& at);
   void density_at_positions();  // rho at x, from the last step's lists (GpuSolver::density_at_positions)
@@ -91,7 +91,10 @@ class ReferenceSolver : public Solver {
   Derived d_;
   long iterations_run_ = 0;  // constraint iterations in the current advance()
   std::vector<std::vector<size_t>> cells_;  // particles binned by cell at the last build_grid
-  std::vector<std::vector<Neighbour>> neighbours_;  // per particle: within h when the list was built
+  // Per particle, as the GPU's lists: neighbour_capacity entries within h when the list was
+  // built, and their count (past the capacity: overflowed, walk the cells).
+  std::vector<Neighbour> neighbour_list_;
+  std::vector<uint32_t> neighbour_count_;
   bool neighbours_current_ = false;              // built since the last build_grid
   bool neighbours_built_ = false;                // built since the particles were set (GpuSolver::lists_built_)
 };
