@@ -37,7 +37,7 @@ SolverBuffers plan_buffers(const Derived& d, uint64_t particles) {
   b.neighbour_list = word * list_words(d.neighbour_capacity);
   b.x_lambda_spare = d.solver.lambda_smoothing > 0 ? vec4 : 0;
   b.omega = d.solver.vorticity > 0 ? vec4 : 0;
-  b.partials = 2 * ((particles + kReduceThreads - 1) / kReduceThreads) * sizeof(glm::vec4);
+  b.partials = 2 * partial_count(particles) * sizeof(glm::vec4);
   b.obstacles = pack_obstacles(d.obstacles).size() * sizeof(glm::vec4);
   b.watch = 6 * sizeof(uint32_t);
   b.overflow_groups = 4 * sizeof(uint32_t);

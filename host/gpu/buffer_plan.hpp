@@ -42,6 +42,8 @@ struct SolverBuffers {
 };
 
 constexpr uint32_t kReduceThreads = 256;  // reduce_stats.comp and reduce_final.comp: particles per partial sum
+// The partial sums reduce_stats.comp writes for `particles`.
+inline uint64_t partial_count(uint64_t particles) { return (particles + kReduceThreads - 1) / kReduceThreads; }
 constexpr uint32_t kScanBlock = 1024;     // values per workgroup in scan_blocks.comp (64 threads x 16)
 // Up to this many blocks scan in one workgroup, in one dispatch (gpu_grid.cpp).
 constexpr uint32_t kOneGroupBlocks = 32;

@@ -24,7 +24,6 @@ struct CheckPush {  // check_converged.comp
   float target;
   uint32_t full_x, full_y, per_check;
 };
-uint32_t partial_count(uint32_t n) { return (n + kReduceThreads - 1) / kReduceThreads; }
 
 // Bad input rather than a Vulkan failure: the scene asks for more than this device holds.
 // run.cpp checks the same estimate before any particle is made; this guards every other caller.
@@ -301,7 +300,7 @@ void GpuSolver::reduce_measures(const vk::Buffer& into) {
   cmd_.bind("partials", partials_);
   cmd_.dispatch(n_);
   cmd_.set_program(reduce_final_);
-  cmd_.push(ReduceFinalPush{partial_count(n_), n_, sim_.mass});
+  cmd_.push(ReduceFinalPush{uint32_t(partial_count(n_)), n_, sim_.mass});
   cmd_.bind("partials", partials_);
   cmd_.bind("result", into);
   cmd_.dispatch(1);
