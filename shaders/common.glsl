@@ -8,8 +8,8 @@ layout(push_constant) uniform Sim {
   ivec3 grid; uint count;
   vec3 wall_min; float rho0;
   vec3 wall_max; float epsilon;
-  float poly6_coef; float spiky_coef; float ldc_k; float scorr_k;  // scorr_k: k / (interior sum |grad C|^2)
-  float scorr_inv_wdq; float relax; float xsph_c; float vorticity_eps;  // relax: this Jacobi pass's
+  float poly6_coef; float spiky_coef; float ldc_k; float relax;  // relax: this Jacobi pass's
+  float xsph_c; float vorticity_eps;
 } sim;
 
 // Dispatches larger than the group-count limit fold into y (CommandList::dispatch).

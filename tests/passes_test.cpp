@@ -155,21 +155,6 @@ TEST_P(PassTest, ConstraintApply) {
   expect_close(test::compare(gpu_apply_dp(gpu), reference_apply_dp(ref), "constraint apply dp"), 1e-3);
 }
 
-// The tensile term (solver.scorr_k > 0) is compiled in only where a scene asks for it
-// (constraint_apply.comp, TENSILE_N): with it on, dp must still be the reference's, and
-// the term must change it.
-TEST_P(PassTest, ConstraintApplyWithTensileTerm) {
-  Derived tensile = with_capacity(derive(load_scene("dam_break", {"particle_spacing=0.04", "solver.scorr_k=0.1"})),
-                                  GetParam().capacity);
-  ASSERT_GT(tensile.scorr_scale, 0.0);
-  GpuSolver gpu_tensile{test::gpu(), tensile, input.x};
-  ReferenceSolver ref_tensile{tensile, input.x};
-  const std::vector<glm::dvec3> dp = reference_apply_dp(ref_tensile);
-  expect_close(test::compare(gpu_apply_dp(gpu_tensile), dp, "constraint apply dp, tensile term"), 1e-3);
-  const test::ErrorReport change = test::compare(dp, reference_apply_dp(ref), "the tensile term's share of dp");
-  EXPECT_GT(change.max_abs, 0.01 * change.scale);
-}
-
 // A later iteration reads the lists the first built, at positions that have moved since.
 TEST_P(PassTest, SecondIterationReadsTheFirstOnesLists) {
   ParticleState g = run_gpu([&] {

@@ -4,7 +4,6 @@
 #include <numbers>
 #include <sstream>
 
-#include "sim/kernels.hpp"
 #include "sim/lattice.hpp"
 #include "sim/stability.hpp"
 
@@ -24,8 +23,6 @@ Derived derive(const Scene& scene) {
   d.mass = lattice_mass(s, d.h, d.rho0);
   const double gradient_sq = lattice_gradient_sq(s, d.h, d.mass, d.rho0);
   d.epsilon = scene.solver.relaxation * gradient_sq;
-  d.scorr_scale = scene.solver.scorr_k / gradient_sq;
-  d.scorr_inv_wdq = 1.0 / kernels::poly6(std::pow(scene.solver.scorr_dq * d.h, 2), d.h);
   d.travel = fall_speed(scene) * d.dt / d.h;
   if (d.solver.lambda_smoothing == SolverParams::kChosenSmoothing)
     d.solver.lambda_smoothing = default_smoothing(d.solver.iterations, d.travel);

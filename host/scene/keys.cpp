@@ -70,13 +70,6 @@ const SceneKey kKeys[] = {
      "0, 2 or 4 averages of λ before a pair of iterations' Δp; left out: four from 3 iterations on where a step moves "
      "at most h, else two (the run's first line says which)",
      "", &P::lambda_smoothing},
-    // Off: the constraint is one-sided, so the negative pressures the term was made for do not arise.
-    {"solver.scorr_k", K::Number, "0", 0.0, KeyRange{0, 1e3}, "", "tensile term strength, as an equivalent compression",
-     "", &P::scorr_k},
-    // Macklin & Müller 2013, section 4.
-    {"solver.scorr_n", K::Number, "4", 4.0, KeyRange{1, 16}, "", "tensile term exponent", "", &P::scorr_n},
-    {"solver.scorr_dq", K::Number, "0.2", 0.2, KeyRange{0, 1, true, true}, "",
-     "tensile term reference distance, a fraction of h", "", &P::scorr_dq},
     // 2 % of the kernel-averaged relative velocity a step damps noise without thickening a dam break.
     {"solver.xsph", K::Number, "0.02", 0.02, KeyRange{0, 1}, "", "XSPH viscosity c", "", &P::xsph},
     // Off unless a scene asks: it adds energy and a pass.

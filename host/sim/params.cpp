@@ -56,8 +56,6 @@ SimConstants Derived::to_gpu(uint32_t count) const {
   c.poly6_coef = float(kernels::poly6_coef(h));
   c.spiky_coef = float(kernels::spiky_coef(h));
   c.ldc_k = float(ldc_k);
-  c.scorr_k = float(scorr_scale);
-  c.scorr_inv_wdq = float(scorr_inv_wdq);
   c.relax = 1.0f;  // set per constraint pass
   c.xsph_c = float(solver.xsph);
   c.vorticity_eps = float(solver.vorticity);

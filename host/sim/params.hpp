@@ -27,9 +27,6 @@ struct SolverParams {
   double jacobi_gain;      // (0, 1]: the most a step's passes correct any density mode, as a fraction of its error
   int lambda_smoothing;    // 0, 2 or 4: passes averaging lambda over the neighbours before each constraint_apply;
                            // kChosenSmoothing: derive() picks 2 or 4 (default_smoothing)
-  double scorr_k;          // tensile term strength, as an equivalent compression (dimensionless)
-  double scorr_n;          // tensile term exponent
-  double scorr_dq;         // tensile term reference distance, as a fraction of h
   double xsph;             // XSPH viscosity c (fraction of the neighbour-averaged relative velocity)
   double vorticity;        // vorticity confinement epsilon, m/s (0: off)
   double damping;          // pairwise dashpot on the relative normal velocity (viscosity_vorticity.comp)
@@ -52,10 +49,10 @@ struct SimConstants {
   glm::ivec3 grid; uint32_t count;
   glm::vec3 wall_min; float rho0;
   glm::vec3 wall_max; float epsilon;
-  float poly6_coef, spiky_coef, ldc_k, scorr_k;
-  float scorr_inv_wdq, relax, xsph_c, vorticity_eps;
+  float poly6_coef, spiky_coef, ldc_k, relax;
+  float xsph_c, vorticity_eps;
 };
-static_assert(sizeof(SimConstants) == 128, "SimConstants must match shaders/common.glsl and fit 128 bytes");
+static_assert(sizeof(SimConstants) == 120, "SimConstants must match shaders/common.glsl and fit 128 bytes");
 
 // Everything a pass needs, in double for the reference solver; to_gpu() narrows it.
 struct Derived {
@@ -65,10 +62,6 @@ struct Derived {
   // Kernel radii a particle falling through the whole domain moves in one step: past 1 it
   // passes neighbours it never saw, outside the lattice model that sizes the passes.
   double travel;
-  double scorr_inv_wdq;
-  // s_corr in the units of lambda (m^2): k divided by an interior particle's sum |grad C|^2,
-  // so that k reads as the compression the tensile term is worth at r = dq.
-  double scorr_scale;
   // The largest gain of one unrelaxed Jacobi pass over all density modes (host/stability.hpp),
   // as a lone pass runs it and as a pair's passes run it (lambda smoothed first, if the scene smooths).
   double jacobi_gain_max, paired_gain_max;

@@ -235,15 +235,13 @@ void ReferenceSolver::constraint_smooth() {
 
 void ReferenceSolver::constraint_apply(double relax) {
   std::vector<dvec3> next(state.x.size());
-  const double inv_wdq = d_.scorr_inv_wdq, k = d_.scorr_scale, n = d_.solver.scorr_n;
   for (size_t i = 0; i < next.size(); ++i) {
     const dvec3 xi = state.x_pred[i];
     dvec3 dp(0.0);
     // An image carries its particle's lambda; i's own images push i away from the wall.
     for_each_neighbour(i, xi, [&](size_t j, const WallImage& m) {
       dvec3 d = xi - m.of(state.x_pred[j]);
-      double s_corr = k > 0 ? -k * std::pow(kernels::poly6(glm::dot(d, d), d_.h) * inv_wdq, n) : 0.0;
-      dp += (state.lambda[i] + state.lambda[j] + s_corr) * kernels::spiky_grad(d, d_.h);
+      dp += (state.lambda[i] + state.lambda[j]) * kernels::spiky_grad(d, d_.h);
     });
     next[i] = project_out_of_solids(xi + relax * (d_.mass / d_.rho0) * dp);
   }
