@@ -54,22 +54,29 @@ void write_ply(std::FILE* out, const std::vector<float>& records, size_t n) {
 }
 
 void write_vtp(std::FILE* out, const std::vector<float>& records, size_t n) {
-  // Appended arrays, each a UInt32 byte count and the raw floats: points, velocity, density.
+  // Appended arrays, each a UInt32 byte count and the raw values: points, velocity, density,
+  // then one vertex cell per particle (connectivity 0..n-1, offsets 1..n), as SPH codes
+  // write them: without cells ParaView's default representation of the file shows nothing.
   std::vector<float> points(n * 3), velocity(n * 3), density(n);
-  for (size_t i = 0; i < n; ++i)
+  std::vector<int32_t> connectivity(n), offsets(n);
+  for (size_t i = 0; i < n; ++i) {
     for (int c = 0; c < 3; ++c) {
       points[i * 3 + c] = records[i * 7 + c];
       velocity[i * 3 + c] = records[i * 7 + 3 + c];
-      density[i] = records[i * 7 + 6];
     }
-  const size_t vec_bytes = n * 3 * sizeof(float);
+    density[i] = records[i * 7 + 6];
+    connectivity[i] = int32_t(i);
+    offsets[i] = int32_t(i + 1);
+  }
+  const size_t vec_bytes = n * 3 * sizeof(float), scalar_bytes = n * sizeof(float);
   if (vec_bytes > UINT32_MAX) throw std::runtime_error("too many particles for a .vtp file (UInt32 array sizes)");
-  const size_t velocity_offset = 4 + vec_bytes, density_offset = velocity_offset + 4 + vec_bytes;
+  const size_t velocity_offset = 4 + vec_bytes, density_offset = velocity_offset + 4 + vec_bytes,
+               connectivity_offset = density_offset + 4 + scalar_bytes, offsets_offset = connectivity_offset + 4 + scalar_bytes;
   std::fprintf(out,
                "<?xml version=\"1.0\"?>\n"
                "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt32\">\n"
                "  <PolyData>\n"
-               "    <Piece NumberOfPoints=\"%zu\" NumberOfVerts=\"0\" NumberOfLines=\"0\" NumberOfStrips=\"0\" "
+               "    <Piece NumberOfPoints=\"%zu\" NumberOfVerts=\"%zu\" NumberOfLines=\"0\" NumberOfStrips=\"0\" "
                "NumberOfPolys=\"0\">\n"
                "      <PointData Vectors=\"velocity\" Scalars=\"density\">\n"
                "        <DataArray type=\"Float32\" Name=\"velocity\" NumberOfComponents=\"3\" format=\"appended\" "
@@ -79,15 +86,24 @@ void write_vtp(std::FILE* out, const std::vector<float>& records, size_t n) {
                "      <Points>\n"
                "        <DataArray type=\"Float32\" NumberOfComponents=\"3\" format=\"appended\" offset=\"0\"/>\n"
                "      </Points>\n"
+               "      <Verts>\n"
+               "        <DataArray type=\"Int32\" Name=\"connectivity\" format=\"appended\" offset=\"%zu\"/>\n"
+               "        <DataArray type=\"Int32\" Name=\"offsets\" format=\"appended\" offset=\"%zu\"/>\n"
+               "      </Verts>\n"
                "    </Piece>\n"
                "  </PolyData>\n"
                "  <AppendedData encoding=\"raw\">\n_",
-               n, velocity_offset, density_offset);
-  for (const auto* array : {&points, &velocity, &density}) {
-    uint32_t bytes = uint32_t(array->size() * sizeof(float));
+               n, n, velocity_offset, density_offset, connectivity_offset, offsets_offset);
+  auto append = [&](const auto& array) {
+    uint32_t bytes = uint32_t(array.size() * sizeof(array[0]));
     put(out, &bytes, sizeof bytes);
-    put(out, array->data(), bytes);
-  }
+    put(out, array.data(), bytes);
+  };
+  append(points);
+  append(velocity);
+  append(density);
+  append(connectivity);
+  append(offsets);
   std::fprintf(out, "\n  </AppendedData>\n</VTKFile>\n");
 }
 

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs pbflow's Debian 12 packages (only when one is missing) and builds build/pbflow.
 # Usage: scripts/setup.sh            -> packages + Release build
-#        scripts/setup.sh --test     -> also what only the tests need (ffmpeg, to test --video)
+#        scripts/setup.sh --test     -> also what only the tests need (ffmpeg, to test --video;
+#                                       python3-vtk9, to read .vtp files with VTK's own reader)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -13,7 +14,7 @@ packages=(
   python3-matplotlib
 )
 if [[ "${1:-}" == "--test" ]]; then
-  packages+=(ffmpeg)
+  packages+=(ffmpeg python3-vtk9)
 fi
 
 scripts/install-packages.sh "${packages[@]}"

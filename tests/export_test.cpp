@@ -8,6 +8,8 @@
 #include <random>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "capture/particle_export.hpp"
 #include "io/frame_files.hpp"
 #include "scene/parse.hpp"
@@ -130,6 +132,35 @@ TEST(Export, PlyAndVtpReadBackToTheParticlesWritten) {
   EXPECT_EQ(read_vtp(dir / "a.vtp"), expected);
   size_t files = std::distance(fs::directory_iterator(dir), fs::directory_iterator());
   EXPECT_EQ(files, 2u) << "temporary files left behind";
+}
+
+// VTK's own reader (tests/tools/read_vtp.py, Debian's python3-vtk9) sees every particle as a
+// vertex cell, so ParaView shows them at its defaults, with each array's range as written.
+TEST(Export, VtpOpensInVtksOwnReaderWithAVertexPerParticle) {
+  fs::path dir = fs::temp_directory_path() / "pbflow_test_export_vtk";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  Rows expected;
+  ParticleFrame f = shuffled_frame(777, expected);
+  capture::write_particles(dir / "a.vtp", capture::ExportFormat::Vtk, f);
+  const fs::path json = dir / "seen.json";
+  const std::string cmd = std::string("/usr/bin/python3 ") + PBFLOW_TEST_DATA + "/tools/read_vtp.py " +
+                          (dir / "a.vtp").string() + " > " + json.string();
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd << " (python3-vtk9 is installed by scripts/setup.sh --test)";
+  const nlohmann::json seen = nlohmann::json::parse(slurp(json));
+  EXPECT_EQ(seen["points"], 777);
+  EXPECT_EQ(seen["verts"], 777);
+  EXPECT_EQ(seen["cells"], 777);
+  auto expect_range = [&](const std::string& name, int column, int component) {
+    float low = expected[0][column], high = low;
+    for (const auto& r : expected) low = std::min(low, r[column]), high = std::max(high, r[column]);
+    const auto& range = seen["arrays"][name]["range"][component];
+    EXPECT_EQ(range[0].get<double>(), double(low)) << name << " component " << component;
+    EXPECT_EQ(range[1].get<double>(), double(high)) << name << " component " << component;
+    EXPECT_EQ(seen["arrays"][name]["tuples"], 777) << name;
+  };
+  for (int c = 0; c < 3; ++c) expect_range("velocity", 3 + c, c);
+  expect_range("density", 6, 0);
 }
 
 TEST(Export, FrameNamesSortInFrameOrder) {

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
@@ -145,8 +146,8 @@ int run(const RunOptions& o) {
       });
       progress.done();
       if (!interrupt.signal() && (!o.quiet || !r.converged))
-        std::cerr << "pbflow: settled into the solver's equilibrium in " << r.steps << " steps (potential energy -"
-                  << r.potential_drop << " J)" << (r.converged ? "" : "; still moving at the step limit") << "\n";
+        std::cerr << "pbflow: settled into the solver's equilibrium in " << r.steps << " steps (potential energy "
+                  << (r.potential_drop >= 0 ? "-" : "+") << std::abs(r.potential_drop) << " J)" << (r.converged ? "" : "; still moving at the step limit") << "\n";
     }
     double sum_mean = 0, worst = 0, sum_step_ms = 0;
     EnergyGain energy;
@@ -159,7 +160,7 @@ int run(const RunOptions& o) {
         std::ostringstream m;
         m << "the simulation diverged at step " << step << " (t = " << step * d.dt << " s, frame " << frame
           << "): " << s.divergence.describe(d.speed_limit) << ". Frames 0-" << frame - 1
-          << " are complete; try a smaller solver.vorticity, more substeps or more iterations";
+          << " are complete; " << divergence_advice(scene, d);
         diverged = m.str();
         break;
       }

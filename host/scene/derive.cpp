@@ -4,6 +4,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "scene/keys.hpp"
 #include "sim/lattice.hpp"
 #include "sim/stability.hpp"
 
@@ -75,6 +76,26 @@ std::string time_step_warning(const Scene& scene, const Derived& d) {
     m << "solver.substeps=" << int(substeps) << " keeps it within one (tunnelling and blow-ups are likely otherwise)";
   else
     m << "even 1000 solver.substeps (the most) do not keep it within one: raise fps or particle_spacing";
+  return m.str();
+}
+
+std::string divergence_advice(const Scene& scene, const Derived& d) {
+  const SolverParams defaults = scene_defaults().solver;
+  std::ostringstream m;
+  m.precision(3);
+  const char* sep = "try ";
+  if (d.travel > 1.0) {
+    m << sep << "solver.substeps=" << int(std::min(std::ceil(scene.solver.substeps * d.travel), 1000.0))
+      << " (a fall moves " << d.travel << " kernel radii a step at " << scene.solver.substeps << ")";
+    sep = ", ";
+  }
+  if (scene.solver.vorticity > 0) m << sep << "a smaller solver.vorticity (" << scene.solver.vorticity << " m/s adds energy)", sep = ", ";
+  if (scene.solver.method == Method::Ldc && scene.solver.ldc_k >= 0)
+    m << sep << "a smaller solver.ldc_k (" << scene.solver.ldc_k << " 1/s², " << scene.solver.ldc_k / d.ldc_k_limit
+      << " of the step's limit)", sep = ", ";
+  else if (scene.solver.method == Method::Ldc && scene.solver.ldc_strength > defaults.ldc_strength)
+    m << sep << "a smaller solver.ldc_strength (" << scene.solver.ldc_strength << ")", sep = ", ";
+  if (*sep == 't') m << sep << "more solver.substeps or solver.iterations";
   return m.str();
 }
 

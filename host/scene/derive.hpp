@@ -16,4 +16,9 @@ Derived derive(const Scene& scene);
 // saw); else a warning naming the substeps that would keep it within h.
 std::string time_step_warning(const Scene& scene, const Derived& d);
 
+// What to change after a run diverged, naming only the keys that matter in this run: the
+// substeps where a fall outruns h per step, the vorticity where it is on (it adds energy),
+// an LDC stiffness raised past its default; else more substeps or iterations.
+std::string divergence_advice(const Scene& scene, const Derived& d);
+
 }  // namespace pbflow
