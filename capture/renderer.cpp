@@ -30,9 +30,9 @@ struct Renderer::FrameUniforms {
 };
 
 Style parse_style(const std::string& name) {
-  for (Style s : {Style::Fluid, Style::Particles, Style::Density, Style::Speed})
+  for (Style s : kStyles)
     if (name == style_name(s)) return s;
-  throw InputError("--style must be fluid, particles, density or speed, not '" + name + "'");
+  throw InputError("--style must be fluid, particles, density, speed or normals, not '" + name + "'");
 }
 
 const char* style_name(Style style) {
@@ -41,6 +41,7 @@ const char* style_name(Style style) {
     case Style::Particles: return "particles";
     case Style::Density: return "density";
     case Style::Speed: return "speed";
+    case Style::Normals: return "normals";
   }
   return "?";
 }
@@ -65,7 +66,7 @@ Renderer::Renderer(const View& view)
   output_colour_ = gl::make_texture(GL_RGBA8, w, h);
   output_depth_ = gl::make_texture(GL_DEPTH_COMPONENT32F, w, h);
   output_fb_ = gl::make_framebuffer({output_colour_}, output_depth_);
-  if (view.style == Style::Fluid) {
+  if (surface_style()) {
     tile_mask_ = gl::make_program("fullscreen.vert", "tile_mask.frag");
     smooth_ = gl::make_program("surface_tiles.vert", "smooth_depth.frag");
     fluid_ = gl::make_program("surface_tiles.vert", "fluid_shade.frag");
@@ -142,7 +143,7 @@ const Image& Renderer::render(GLuint buffer, uint32_t count) {
   // The camera, the tank and the obstacles stand still: they are drawn once (4-8 ms of a
   // 720p frame on llvmpipe), and each frame starts from a copy of their image (0.35 ms)
   // and, for the sphere styles, which test against it, of their depth.
-  const bool fluid = view_.style == Style::Fluid;
+  const bool fluid = surface_style();
   if (!tank_drawn_) draw_tank_and_obstacles();
   tank_drawn_ = true;
   copy_image(scene_colour_, output_colour_);
@@ -175,9 +176,13 @@ void Renderer::copy_image(GLuint from, GLuint to) const {
 
 void Renderer::draw_tank_and_obstacles() {
   // The tank: sky, floor and the walls behind the fluid.
+  // The normals style shows the fluid only: the tank is drawn into the depth alone, so that
+  // it still hides the fluid behind obstacles.
   glBindFramebuffer(GL_FRAMEBUFFER, scene_fb_);
-  const float sky[4] = {0.80f, 0.85f, 0.90f, 1.0f}, far_depth = 1.0f;
-  glClearNamedFramebufferfv(scene_fb_, GL_COLOR, 0, sky);
+  const bool normals = view_.style == Style::Normals;
+  const float sky[4] = {0.80f, 0.85f, 0.90f, 1.0f}, black[4] = {0, 0, 0, 1}, far_depth = 1.0f;
+  glClearNamedFramebufferfv(scene_fb_, GL_COLOR, 0, normals ? black : sky);
+  if (normals) glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
   glClearNamedFramebufferfv(scene_fb_, GL_DEPTH, 0, &far_depth);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
@@ -202,9 +207,10 @@ void Renderer::draw_tank_and_obstacles() {
       glDrawArrays(GL_TRIANGLES, 0, 6);  // a quad: it may pass the largest point size
     }
   }
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   // The fluid's surface passes test against the tank's depth at their own size; they
   // never write it.
-  if (view_.style == Style::Fluid)
+  if (surface_style())
     glBlitNamedFramebuffer(scene_fb_, surface_fb_, 0, 0, image_size_.x, image_size_.y, 0, 0, surface_size_.x,
                            surface_size_.y, GL_DEPTH_BUFFER_BIT, GL_NEAREST);
 }

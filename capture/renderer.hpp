@@ -11,7 +11,10 @@
 
 namespace pbflow::capture {
 
-enum class Style { Fluid, Particles, Density, Speed };
+// Normals: the fluid style's surface as world-space unit normals, RGB = 0.5 n + 0.5, black
+// where there is no fluid (the debug view of the surface; the rendering tests read it).
+enum class Style { Fluid, Particles, Density, Speed, Normals };
+inline constexpr Style kStyles[] = {Style::Fluid, Style::Particles, Style::Density, Style::Speed, Style::Normals};
 Style parse_style(const std::string& name);  // throws InputError naming the choices
 const char* style_name(Style style);
 
@@ -55,6 +58,7 @@ class Renderer {
   void upload(const FrameUniforms& u);
   void draw_spheres(uint32_t count, int pass, glm::ivec2 viewport);
   void copy_image(GLuint from, GLuint to) const;  // a texture of the image's size
+  bool surface_style() const { return view_.style == Style::Fluid || view_.style == Style::Normals; }
   void draw_tank_and_obstacles();  // into scene_fb_, and for the fluid style its depth into surface_fb_
   void fluid_surface(uint32_t count);
   void draw_tiles(int channel, glm::vec2 scale);

@@ -54,6 +54,10 @@ void main() {
   if (ddx == vec3(0.0) || ddy == vec3(0.0)) n = vec3(0.0, 0.0, 1.0);
   vec3 eye_dir = normalize(-pos);
   if (dot(n, eye_dir) < 0.0) n = -n;
+  if (style == STYLE_NORMALS) {  // world space: the view matrix is a rotation and a shift
+    result = vec4(0.5 * normalize(transpose(mat3(view)) * n) + 0.5, 1.0);
+    return;
+  }
 
   float thickness = texture(thickness_texture, uv).r;
   vec2 offset = n.xy * min(thickness, 0.3) * 0.15;

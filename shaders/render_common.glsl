@@ -2,7 +2,7 @@
 // the per-frame uniforms and the particle buffer in the solver's frame layout
 // (vec4 x[n], vec4 v[n], float rho[n], see solver.hpp).
 
-const int STYLE_FLUID = 0, STYLE_PARTICLES = 1, STYLE_DENSITY = 2, STYLE_SPEED = 3;
+const int STYLE_FLUID = 0, STYLE_PARTICLES = 1, STYLE_DENSITY = 2, STYLE_SPEED = 3, STYLE_NORMALS = 4;
 const int PASS_SHADED = 0;
 const int PASS_SURFACE = 1;  // the fluid style's nearest depth and summed thickness, in one draw
 const int PASS_SOLID = 2;    // obstacles: boxes seen from outside, spheres in the solid colour

@@ -183,6 +183,35 @@ TEST_F(RenderTest, FluidStyleIsShadedAndSmootherThanTheParticles) {
   EXPECT_LT(jumps_fluid, jumps_particles) << "smoothing did not smooth";
 }
 
+// The normals style: black where there is no fluid (the tank is not drawn), and where there
+// is, a world-space unit normal in RGB = 0.5 n + 0.5; a block seen from above and in front
+// shows its top (+y) and its front (+z) faces, and no normal faces away from the camera.
+TEST_F(RenderTest, NormalsStyleShowsUnitWorldNormalsOnBlack) {
+  capture::View v = view(Style::Normals, 0.01);
+  v.camera = {glm::dvec3(0.3, 0.5, 1.2), glm::dvec3(0, 0, 0), 45};
+  Image empty = render(v, {}), block = render(v, fluid_block());
+  EXPECT_TRUE(std::all_of(empty.rgb.begin(), empty.rgb.end(), [](uint8_t c) { return c == 0; }))
+      << "the tank shows in the normals style";
+  int fluid = 0, not_unit = 0, top = 0, front = 0, away = 0;
+  const glm::dvec3 towards_eye = glm::normalize(v.camera.eye - v.camera.target);
+  for (size_t i = 0; i < block.rgb.size(); i += 3) {
+    if (block.rgb[i] == 0 && block.rgb[i + 1] == 0 && block.rgb[i + 2] == 0) continue;
+    glm::dvec3 n = glm::dvec3(block.rgb[i], block.rgb[i + 1], block.rgb[i + 2]) / 127.5 - 1.0;
+    ++fluid;
+    not_unit += std::abs(glm::length(n) - 1.0) > 0.03;  // 8 bits: within ~0.014
+    top += n.y > 0.95;
+    front += n.z > 0.95;
+    away += glm::dot(n, towards_eye) < -0.2;
+  }
+  std::printf("[ render   ] normals: %d fluid pixels, %d top, %d front, %d not unit, %d facing away\n", fluid, top,
+              front, not_unit, away);
+  EXPECT_GT(fluid, 5000);
+  EXPECT_EQ(not_unit, 0);
+  EXPECT_GT(top, fluid / 10);
+  EXPECT_GT(front, fluid / 10);
+  EXPECT_EQ(away, 0);
+}
+
 // The fluid style's surface at half size (the default) against full size: the same
 // pixels covered but within 2 pixels of the outline, colours close; and a box in front of the fluid
 // hides it exactly at either size, though the half-size surface's texels straddle the

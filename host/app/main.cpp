@@ -11,6 +11,7 @@
 #include "bench/scaling.hpp"
 #include "bench/study.hpp"
 #include "capture/gl_context.hpp"
+#include "capture/renderer.hpp"
 #include "scene/keys.hpp"
 #include "scene/parse.hpp"
 #include "scene/scene.hpp"
@@ -95,8 +96,11 @@ int main(int argc, char** argv) {
   run_cmd->add_flag("--quiet", run.quiet, "no progress line or summary");
   bool no_render = false;
   run_cmd->add_flag("--no-render", no_render, "simulate only, write no images");
-  run_cmd->add_option("--style", run.style, "fluid | particles | density | speed")
-      ->check(CLI::IsMember({"fluid", "particles", "density", "speed"}))
+  std::vector<std::string> styles;
+  for (pbflow::capture::Style s : pbflow::capture::kStyles) styles.push_back(pbflow::capture::style_name(s));
+  run_cmd->add_option("--style", run.style, "how frames are drawn: fluid (the default), particles, density, speed or "
+                                            "normals (the fluid's surface normals, RGB = 0.5 n + 0.5)")
+      ->check(CLI::IsMember(styles))
       ->capture_default_str();
   run_cmd->add_option("--fluid-resolution", run.fluid_resolution,
                       "fluid style: the surface's depth, thickness and smoothing at half or full image size")
