@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "common/json_input.hpp"
+#include "scene/framing.hpp"
 #include "scene/keys.hpp"
 
 namespace pbflow {
@@ -238,10 +239,10 @@ Scene parse_scene(const std::string& json_text, const std::string& origin, const
     }
   }
 
-  glm::dvec3 centre = 0.5 * (s.domain.min + s.domain.max), size = s.domain.max - s.domain.min;
   const json camera = j.value("camera", json::object());
-  s.camera.target = vec3(camera, "target", "camera.target", centre);
-  s.camera.eye = vec3(camera, "eye", "camera.eye", centre + glm::dvec3(0, 0.4 * size.y, 1.6 * glm::length(size)));
+  const Camera framed = framing_camera(s);
+  s.camera.target = vec3(camera, "target", "camera.target", framed.target);
+  s.camera.eye = vec3(camera, "eye", "camera.eye", framed.eye);
   // At the renderer's float precision, and by more than its rounding at that distance from the
   // origin: eye and target that differ only in double give a view matrix of NaN, a blank frame.
   const glm::vec3 eye(s.camera.eye), target(s.camera.target);

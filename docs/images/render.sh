@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# The README's pictures: one 1280x720 frame of each built-in scene at its defaults (fluid
+# style, default camera), and an animated preview of the dam break (GIF, 480x270, 15 fps,
+# its first 2 s), rendered on whatever device `auto` picks.
+#   docs/images/render.sh        (from anywhere; needs build/pbflow and ffmpeg)
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+out=docs/images
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+# scene and the frame shown (60 fps)
+for pick in dam_break:24 drop:30 double_dam_break:30 dam_obstacle:30 hydrostatic:30; do
+  scene=${pick%:*} frame=${pick#*:}
+  build/pbflow run "$scene" --frames $((frame + 1)) --quiet --out "$tmp/$scene"
+  cp "$tmp/$scene/frames/frame_$(printf %05d "$frame").png" "$out/${scene}.png"
+done
+build/pbflow run dam_break --frames 121 --quiet --width 480 --height 270 --fluid-resolution full --out "$tmp/preview"
+ffmpeg -loglevel error -y -framerate 60 -i "$tmp/preview/frames/frame_%05d.png" \
+  -vf "fps=15,split[a][b];[a]palettegen=max_colors=128[p];[b][p]paletteuse=dither=bayer:bayer_scale=3" \
+  "$out/dam_break_preview.gif"
+ls -l "$out"/*.png "$out"/*.gif

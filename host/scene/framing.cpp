@@ -1,0 +1,48 @@
+#include "scene/framing.hpp"
+
+#include <glm/gtc/constants.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace pbflow {
+
+namespace {
+constexpr double kAspect = 16.0 / 9.0;
+constexpr double kElevation = glm::radians(30.0);
+constexpr double kMargin = 0.95;  // the corners stay this far inside the image's edges
+constexpr double kSplash = 1.25;  // a wave climbs a wall above the fluid's start
+
+Box fluid_extent(const Scene& s) {
+  Box box{s.domain.min, s.domain.max};
+  if (!(s.gravity.x == 0 && s.gravity.z == 0 && s.gravity.y < 0)) return box;
+  double top = s.domain.min.y;
+  for (const Box& b : s.fluid_blocks) top = std::max(top, b.max.y);
+  for (const Ball& b : s.fluid_spheres) top = std::max(top, b.centre.y + b.radius);
+  box.max.y = std::min(s.domain.max.y, s.domain.min.y + kSplash * (top - s.domain.min.y));
+  return box;
+}
+
+}  // namespace
+
+Camera framing_camera(const Scene& scene) {
+  const Box box = fluid_extent(scene);
+  Camera c = scene.camera;
+  c.target = 0.5 * (box.min + box.max);
+  const glm::dvec3 towards_eye(0, std::sin(kElevation), std::cos(kElevation));
+  const glm::dvec3 right(1, 0, 0), up = glm::cross(right, -towards_eye);
+  const double tan_v = kMargin * std::tan(glm::radians(scene.camera.fov_degrees) / 2), tan_h = kAspect * tan_v;
+  // A corner at offset o from the target lies at depth d - o.towards_eye; it fits where
+  // |o.right| <= depth tan_h and |o.up| <= depth tan_v.
+  double distance = 0;
+  for (int k = 0; k < 8; ++k) {
+    const glm::dvec3 o = glm::dvec3(k & 1 ? box.max.x : box.min.x, k & 2 ? box.max.y : box.min.y,
+                                    k & 4 ? box.max.z : box.min.z) - c.target;
+    const double along = glm::dot(o, towards_eye);
+    distance = std::max({distance, std::abs(glm::dot(o, right)) / tan_h + along, std::abs(glm::dot(o, up)) / tan_v + along});
+  }
+  c.eye = c.target + distance * towards_eye;
+  return c;
+}
+
+}  // namespace pbflow
