@@ -13,7 +13,7 @@ namespace {
 
 constexpr int kPassShaded = 0, kPassSurface = 1, kPassSolid = 2;  // render_common.glsl
 constexpr float kNoFluid = 1e30f;                                   // NO_FLUID there
-constexpr int kSmoothingRounds = 3;  // bilateral x then y, thrice
+constexpr int kSmoothingRounds = 1;  // bilateral x then y, once (smooth_depth.frag says why)
 constexpr int kTile = 8;             // surface texels on a side of a tile: TILE in render_common.glsl
 constexpr int kTilesHoldingFluid = 0, kTilesNearFluid = 1;  // tile_mask.frag's channels
 
@@ -69,6 +69,8 @@ Renderer::Renderer(const View& view)
   if (surface_style()) {
     tile_mask_ = gl::make_program("fullscreen.vert", "tile_mask.frag");
     smooth_ = gl::make_program("surface_tiles.vert", "smooth_depth.frag");
+    normals_ = gl::make_program("surface_tiles.vert", "surface_normals.frag");
+    smooth_normals_ = gl::make_program("surface_tiles.vert", "smooth_normals.frag");
     fluid_ = gl::make_program("surface_tiles.vert", "fluid_shade.frag");
     // The smoothed surface holds (linear eye depth, coverage 1) where there is fluid and 0
     // elsewhere, so that the shading's bilinear read at full size, r/g, blends only depths
@@ -85,6 +87,10 @@ Renderer::Renderer(const View& view)
     surface_fb_ = gl::make_framebuffer({fluid_depth_[0], thickness_}, surface_zbuffer_);
     smooth_fb_[0] = gl::make_framebuffer({fluid_depth_[1]}, 0);
     smooth_fb_[1] = gl::make_framebuffer({fluid_depth_[0]}, 0);
+    for (int k = 0; k < 2; ++k) {
+      normal_[k] = gl::make_texture(GL_RGBA16F, sw, sh, GL_LINEAR);
+      normal_fb_[k] = gl::make_framebuffer({normal_[k]}, 0);
+    }
   }
   for (const Obstacle& o : view.obstacles) {
     if (o.kind != Obstacle::Kind::Sphere) continue;
@@ -262,7 +268,9 @@ void Renderer::fluid_surface(uint32_t count) {
       draw_tiles(kTilesHoldingFluid, glm::vec2(1.0f));
     }
 
-  // 4. Shading over the copy of the tank, at the image's size, on the tiles near the fluid.
+  surface_normals();
+
+  // 5. Shading over the copy of the tank, at the image's size, on the tiles near the fluid.
   glViewport(0, 0, image_size_.x, image_size_.y);
   upload(uniforms(count, kPassShaded, image_size_));
   glBindFramebuffer(GL_FRAMEBUFFER, output_fb_);
@@ -271,7 +279,27 @@ void Renderer::fluid_surface(uint32_t count) {
   glBindTextureUnit(1, fluid_depth_[0]);
   glBindTextureUnit(2, thickness_);
   glBindTextureUnit(3, scene_depth_);
+  glBindTextureUnit(5, normal_[0]);
   draw_tiles(kTilesNearFluid, glm::vec2(image_size_) / glm::vec2(size));
+}
+
+// 4. The surface's normals from the smoothed depth, then smoothed along the surface, x then
+//    y (smooth_normals.frag); ends in normal_[0]. Both targets are cleared first: texels
+//    without fluid must read 0 for the shading's bilinear read.
+void Renderer::surface_normals() {
+  const float zero[4] = {0, 0, 0, 0};
+  for (const gl::Object& fb : normal_fb_) glClearNamedFramebufferfv(fb, GL_COLOR, 0, zero);
+  glBindFramebuffer(GL_FRAMEBUFFER, normal_fb_[0]);
+  glUseProgram(normals_);
+  glBindTextureUnit(0, fluid_depth_[0]);
+  draw_tiles(kTilesHoldingFluid, glm::vec2(1.0f));
+  glUseProgram(smooth_normals_);
+  for (int axis = 0; axis < 2; ++axis) {
+    glBindFramebuffer(GL_FRAMEBUFFER, normal_fb_[1 - axis]);
+    glBindTextureUnit(0, normal_[axis]);
+    glUniform2i(0, axis == 0 ? 1 : 0, axis == 0 ? 0 : 1);
+    draw_tiles(kTilesHoldingFluid, glm::vec2(1.0f));
+  }
 }
 
 // One point per tile of the surface (surface_tiles.vert) with the current program, drawn

@@ -62,17 +62,19 @@ class Renderer {
   void draw_tank_and_obstacles();  // into scene_fb_, and for the fluid style its depth into surface_fb_
   void fluid_surface(uint32_t count);
   void draw_tiles(int channel, glm::vec2 scale);
+  void surface_normals();
 
   View view_;
   glm::ivec2 image_size_, surface_size_;  // the fluid surface's passes run at surface_size_
   gl::Object vao_, frame_ubo_;
-  gl::Object sphere_, sphere_surface_, box_, tile_mask_, smooth_, fluid_;
+  gl::Object sphere_, sphere_surface_, box_, tile_mask_, smooth_, normals_, smooth_normals_, fluid_;
   gl::Object scene_colour_, scene_depth_, scene_fb_;
   gl::Object output_colour_, output_depth_, output_fb_;  // a frame: the tank's image copied, then the particles
   gl::Object fluid_depth_[2], surface_zbuffer_, thickness_;
   Image image_;  // what render() returns
   std::vector<gl::Object> obstacle_spheres_;  // one particle each (frame layout), drawn at its radius
   gl::Object surface_fb_, smooth_fb_[2];
+  gl::Object normal_[2], normal_fb_[2];  // the surface's normals and the smoothing's other target
   glm::ivec2 tiles_{0};  // the surface's tiles of TILE x TILE texels (render_common.glsl)
   gl::Object tile_marks_, tile_marks_fb_;  // tile_mask.frag's marks, one texel per tile
   bool tank_drawn_ = false;

@@ -1,4 +1,5 @@
-// Screen-space fluid: a surface from the smoothed depth, normals from its slopes,
+// Screen-space fluid: a surface from the smoothed depth, normals from its slopes smoothed
+// along the surface (surface_normals.frag, smooth_normals.frag),
 // Fresnel mix of the sky's reflection and the scene refracted and absorbed through
 // the fluid's thickness, and a specular highlight. Drawn on the tiles that the fluid may
 // touch (surface_tiles.vert) over a copy of the tank's image.
@@ -8,6 +9,7 @@ layout(binding = 0) uniform sampler2D scene_texture;
 layout(binding = 1) uniform sampler2D depth_texture;      // smoothed (linear depth, coverage); 0 = no fluid
 layout(binding = 2) uniform sampler2D thickness_texture;  // summed chord lengths, m
 layout(binding = 3) uniform sampler2D scene_depth;        // the tank's and obstacles' depth buffer
+layout(binding = 5) uniform sampler2D normal_texture;     // smoothed view-space normals, at the surface's size
 
 // The surface's depth seen through pixel p: the covered texels' depths blended, 0 where
 // they cover under half of it (the silhouette falls between texels, not on their grid).
@@ -37,21 +39,9 @@ void main() {
     return;
   }
   vec3 pos = view_position(p, d);
-  // Slopes from the neighbour on the side with the smaller step, so that edges do not smear.
-  // The neighbours lie a surface texel away: between pixels of one texel the bilinear
-  // depth's slope jumps at the texel's edges, over a texel it changes smoothly.
-  int step = int(round(float(textureSize(scene_texture, 0).x) / float(textureSize(depth_texture, 0).x)));
-  vec3 ddx = vec3(0.0), ddy = vec3(0.0);
-  for (int s = -step; s <= step; s += 2 * step) {
-    float dx = surface_depth(p + ivec2(s, 0));
-    float dy = surface_depth(p + ivec2(0, s));
-    vec3 ex = dx > 0.0 ? float(sign(s)) * (view_position(p + ivec2(s, 0), dx) - pos) : vec3(0.0);
-    vec3 ey = dy > 0.0 ? float(sign(s)) * (view_position(p + ivec2(0, s), dy) - pos) : vec3(0.0);
-    if (ddx == vec3(0.0) || (ex != vec3(0.0) && abs(ex.z) < abs(ddx.z))) ddx = ex;
-    if (ddy == vec3(0.0) || (ey != vec3(0.0) && abs(ey.z) < abs(ddy.z))) ddy = ey;
-  }
-  vec3 n = normalize(cross(ddx, ddy));
-  if (ddx == vec3(0.0) || ddy == vec3(0.0)) n = vec3(0.0, 0.0, 1.0);
+  // Read bilinearly: the texels without fluid hold 0 and add nothing to the direction.
+  vec3 blended = texture(normal_texture, uv).xyz;
+  vec3 n = dot(blended, blended) > 1e-6 ? normalize(blended) : vec3(0.0, 0.0, 1.0);
   vec3 eye_dir = normalize(-pos);
   if (dot(n, eye_dir) < 0.0) n = -n;
   if (style == STYLE_NORMALS) {  // world space: the view matrix is a rotation and a shift

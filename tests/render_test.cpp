@@ -6,9 +6,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
 #include <memory>
 
 #include "capture/gl_context.hpp"
+#include "capture/png.hpp"
 #include "capture/particle_transfer.hpp"
 #include "capture/renderer.hpp"
 #include "gpu/gpu_solver.hpp"
@@ -210,6 +213,43 @@ TEST_F(RenderTest, NormalsStyleShowsUnitWorldNormalsOnBlack) {
   EXPECT_GT(top, fluid / 10);
   EXPECT_GT(front, fluid / 10);
   EXPECT_EQ(away, 0);
+}
+
+// Still water renders still: the settled tank at 0.5 s at its defaults (ldc@1, the default
+// camera), 640x360, in the normals style. The pixels facing up (within 45 degrees of +y)
+// and those facing the open side (within 45 degrees of z) each cover at least 5 % of the
+// image, and 95 % of each lie within the bound of their axis. The bounds are what the
+// renderer reaches with room (five runs, 2026-11-26: top 9.0-14.0 degrees, side 11.9-12.1;
+// the renderer before the normals' smoothing read 36 and 31); the aim is 5, which the
+// fluid's own top, a few degrees rough between particle columns, does not yet allow
+// (docs/rendering.md).
+TEST(StillWater, TheSettledTanksFacesRenderNearlyFlat) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / "pbflow_test_still_water";
+  fs::remove_all(dir);
+  const std::string cmd = std::string(PBFLOW_BINARY) + " run hydrostatic --frames 31 --style normals --width 640" +
+                          " --height 360 --quiet --out " + dir.string() + " > /dev/null 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  const capture::Image image = capture::read_png(dir / "frames" / "frame_00030.png");
+  std::vector<double> up, side;  // angles, degrees
+  for (size_t i = 0; i < image.rgb.size(); i += 3) {
+    if (image.rgb[i] == 0 && image.rgb[i + 1] == 0 && image.rgb[i + 2] == 0) continue;
+    const glm::dvec3 n = glm::normalize(glm::dvec3(image.rgb[i], image.rgb[i + 1], image.rgb[i + 2]) / 127.5 - 1.0);
+    const double cos45 = std::sqrt(0.5);
+    if (n.y > cos45) up.push_back(glm::degrees(std::acos(std::min(n.y, 1.0))));
+    if (std::abs(n.z) > cos45) side.push_back(glm::degrees(std::acos(std::min(std::abs(n.z), 1.0))));
+  }
+  auto p95 = [](std::vector<double> a) {
+    std::sort(a.begin(), a.end());
+    return a.empty() ? 90.0 : a[size_t(0.95 * double(a.size() - 1))];
+  };
+  const double pixels = double(image.width) * image.height;
+  std::printf("[ still    ] up: %.1f %% of the image, 95th percentile %.1f deg; side: %.1f %%, %.1f deg\n",
+              100 * up.size() / pixels, p95(up), 100 * side.size() / pixels, p95(side));
+  EXPECT_GE(up.size(), 0.05 * pixels);
+  EXPECT_GE(side.size(), 0.05 * pixels);
+  EXPECT_LE(p95(up), 18.0);
+  EXPECT_LE(p95(side), 15.0);
 }
 
 // The fluid style's surface at half size (the default) against full size: the same
