@@ -11,22 +11,10 @@ namespace {
 constexpr double kAspect = 16.0 / 9.0;
 constexpr double kElevation = glm::radians(30.0);
 constexpr double kMargin = 0.95;  // the corners stay this far inside the image's edges
-constexpr double kSplash = 1.25;  // a wave climbs a wall above the fluid's start
-
-Box fluid_extent(const Scene& s) {
-  Box box{s.domain.min, s.domain.max};
-  if (!(s.gravity.x == 0 && s.gravity.z == 0 && s.gravity.y < 0)) return box;
-  double top = s.domain.min.y;
-  for (const Box& b : s.fluid_blocks) top = std::max(top, b.max.y);
-  for (const Ball& b : s.fluid_spheres) top = std::max(top, b.centre.y + b.radius);
-  box.max.y = std::min(s.domain.max.y, s.domain.min.y + kSplash * (top - s.domain.min.y));
-  return box;
-}
-
 }  // namespace
 
 Camera framing_camera(const Scene& scene) {
-  const Box box = fluid_extent(scene);
+  const Box box{scene.domain.min, scene.domain.max};
   Camera c = scene.camera;
   c.target = 0.5 * (box.min + box.max);
   const glm::dvec3 towards_eye(0, std::sin(kElevation), std::cos(kElevation));

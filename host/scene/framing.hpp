@@ -1,13 +1,13 @@
 #pragma once
-// The camera a scene gets when it names none: it frames the fluid's extent over the run.
+// The camera a scene gets when it names none: it frames the fluid's extent over the run,
+// which is the domain: a splash or a jet may reach any of it (the double dam break's jet
+// climbs from 0.6 to 1 m).
 #include "scene/scene.hpp"
 
 namespace pbflow {
 
-// Looks at the box the fluid may fill (the domain's floor, up to a quarter above the fluid's
-// highest start, where gravity is -y; else the whole domain) from the front (+z) and 30
-// degrees above, as close as fits the box's corners in a 16:9 image (the default 1280x720)
-// at the scene's vertical field of view.
+// Looks at the domain's centre from the front (+z) and 30 degrees above, as close as fits
+// its corners in a 16:9 image (the default 1280x720) at the scene's vertical field of view.
 Camera framing_camera(const Scene& scene);
 
 }  // namespace pbflow
