@@ -3,6 +3,7 @@
 #include <cmath>
 #include <numbers>
 #include <sstream>
+#include <vector>
 
 #include "scene/keys.hpp"
 #include "sim/lattice.hpp"
@@ -64,39 +65,48 @@ Derived derive(const Scene& scene) {
   return d;
 }
 
+namespace {
+// The substeps that keep a fall within one kernel radius a step (at most 1000, the key's most).
+int substeps_within_h(const Scene& scene, const Derived& d) {
+  return int(std::min(std::ceil(scene.solver.substeps * d.travel), 1000.0));
+}
+}  // namespace
 
 std::string time_step_warning(const Scene& scene, const Derived& d) {
   if (d.travel <= 1.0) return "";
-  const double substeps = std::ceil(scene.solver.substeps * d.travel);
   std::ostringstream m;
   m.precision(3);
   m << "warning: dt = " << d.dt << " s lets a particle falling through the domain (" << fall_speed(scene)
     << " m/s) move " << d.travel << " kernel radii per step, past its neighbours; ";
-  if (substeps <= 1000)
-    m << "solver.substeps=" << int(substeps) << " keeps it within one (tunnelling and blow-ups are likely otherwise)";
+  if (scene.solver.substeps * d.travel <= 1000)
+    m << "solver.substeps=" << substeps_within_h(scene, d)
+      << " keeps it within one (tunnelling and blow-ups are likely otherwise)";
   else
     m << "even 1000 solver.substeps (the most) do not keep it within one: raise fps or particle_spacing";
   return m.str();
 }
 
 std::string divergence_advice(const Scene& scene, const Derived& d) {
-  const SolverParams defaults = scene_defaults().solver;
-  std::ostringstream m;
-  m.precision(3);
-  const char* sep = "try ";
-  if (d.travel > 1.0) {
-    m << sep << "solver.substeps=" << int(std::min(std::ceil(scene.solver.substeps * d.travel), 1000.0))
-      << " (a fall moves " << d.travel << " kernel radii a step at " << scene.solver.substeps << ")";
-    sep = ", ";
-  }
-  if (scene.solver.vorticity > 0) m << sep << "a smaller solver.vorticity (" << scene.solver.vorticity << " m/s adds energy)", sep = ", ";
-  if (scene.solver.method == Method::Ldc && scene.solver.ldc_k >= 0)
-    m << sep << "a smaller solver.ldc_k (" << scene.solver.ldc_k << " 1/s², " << scene.solver.ldc_k / d.ldc_k_limit
-      << " of the step's limit)", sep = ", ";
-  else if (scene.solver.method == Method::Ldc && scene.solver.ldc_strength > defaults.ldc_strength)
-    m << sep << "a smaller solver.ldc_strength (" << scene.solver.ldc_strength << ")", sep = ", ";
-  if (*sep == 't') m << sep << "more solver.substeps or solver.iterations";
-  return m.str();
+  const SolverParams& p = scene.solver;
+  std::vector<std::string> tries;
+  auto say = [&](auto&&... parts) {
+    std::ostringstream m;
+    m.precision(3);
+    (m << ... << parts);
+    tries.push_back(m.str());
+  };
+  if (d.travel > 1.0)
+    say("solver.substeps=", substeps_within_h(scene, d), " (a fall moves ", d.travel, " kernel radii a step at ",
+        p.substeps, ")");
+  if (p.vorticity > 0) say("a smaller solver.vorticity (", p.vorticity, " m/s adds energy)");
+  if (p.method == Method::Ldc && p.ldc_k >= 0)
+    say("a smaller solver.ldc_k (", p.ldc_k, " 1/s², ", p.ldc_k / d.ldc_k_limit, " of the step's limit)");
+  else if (p.method == Method::Ldc && p.ldc_strength > scene_defaults().solver.ldc_strength)
+    say("a smaller solver.ldc_strength (", p.ldc_strength, ")");
+  if (tries.empty()) say("more solver.substeps or solver.iterations");
+  std::string advice = "try " + tries.front();
+  for (size_t k = 1; k < tries.size(); ++k) advice += ", " + tries[k];
+  return advice;
 }
 
 }  // namespace pbflow
