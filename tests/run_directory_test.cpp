@@ -241,6 +241,27 @@ TEST(RunDirectory, TheManifestRecordsTheChosenLambdaAverages) {
   }
 }
 
+// And the camera it framed where the scene names none (host/scene/framing.cpp): the domain's
+// centre, the eye in front of it (+z) and above; a stated eye stands and is not listed.
+TEST(RunDirectory, TheManifestRecordsTheChosenCamera) {
+  fs::path dir = fresh_dir("chosen_camera");
+  Result r = run_pbflow("run --no-render --param particle_spacing=0.04 --quiet --frames 1 --out " + dir.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  json m = manifest(dir);
+  ASSERT_TRUE(m["chosen"].contains("camera.eye")) << m.dump();
+  const json eye = m["chosen"]["camera.eye"], target = m["chosen"]["camera.target"];
+  EXPECT_EQ(target, json::array({0.8, 0.5, 0.2}));  // the dam break's domain: [0, 1.6] x [0, 1] x [0, 0.4]
+  EXPECT_EQ(eye[0], 0.8);
+  EXPECT_GT(eye[1].get<double>(), 0.5);
+  EXPECT_GT(eye[2].get<double>(), 0.4);
+  r = run_pbflow("run --no-render --param particle_spacing=0.04 --quiet --frames 1 --param camera.eye=[3,2,4] --out " +
+                 dir.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  m = manifest(dir);
+  EXPECT_FALSE(m["chosen"].contains("camera.eye")) << m.dump();
+  EXPECT_TRUE(m["chosen"].contains("camera.target")) << m.dump();
+}
+
 TEST(RunDirectory, AFailedWriteIsAnErrorNamingTheFileAndLeavesWholeRows) {
   fs::path dir = fresh_dir("efbig");
   // ulimit -f: past 8 KiB a write fails with EFBIG (pbflow ignores SIGXFSZ), ~80 rows in.

@@ -87,9 +87,15 @@ std::unique_ptr<capture::FrameCapture> make_capture(const RunOptions& o, const S
 // What DIR/run.json records of a run besides its files and status. "chosen": what pbflow
 // picked where the scene left a key out, as the --param that would state it.
 nlohmann::json describe_run(const RunOptions& o, const Scene& scene, const Derived& d, const Solver& solver) {
+  const nlohmann::json stated = nlohmann::json::parse(scene.resolved);
+  nlohmann::json chosen = {{"solver.lambda_smoothing", d.solver.lambda_smoothing}};
+  const nlohmann::json camera = stated.value("camera", nlohmann::json::object());
+  auto vec = [](const glm::dvec3& v) { return nlohmann::json::array({v.x, v.y, v.z}); };
+  if (!camera.contains("eye")) chosen["camera.eye"] = vec(scene.camera.eye);  // framing_camera
+  if (!camera.contains("target")) chosen["camera.target"] = vec(scene.camera.target);
   return {{"scene_name", scene.name},
-          {"scene", nlohmann::json::parse(scene.resolved)},
-          {"chosen", {{"solver.lambda_smoothing", d.solver.lambda_smoothing}}},
+          {"scene", stated},
+          {"chosen", chosen},
           {"options",
            {{"params", o.params}, {"device", o.device}, {"render", o.render}, {"style", o.style},
             {"fluid_resolution", o.fluid_resolution}, {"width", o.width}, {"height", o.height}, {"export", o.export_format}, {"validate", o.validate}}},
