@@ -69,6 +69,7 @@ Renderer::Renderer(const View& view)
   if (surface_style()) {
     tile_mask_ = gl::make_program("fullscreen.vert", "tile_mask.frag");
     smooth_ = gl::make_program("surface_tiles.vert", "smooth_depth.frag");
+    smooth_thickness_ = gl::make_program("surface_tiles.vert", "smooth_thickness.frag");
     normals_ = gl::make_program("surface_tiles.vert", "surface_normals.frag");
     smooth_normals_ = gl::make_program("surface_tiles.vert", "smooth_normals.frag");
     fluid_ = gl::make_program("surface_tiles.vert", "fluid_shade.frag");
@@ -87,6 +88,9 @@ Renderer::Renderer(const View& view)
     surface_fb_ = gl::make_framebuffer({fluid_depth_[0], thickness_}, surface_zbuffer_);
     smooth_fb_[0] = gl::make_framebuffer({fluid_depth_[1]}, 0);
     smooth_fb_[1] = gl::make_framebuffer({fluid_depth_[0]}, 0);
+    thickness_blur_ = gl::make_texture(GL_R32F, sw, sh, GL_LINEAR);
+    thickness_fb_[0] = gl::make_framebuffer({thickness_blur_}, 0);
+    thickness_fb_[1] = gl::make_framebuffer({thickness_}, 0);
     for (int k = 0; k < 2; ++k) {
       normal_[k] = gl::make_texture(GL_RGBA16F, sw, sh, GL_LINEAR);
       normal_fb_[k] = gl::make_framebuffer({normal_[k]}, 0);
@@ -268,6 +272,7 @@ void Renderer::fluid_surface(uint32_t count) {
       draw_tiles(kTilesHoldingFluid, glm::vec2(1.0f));
     }
 
+  smooth_thickness();
   surface_normals();
 
   // 5. Shading over the copy of the tank, at the image's size, on the tiles near the fluid.
@@ -283,7 +288,24 @@ void Renderer::fluid_surface(uint32_t count) {
   draw_tiles(kTilesNearFluid, glm::vec2(image_size_) / glm::vec2(size));
 }
 
-// 4. The surface's normals from the smoothed depth, then smoothed along the surface, x then
+// 4a. The thickness blurred, x into thickness_blur_ then y back into thickness_
+//     (smooth_thickness.frag). The blur target is cleared first: its texels outside the
+//     tiles drawn must read 0 for the y pass.
+void Renderer::smooth_thickness() {
+  const float zero[4] = {0, 0, 0, 0};
+  glClearNamedFramebufferfv(thickness_fb_[0], GL_COLOR, 0, zero);
+  glUseProgram(smooth_thickness_);
+  glBindTextureUnit(1, fluid_depth_[0]);
+  const GLuint from[2] = {thickness_, thickness_blur_};
+  for (int axis = 0; axis < 2; ++axis) {
+    glBindFramebuffer(GL_FRAMEBUFFER, thickness_fb_[axis]);
+    glBindTextureUnit(0, from[axis]);
+    glUniform2i(0, axis == 0 ? 1 : 0, axis == 0 ? 0 : 1);
+    draw_tiles(kTilesHoldingFluid, glm::vec2(1.0f));
+  }
+}
+
+// 4b. The surface's normals from the smoothed depth, then smoothed along the surface, x then
 //    y (smooth_normals.frag); ends in normal_[0]. Both targets are cleared first: texels
 //    without fluid must read 0 for the shading's bilinear read.
 void Renderer::surface_normals() {

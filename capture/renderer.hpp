@@ -63,11 +63,12 @@ class Renderer {
   void fluid_surface(uint32_t count);
   void draw_tiles(int channel, glm::vec2 scale);
   void surface_normals();
+  void smooth_thickness();
 
   View view_;
   glm::ivec2 image_size_, surface_size_;  // the fluid surface's passes run at surface_size_
   gl::Object vao_, frame_ubo_;
-  gl::Object sphere_, sphere_surface_, box_, tile_mask_, smooth_, normals_, smooth_normals_, fluid_;
+  gl::Object sphere_, sphere_surface_, box_, tile_mask_, smooth_, smooth_thickness_, normals_, smooth_normals_, fluid_;
   gl::Object scene_colour_, scene_depth_, scene_fb_;
   gl::Object output_colour_, output_depth_, output_fb_;  // a frame: the tank's image copied, then the particles
   gl::Object fluid_depth_[2], surface_zbuffer_, thickness_;
@@ -75,6 +76,7 @@ class Renderer {
   std::vector<gl::Object> obstacle_spheres_;  // one particle each (frame layout), drawn at its radius
   gl::Object surface_fb_, smooth_fb_[2];
   gl::Object normal_[2], normal_fb_[2];  // the surface's normals and the smoothing's other target
+  gl::Object thickness_blur_, thickness_fb_[2];  // the thickness blur's other target; fbs onto it and thickness_
   glm::ivec2 tiles_{0};  // the surface's tiles of TILE x TILE texels (render_common.glsl)
   gl::Object tile_marks_, tile_marks_fb_;  // tile_mask.frag's marks, one texel per tile
   bool tank_drawn_ = false;
