@@ -16,6 +16,8 @@ Usage: charts.py DIR   (writes DIR/*.png; `pbflow bench` runs it and leaves a co
                          iterations, a panel per scene (and per LDC strength); then only these
   adaptive.png           with --targets: iterations and ms per step each method needs to
                          reach each target mean compression
+  cheapest.md            for each scene and particle count, the cheapest sound setting (ms per
+                         frame) that reaches 5, 2, 1 and 0.5 % mean compression
   scaling.png            with --scaling (DIR/scaling.csv): ms per step and each pass group's
                          share against particles, log-log, with the fitted line
 Accuracy and time charts use the study's largest particle count, the over-time charts
@@ -214,6 +216,36 @@ def scaling(rows, out_dir):
     plt.close(fig)
 
 
+TARGETS = (0.05, 0.02, 0.01, 0.005)  # the mean compressions a user asks for
+
+
+def cheapest(runs, out_dir, device):
+    """cheapest.md: for each scene and particle count, the setting that reaches each target
+    time-averaged mean compression at the least cost per frame (ms per step x substeps),
+    among the sound runs (no divergence, energy gain at most 1 % of PE_0)."""
+    sound = [r for r in runs if r["diverged"] == "0" and float(r["energy_gain"]) <= 0.01
+             and float(r["target_compression"] or 0) == 0]
+    lines = [f"# The cheapest setting for each accuracy ({device})", "",
+             "Time-averaged mean compression; cost per frame = ms per step x substeps; sound runs only "
+             "(no divergence, energy gain at most 1 % of PE0). Regenerate: `python3 bench/charts.py DIR`.", "",
+             "| scene | particles | target | setting | ms per frame | mean compression | energy gain |",
+             "|---|---|---|---|---|---|---|"]
+    for key in sorted({(r["scene"], int(r["particles"])) for r in sound}):
+        group = [r for r in sound if (r["scene"], int(r["particles"])) == key]
+        for target in TARGETS:
+            reach = [r for r in group if float(r["mean_compression_avg"]) <= target]
+            if not reach:
+                lines.append(f"| {key[0]} | {key[1]} | {100 * target:g} % | none of the runs | | | |")
+                continue
+            best = min(reach, key=lambda r: float(r["step_ms_mean"]) * int(r["substeps"]))
+            lines.append(f"| {key[0]} | {key[1]} | {100 * target:g} % | {best['method']}@{best['iterations']} x "
+                         f"{best['substeps']} | {float(best['step_ms_mean']) * int(best['substeps']):.1f} | "
+                         f"{100 * float(best['mean_compression_avg']):.2f} % | "
+                         f"{100 * float(best['energy_gain']):.2f} % |")
+    with open(os.path.join(out_dir, "cheapest.md"), "w") as f:
+        f.write("\n".join(lines) + "\n")
+
+
 def main():
     if len(sys.argv) != 2:
         sys.exit(__doc__)
@@ -227,6 +259,7 @@ def main():
     if len(devices) != 1:
         sys.exit(f"runs.csv mixes devices {devices}: one chart, one device")
     device = devices[0]
+    cheapest(runs, out_dir, device)
     if len({r["substeps"] for r in runs}) > 1:
         stability_maps(runs, out_dir, device)
         return
