@@ -222,7 +222,10 @@ TARGETS = (0.05, 0.02, 0.01, 0.005)  # the mean compressions a user asks for
 def cheapest(runs, out_dir, device):
     """cheapest.md: for each scene and particle count, the setting that reaches each target
     time-averaged mean compression at the least cost per frame (ms per step x substeps),
-    among the sound runs (no divergence, energy gain at most 1 % of PE_0)."""
+    among the sound runs (no divergence, energy gain at most 1 % of PE_0). An older runs.csv
+    without the energy gain gets none."""
+    if not runs or "energy_gain" not in runs[0]:
+        return
     sound = [r for r in runs if r["diverged"] == "0" and float(r["energy_gain"]) <= 0.01
              and float(r["target_compression"] or 0) == 0]
     lines = [f"# The cheapest setting for each accuracy ({device})", "",

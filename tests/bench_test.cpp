@@ -107,6 +107,16 @@ TEST(Bench, QuickStudyFinishesEveryRunWithItsColumnsAndCharts) {
   }
   expect_charts(dir);
   EXPECT_GT(capture::read_png(dir / "accuracy_vs_cost.png").height, 800) << "the energy gain's row of panels";
+  // cheapest.md: a row for each scene, count and target (5, 2, 1, 0.5 %), each naming a
+  // setting of the study or none.
+  std::ifstream cheapest(dir / "cheapest.md");
+  int rows = 0;
+  for (std::string line; std::getline(cheapest, line);)
+    if (line.rfind("| dam_break |", 0) == 0 || line.rfind("| hydrostatic |", 0) == 0) {
+      ++rows;
+      EXPECT_TRUE(line.find("@") != std::string::npos || line.find("none of the runs") != std::string::npos) << line;
+    }
+  EXPECT_EQ(rows, 2 * 4) << "2 scenes x 1 count x 4 targets";
 }
 
 // Copies fixtures/<name>/ to a fresh directory and runs the chart script there.
