@@ -80,7 +80,13 @@ TEST(Stability, FourAveragesOnlyWhereAStepStaysWithinH) {
   EXPECT_DOUBLE_EQ(real_time.paired_gain_max, jacobi_gain_max(2.0, 0.01, 0.0, 4));
   EXPECT_EQ(derived({"solver.iterations=3"}).solver.lambda_smoothing, 4);
   EXPECT_EQ(derived({"solver.iterations=2"}).solver.lambda_smoothing, 2);
-  const Scene fine_scene = load_scene("dam_break", {"solver.iterations=4", "particle_spacing=0.0137"});
+  // Left out, the substeps are chosen so that a step stays within h (chosen_substeps): 3 here.
+  EXPECT_EQ(load_scene("dam_break", {"particle_spacing=0.0137"}).solver.substeps, 3);
+  EXPECT_EQ(load_scene("dam_break").solver.substeps, 2);
+  EXPECT_EQ(load_scene("dam_break", {"fps=240"}).solver.substeps, 1);
+  EXPECT_EQ(load_scene("dam_break", {"particle_spacing=0.01"}).solver.substeps, 4);
+  const Scene fine_scene =
+      load_scene("dam_break", {"solver.iterations=4", "particle_spacing=0.0137", "solver.substeps=2"});
   const Derived fine = derive(fine_scene);  // 1.35 h a step, which the run warns of
   EXPECT_GT(fine.travel, 1.0);
   const std::string warning = time_step_warning(fine_scene, fine);

@@ -89,6 +89,8 @@ std::unique_ptr<capture::FrameCapture> make_capture(const RunOptions& o, const S
 nlohmann::json describe_run(const RunOptions& o, const Scene& scene, const Derived& d, const Solver& solver) {
   const nlohmann::json stated = nlohmann::json::parse(scene.resolved);
   nlohmann::json chosen = {{"solver.lambda_smoothing", d.solver.lambda_smoothing}};
+  if (!stated.contains(nlohmann::json::json_pointer("/solver/substeps")))
+    chosen["solver.substeps"] = scene.solver.substeps;  // chosen_substeps
   const nlohmann::json camera = stated.value("camera", nlohmann::json::object());
   auto vec = [](const glm::dvec3& v) { return nlohmann::json::array({v.x, v.y, v.z}); };
   if (!camera.contains("eye")) chosen["camera.eye"] = vec(scene.camera.eye);  // framing_camera
@@ -136,11 +138,14 @@ int run(const RunOptions& o) {
     if (std::string w = time_step_warning(scene, d); !w.empty()) std::cerr << "pbflow: " << w << "\n";
     if (!o.quiet) {
       const bool pairs = d.solver.iterations >= 2 || d.solver.target_compression > 0;  // adaptive runs add pairs
+      const bool chose_substeps =
+          !nlohmann::json::parse(scene.resolved).contains(nlohmann::json::json_pointer("/solver/substeps"));
       const std::string averages =
           pairs ? " (lambda averaged " + std::to_string(d.solver.lambda_smoothing) + "x)" : "";
       std::cerr << "pbflow: " << scene.name << ", " << x0.size() << " particles, " << method_name(scene.solver.method)
                 << " with " << scene.solver.iterations << " iteration(s)" << averages
-                << ", " << scene.solver.substeps << " substeps per frame, on " << solver->device_name() << "\n";
+                << ", " << scene.solver.substeps << " substeps per frame" << (chose_substeps ? " (chosen)" : "")
+                << ", on " << solver->device_name() << "\n";
       if (capture && o.verbose) std::cerr << "pbflow: rendering with " << capture->description() << "\n";
     }
 

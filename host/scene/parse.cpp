@@ -229,6 +229,7 @@ Scene parse_scene(const std::string& json_text, const std::string& origin, const
   }
   s.gravity = vec3(j, "gravity", "gravity", s.gravity);
   require(glm::length(s.gravity) <= 1e4, "gravity must not exceed 1e4 m/s^2 (a thousand g)");
+  if (p.substeps == SolverParams::kChosenSubsteps) p.substeps = chosen_substeps(s);
   const json solver = j.value("solver", json::object());
   if (solver.contains("method")) {
     require(solver["method"].is_string(), "solver.method must be \"pbf\" or \"ldc\"");

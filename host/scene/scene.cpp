@@ -1,5 +1,6 @@
 #include "scene/scene.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace pbflow {
@@ -15,6 +16,13 @@ double particle_estimate(const Scene& scene) { return fluid_volume(scene) / std:
 
 double fall_speed(const Scene& scene) {
   return std::sqrt(2.0 * glm::length(scene.gravity) * (scene.domain.max.y - scene.domain.min.y));
+}
+
+int chosen_substeps(const Scene& scene) {
+  constexpr double kRealTimeStep = 1.0 / 120.0, kRounding = 1e-9;
+  const double h = scene.solver.kernel_ratio * scene.particle_spacing;
+  const double n = std::max(1.0 / (scene.fps * kRealTimeStep), fall_speed(scene) / (scene.fps * h));
+  return int(std::clamp(std::ceil(n - kRounding), 1.0, 1000.0));
 }
 
 }  // namespace pbflow

@@ -61,4 +61,9 @@ double particle_estimate(const Scene& scene);
 // scale of the scene's flows (time-step check, divergence watch, speed colours).
 double fall_speed(const Scene& scene);
 
+// The substeps a scene that leaves them out gets: the fewest that keep dt at most 1/120 s
+// (the real-time step at 60 fps) and a particle falling through the domain within one
+// kernel radius a step (the time-step check of derive.hpp); at most 1000.
+int chosen_substeps(const Scene& scene);
+
 }  // namespace pbflow

@@ -20,7 +20,7 @@ struct SolverParams {
   int iterations;          // constraint iterations per step (the minimum when adaptive)
   int max_iterations;      // adaptive: at most this many per step
   double target_compression;  // adaptive when > 0: iterate until the mean compression is at most this
-  int substeps;            // steps per frame: dt = 1 / (fps * substeps)
+  int substeps;            // steps per frame: dt = 1 / (fps * substeps); kChosenSubsteps: the scene picks (chosen_substeps)
   double kernel_ratio;     // h / particle spacing
   double rest_density;     // rho0, kg/m^3
   double relaxation;       // eps as a fraction of an interior particle's sum |grad C|^2
@@ -35,7 +35,7 @@ struct SolverParams {
   bool ldc_clamp;          // LDC reads densities below rho0 as rho0 (only compression pushes)
   bool ldc_mean_reference; // LDC compares rho_j with the neighbourhood's mean, not with rho_i
 
-  static constexpr int kChosenSmoothing = -1;
+  static constexpr int kChosenSmoothing = -1, kChosenSubsteps = -1;
   // XSPH, vorticity and the damping share one neighbour pass (viscosity_vorticity).
   bool viscosity_pass() const { return xsph > 0 || vorticity > 0 || damping > 0; }
 };
