@@ -242,8 +242,9 @@ TEST(RunDirectory, TheManifestRecordsTheChosenLambdaAverages) {
 }
 
 // And the camera it framed where the scene names none (host/scene/framing.cpp): the domain's
-// centre, the eye in front of it (+z) and above; a stated eye stands and is not listed.
-TEST(RunDirectory, TheManifestRecordsTheChosenCamera) {
+// centre, the eye in front of it (+z) and above; and the substeps it chose (chosen_substeps:
+// 2 here). A stated eye or count stands and is not listed.
+TEST(RunDirectory, TheManifestRecordsTheChosenCameraAndSubsteps) {
   fs::path dir = fresh_dir("chosen_camera");
   Result r = run_pbflow("run --no-render --param particle_spacing=0.04 --quiet --frames 1 --out " + dir.string());
   ASSERT_EQ(r.status, 0) << r.output;
@@ -254,11 +255,13 @@ TEST(RunDirectory, TheManifestRecordsTheChosenCamera) {
   EXPECT_EQ(eye[0], 0.8);
   EXPECT_GT(eye[1].get<double>(), 0.5);
   EXPECT_GT(eye[2].get<double>(), 0.4);
-  r = run_pbflow("run --no-render --param particle_spacing=0.04 --quiet --frames 1 --param camera.eye=[3,2,4] --out " +
-                 dir.string());
+  EXPECT_EQ(m["chosen"]["solver.substeps"], 2);
+  r = run_pbflow("run --no-render --param particle_spacing=0.04 --quiet --frames 1 --param camera.eye=[3,2,4]"
+                 " --param solver.substeps=3 --out " + dir.string());
   ASSERT_EQ(r.status, 0) << r.output;
   m = manifest(dir);
   EXPECT_FALSE(m["chosen"].contains("camera.eye")) << m.dump();
+  EXPECT_FALSE(m["chosen"].contains("solver.substeps")) << m.dump();
   EXPECT_TRUE(m["chosen"].contains("camera.target")) << m.dump();
 }
 
