@@ -15,6 +15,7 @@
 #include "scene/parse.hpp"
 #include "scene/scene.hpp"
 #include "scene/seeding.hpp"
+#include "support.hpp"
 
 namespace pbflow {
 namespace {
@@ -121,8 +122,7 @@ ParticleFrame shuffled_frame(size_t n, Rows& by_id) {
 }
 
 TEST(Export, PlyAndVtpReadBackToTheParticlesWritten) {
-  fs::path dir = fs::temp_directory_path() / "pbflow_test_export";
-  fs::remove_all(dir);
+  fs::path dir = test::fresh_dir("export");
   fs::create_directories(dir);
   Rows expected;
   ParticleFrame f = shuffled_frame(777, expected);
@@ -137,8 +137,7 @@ TEST(Export, PlyAndVtpReadBackToTheParticlesWritten) {
 // VTK's own reader (tests/tools/read_vtp.py, Debian's python3-vtk9) sees every particle as a
 // vertex cell, so ParaView shows them at its defaults, with each array's range as written.
 TEST(Export, VtpOpensInVtksOwnReaderWithAVertexPerParticle) {
-  fs::path dir = fs::temp_directory_path() / "pbflow_test_export_vtk";
-  fs::remove_all(dir);
+  fs::path dir = test::fresh_dir("export_vtk");
   fs::create_directories(dir);
   Rows expected;
   ParticleFrame f = shuffled_frame(777, expected);
@@ -170,8 +169,7 @@ TEST(Export, FrameNamesSortInFrameOrder) {
 }
 
 TEST(Export, RunWritesOneFilePerFrameStartingFromTheInitialLattice) {
-  fs::path dir = fs::temp_directory_path() / "pbflow_test_export_run";
-  fs::remove_all(dir);
+  fs::path dir = test::fresh_dir("export_run");
   for (const char* format : {"ply", "vtk"}) {  // a directory each: a run replaces the previous run's files
     std::string cmd = std::string(PBFLOW_BINARY) + " run dam_break --no-render --frames 3 --quiet --validate" +
                       " --param particle_spacing=0.04 --export " + format + " --out " + (dir / format).string();

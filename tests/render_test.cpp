@@ -225,8 +225,7 @@ TEST_F(RenderTest, NormalsStyleShowsUnitWorldNormalsOnBlack) {
 // (docs/rendering.md).
 TEST(StillWater, TheSettledTanksFacesRenderNearlyFlat) {
   namespace fs = std::filesystem;
-  const fs::path dir = fs::temp_directory_path() / "pbflow_test_still_water";
-  fs::remove_all(dir);
+  const fs::path dir = test::fresh_dir("still_water");
   const std::string cmd = std::string(PBFLOW_BINARY) + " run hydrostatic --frames 31 --style normals --width 640" +
                           " --height 360 --quiet --out " + dir.string() + " > /dev/null 2>&1";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;

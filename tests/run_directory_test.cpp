@@ -246,8 +246,9 @@ TEST(RunDirectory, TheManifestRecordsTheChosenLambdaAverages) {
 // 2 here). A stated eye or count stands and is not listed.
 TEST(RunDirectory, TheManifestRecordsTheChosenCameraAndSubsteps) {
   fs::path dir = fresh_dir("chosen_camera");
-  Result r = run_pbflow("run --no-render --param particle_spacing=0.04 --quiet --frames 1 --out " + dir.string());
+  Result r = run_pbflow("run --no-render --param particle_spacing=0.04 --frames 1 --out " + dir.string());
   ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("2 substeps per frame (chosen)"), std::string::npos) << r.output;  // the first line
   json m = manifest(dir);
   ASSERT_TRUE(m["chosen"].contains("camera.eye")) << m.dump();
   const json eye = m["chosen"]["camera.eye"], target = m["chosen"]["camera.target"];
@@ -256,9 +257,10 @@ TEST(RunDirectory, TheManifestRecordsTheChosenCameraAndSubsteps) {
   EXPECT_GT(eye[1].get<double>(), 0.5);
   EXPECT_GT(eye[2].get<double>(), 0.4);
   EXPECT_EQ(m["chosen"]["solver.substeps"], 2);
-  r = run_pbflow("run --no-render --param particle_spacing=0.04 --quiet --frames 1 --param camera.eye=[3,2,4]"
+  r = run_pbflow("run --no-render --param particle_spacing=0.04 --frames 1 --param camera.eye=[3,2,4]"
                  " --param solver.substeps=3 --out " + dir.string());
   ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("3 substeps per frame, on"), std::string::npos) << r.output;
   m = manifest(dir);
   EXPECT_FALSE(m["chosen"].contains("camera.eye")) << m.dump();
   EXPECT_FALSE(m["chosen"].contains("solver.substeps")) << m.dump();

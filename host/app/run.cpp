@@ -127,6 +127,7 @@ int run(const RunOptions& o) {
   RunDirectory dir(out, RunFiles{scene.frames, bool(capture),
                                     export_format == capture::ExportFormat::None ? "" : capture::export_extension(export_format)});
   nlohmann::json about = describe_run(o, scene, d, *solver);
+  const bool chose_substeps = about["chosen"].contains("solver.substeps");  // for the first line
   about["memory_estimate"] = {{"host_bytes", host_bytes(need, device)}, {"device_bytes", need.device}};
   dir.begin(std::move(about));
   InterruptGuard interrupt;
@@ -138,8 +139,6 @@ int run(const RunOptions& o) {
     if (std::string w = time_step_warning(scene, d); !w.empty()) std::cerr << "pbflow: " << w << "\n";
     if (!o.quiet) {
       const bool pairs = d.solver.iterations >= 2 || d.solver.target_compression > 0;  // adaptive runs add pairs
-      const bool chose_substeps =
-          !nlohmann::json::parse(scene.resolved).contains(nlohmann::json::json_pointer("/solver/substeps"));
       const std::string averages =
           pairs ? " (lambda averaged " + std::to_string(d.solver.lambda_smoothing) + "x)" : "";
       std::cerr << "pbflow: " << scene.name << ", " << x0.size() << " particles, " << method_name(scene.solver.method)
