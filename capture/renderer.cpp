@@ -109,8 +109,7 @@ Renderer::FrameUniforms Renderer::uniforms(uint32_t count, int pass, glm::ivec2 
   glm::vec3 lo(view_.domain.min), hi(view_.domain.max);
   // Near and far planes enclose the domain as seen from the eye.
   float far = 0;
-  for (int k = 0; k < 8; ++k)
-    far = std::max(far, glm::length(glm::vec3(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z) - eye));
+  for (int k = 0; k < 8; ++k) far = std::max(far, glm::length(glm::vec3(view_.domain.corner(k)) - eye));
   far = 1.5f * far + 1.0f;
   FrameUniforms u{};
   // Up is +y, unless the camera looks (nearly) along it: then the image's up is -z, as on a map.

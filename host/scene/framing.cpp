@@ -24,8 +24,7 @@ Camera framing_camera(const Scene& scene) {
   // |o.right| <= depth tan_h and |o.up| <= depth tan_v.
   double distance = 0;
   for (int k = 0; k < 8; ++k) {
-    const glm::dvec3 o = glm::dvec3(k & 1 ? box.max.x : box.min.x, k & 2 ? box.max.y : box.min.y,
-                                    k & 4 ? box.max.z : box.min.z) - c.target;
+    const glm::dvec3 o = box.corner(k) - c.target;
     const double along = glm::dot(o, towards_eye);
     distance = std::max({distance, std::abs(glm::dot(o, right)) / tan_h + along, std::abs(glm::dot(o, up)) / tan_v + along});
   }

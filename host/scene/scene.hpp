@@ -21,6 +21,10 @@ constexpr long long kMaxSceneBytes = 64LL << 20;
 
 struct Box {
   glm::dvec3 min, max;
+  // Corner k of 8: bit 0 picks max.x, bit 1 max.y, bit 2 max.z.
+  glm::dvec3 corner(int k) const {
+    return {k & 1 ? max.x : min.x, k & 2 ? max.y : min.y, k & 4 ? max.z : min.z};
+  }
 };
 
 struct Ball {
