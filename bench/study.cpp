@@ -66,7 +66,7 @@ double mean_height(const ParticleFrame& f) {
   return f.x.empty() ? 0 : sum / double(f.x.size());
 }
 
-Outcome simulate(const Run& r, int index, double seconds, const std::string& device) {
+Outcome simulate(const Run& r, int index, double seconds, const vk::Context* ctx) {
   Scene base = load_scene(r.scene);
   const double spacing = spacing_for(base, r.particles_wanted);
   const int frames = std::max(2, int(std::lround(seconds * base.fps)) + 1);
@@ -82,8 +82,7 @@ Outcome simulate(const Run& r, int index, double seconds, const std::string& dev
   Scene scene = load_scene(r.scene, overrides);
   Derived d = derive(scene);
   auto x0 = initial_particles(scene);
-  std::unique_ptr<vk::Context> ctx = make_context(device, false);
-  std::unique_ptr<Solver> solver = make_solver(ctx.get(), d, x0);
+  std::unique_ptr<Solver> solver = make_solver(ctx, d, x0);
   if (scene.settle) settle(*solver, d);  // as `pbflow run` does: the tank starts in its equilibrium
   if (auto* gpu = dynamic_cast<GpuSolver*>(solver.get())) gpu->set_profiling(true);
 
@@ -200,10 +199,13 @@ int run_study(const StudyOptions& options) {
   runs_csv << join(run_columns()) << "\n";
   series_csv << "run,frame,time,mean_compression,max_compression,kinetic_energy,potential_energy\n";
   const bool tty = isatty(STDERR_FILENO);
+  // One device for the sitting, as a user's process has: NVIDIA's driver refused a 30th
+  // instance made and destroyed in one process (H200, driver 580), and each costs a start.
+  std::unique_ptr<vk::Context> ctx = make_context(o.device, false);
   auto start = std::chrono::steady_clock::now();
   for (size_t i = 0; i < runs.size(); ++i) {
     const Run& r = runs[i];
-    Outcome out = simulate(r, int(i), seconds, o.device);
+    Outcome out = simulate(r, int(i), seconds, ctx.get());
     runs_csv << join(out.cells) << std::endl;
     series_csv << out.series << std::flush;
     double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -27,6 +27,7 @@ void FrameCapture::write(const std::filesystem::path& png, const Solver& solver)
   write_png(png, image);
   if (video_) video_->add(image);
   drawing_seconds_ += std::chrono::duration<double>(drawn - start).count();
+  gpu_drawing_seconds_ += renderer_.last_gpu_seconds();
   seconds_ += std::chrono::duration<double>(clock::now() - start).count();
 }
 

@@ -32,6 +32,7 @@ class FrameCapture {
   std::string description() const;  // GL platform, renderer and transfer path
   double seconds() const { return seconds_; }  // spent rendering and writing so far
   double drawing_seconds() const { return drawing_seconds_; }  // of which particles to GL, drawing, reading back
+  double gpu_drawing_seconds() const { return gpu_drawing_seconds_; }  // the GPU's time drawing (timer queries)
   std::vector<std::string> gl_errors() const { return gl_.errors(); }
 
  private:
@@ -40,7 +41,7 @@ class FrameCapture {
   Renderer renderer_;
   std::unique_ptr<ParticleTransfer> transfer_;
   std::unique_ptr<VideoEncoder> video_;
-  double seconds_ = 0, drawing_seconds_ = 0;
+  double seconds_ = 0, drawing_seconds_ = 0, gpu_drawing_seconds_ = 0;
 };
 
 }  // namespace pbflow::capture

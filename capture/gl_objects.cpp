@@ -52,6 +52,12 @@ Object make_vertex_array() {
   return {id, [](GLuint v) { glDeleteVertexArrays(1, &v); }};
 }
 
+Object make_time_query() {
+  GLuint id = 0;
+  glCreateQueries(GL_TIME_ELAPSED, 1, &id);
+  return {id, [](GLuint q) { glDeleteQueries(1, &q); }};
+}
+
 namespace {
 
 std::string_view source(const std::string& name) {

@@ -43,6 +43,7 @@ Object make_buffer(GLsizeiptr bytes, GLbitfield flags = GL_DYNAMIC_STORAGE_BIT);
 Object make_texture(GLenum format, int width, int height, GLenum filter = GL_NEAREST);
 Object make_framebuffer(std::initializer_list<GLuint> colour, GLuint depth);  // throws if incomplete
 Object make_vertex_array();
+Object make_time_query();  // GL_TIME_ELAPSED: the GPU time of the commands between begin and end
 
 // A program linked from the embedded shaders named `vertex` and `fragment` (file
 // stems); throws gl::Error with the compiler's log on failure.

@@ -55,6 +55,7 @@ Renderer::Renderer(const View& view)
     throw InputError("the fluid surface's resolution divisor must be 1 or 2, not " + std::to_string(view.surface_divisor));
   const int w = view.width, h = view.height;
   vao_ = gl::make_vertex_array();
+  timer_ = gl::make_time_query();
   glEnable(GL_PROGRAM_POINT_SIZE);  // sphere.vert sizes each particle's sprite
   frame_ubo_ = gl::make_buffer(sizeof(FrameUniforms));
   sphere_ = gl::make_program("sphere.vert", "sphere.frag");
@@ -147,6 +148,7 @@ void Renderer::draw_spheres(uint32_t count, int pass, glm::ivec2 viewport) {
 
 const Image& Renderer::render(GLuint buffer, uint32_t count) {
   const int w = view_.width, h = view_.height;
+  glBeginQuery(GL_TIME_ELAPSED, timer_);
   glBindVertexArray(vao_);
   glViewport(0, 0, w, h);
   // The camera, the tank and the obstacles stand still: they are drawn once (4-8 ms of a
@@ -167,6 +169,7 @@ const Image& Renderer::render(GLuint buffer, uint32_t count) {
     draw_spheres(count, kPassShaded, image_size_);
   }
   glDisable(GL_DEPTH_TEST);
+  glEndQuery(GL_TIME_ELAPSED);
 
   glBindFramebuffer(GL_READ_FRAMEBUFFER, output_fb_);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
@@ -176,6 +179,9 @@ const Image& Renderer::render(GLuint buffer, uint32_t count) {
   for (int y = 0; y < h / 2; ++y)  // GL's rows run from the bottom
     std::swap_ranges(rgb + y * row, rgb + (y + 1) * row, rgb + (h - 1 - y) * row);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  GLuint64 ns = 0;  // ready: the read-back waited for the drawing
+  glGetQueryObjectui64v(timer_, GL_QUERY_RESULT, &ns);
+  last_gpu_seconds_ = 1e-9 * double(ns);
   return image_;
 }
 

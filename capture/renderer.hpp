@@ -51,6 +51,9 @@ class Renderer {
   // fill the same memory, which page faults made dear to allocate anew (host/main.cpp).
   const Image& render(GLuint buffer, uint32_t count);
   const View& view() const { return view_; }
+  // The GPU time of the last render() (a GL timer query), the read-back excluded: what a
+  // frame costs the GPU, where the wall clock also counts the driver and the copy out.
+  double last_gpu_seconds() const { return last_gpu_seconds_; }
 
  private:
   struct FrameUniforms;
@@ -73,6 +76,8 @@ class Renderer {
   gl::Object output_colour_, output_depth_, output_fb_;  // a frame: the tank's image copied, then the particles
   gl::Object fluid_depth_[2], surface_zbuffer_, thickness_;
   Image image_;  // what render() returns
+  gl::Object timer_;
+  double last_gpu_seconds_ = 0;
   std::vector<gl::Object> obstacle_spheres_;  // one particle each (frame layout), drawn at its radius
   gl::Object surface_fb_, smooth_fb_[2];
   gl::Object normal_[2], normal_fb_[2];  // the surface's normals and the smoothing's other target

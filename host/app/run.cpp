@@ -217,7 +217,8 @@ int run(const RunOptions& o) {
       if (capture)
         std::cout << ", " << simulated_s / wall() << " with rendering (" << 1000.0 * render_s / scene.frames
                   << " ms per frame, " << 1000.0 * capture->drawing_seconds() / scene.frames
-                  << " of it drawing)\nframes: " << (out / "frames").string() << "/";
+                  << " of it drawing, " << 1000.0 * capture->gpu_drawing_seconds() / scene.frames
+                  << " of that on the GPU)\nframes: " << (out / "frames").string() << "/";
       if (!o.video.empty()) std::cout << "\nvideo: " << o.video;
       std::cout << "\nstats: " << dir.stats_path().string() << "\n";
     }

@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# The measurements a lent GPU is for, in one sitting, into OUT (default bench_out/gpu):
+# the Vulkan devices; drawing beside the solver for the default run at 720p and 1080p and for
+# ~1M particles at 1080p (bench/render.sh, GL timer queries); the cost model up to 4M
+# particles (pbflow bench --scaling); and the iterations-or-substeps study at 16k and 49k.
+#
+#   bench/gpu.sh [OUT]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+out=${1:-bench_out/gpu}
+mkdir -p "$out"
+build/pbflow devices > "$out/devices.txt"
+build/pbflow run bench/scenes/dam_break_1m.json --frames 2 --width 1920 --height 1080 --verbose \
+  --out "$out/run_1m" > "$out/run_1m.txt" 2>&1
+bench/render.sh -f 16 -r "1280x720 1920x1080" -y "fluid particles" > "$out/render.md"
+bench/render.sh -s bench/scenes/dam_break_1m.json -f 8 -r 1920x1080 -y "fluid particles" >> "$out/render.md"
+build/pbflow bench --scaling --budget-minutes 1.5 --out "$out/scaling"
+build/pbflow bench --counts 16000,49000 --iterations 1,2,3,4 --substeps 2,4 --seconds 1.5 --scenes dam_break \
+  --out "$out/pareto"
