@@ -25,7 +25,7 @@ while getopts "s:f:r:y:q:" opt; do
     *) echo "usage: $0 [-s scene] [-f frames] [-r sizes] [-y styles] [-q surfaces]" >&2; exit 2 ;;
   esac
 done
-bin=build/pbflow
+bin=${PBFLOW:-build/pbflow}  # PBFLOW: another build to compare
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
 echo "| scene | style | surface | size | particles | solver ms/frame | capture ms/frame | drawing ms/frame | GPU drawing ms/frame | drawing / solver |"

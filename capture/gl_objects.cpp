@@ -52,9 +52,18 @@ Object make_vertex_array() {
   return {id, [](GLuint v) { glDeleteVertexArrays(1, &v); }};
 }
 
-Object make_time_query() {
+Object make_texture_view(GLuint texture, GLenum format) {
   GLuint id = 0;
-  glCreateQueries(GL_TIME_ELAPSED, 1, &id);
+  glGenTextures(1, &id);  // a view needs a name never bound: glCreateTextures binds
+  glTextureView(id, GL_TEXTURE_2D, texture, format, 0, 1, 0, 1);
+  glTextureParameteri(id, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTextureParameteri(id, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  return {id, [](GLuint t) { glDeleteTextures(1, &t); }};
+}
+
+Object make_timestamp_query() {
+  GLuint id = 0;
+  glCreateQueries(GL_TIMESTAMP, 1, &id);
   return {id, [](GLuint q) { glDeleteQueries(1, &q); }};
 }
 
@@ -80,8 +89,10 @@ void require_status(GLuint object, GLenum status, PFNGLGETSHADERIVPROC get_iv, P
 
 Object compile(GLenum stage, const std::string& name) {
   Object shader(glCreateShader(stage), [](GLuint s) { glDeleteShader(s); });
-  // GLSL has no #include: every stage gets the shared declarations after its #version.
-  std::string text = "#version 450 core\n" + std::string(source("render_common.glsl")) + "#line 1\n" +
+  // GLSL has no #include: every stage gets the shared declarations after its #version, and
+  // the compute passes, the fluid surface's, its tiles.
+  std::string text = "#version 450 core\n" + std::string(source("render_common.glsl")) +
+                     (stage == GL_COMPUTE_SHADER ? std::string(source("surface_tiles.glsl")) : "") + "#line 1\n" +
                      std::string(source(name));
   const GLchar* ptr = text.c_str();
   GLint length = GLint(text.size());
@@ -92,17 +103,25 @@ Object compile(GLenum stage, const std::string& name) {
   return shader;
 }
 
+Object link(const std::vector<const Object*>& shaders, const std::string& names) {
+  Object program(glCreateProgram(), [](GLuint p) { glDeleteProgram(p); });
+  for (const Object* shader : shaders) glAttachShader(program, *shader);
+  glLinkProgram(program);
+  require_status(program, GL_LINK_STATUS, glGetProgramiv, glGetProgramInfoLog,
+                 "render program " + names + " does not link");
+  return program;
+}
+
 }  // namespace
 
 Object make_program(const std::string& vertex, const std::string& fragment) {
   Object vs = compile(GL_VERTEX_SHADER, vertex), fs = compile(GL_FRAGMENT_SHADER, fragment);
-  Object program(glCreateProgram(), [](GLuint p) { glDeleteProgram(p); });
-  glAttachShader(program, vs);
-  glAttachShader(program, fs);
-  glLinkProgram(program);
-  require_status(program, GL_LINK_STATUS, glGetProgramiv, glGetProgramInfoLog,
-                 "render program " + vertex + " + " + fragment + " does not link");
-  return program;
+  return link({&vs, &fs}, vertex + " + " + fragment);
+}
+
+Object make_compute_program(const std::string& compute) {
+  Object cs = compile(GL_COMPUTE_SHADER, compute);
+  return link({&cs}, compute);
 }
 
 }  // namespace pbflow::gl

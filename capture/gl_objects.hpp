@@ -1,6 +1,6 @@
 #pragma once
 // Move-only owners of GL object names, and shader programs built from the GLSL
-// render shaders embedded at build time (shaders/*.vert, *.frag).
+// render shaders embedded at build time (shaders/render/).
 #include <epoxy/gl.h>
 
 #include <string>
@@ -42,11 +42,14 @@ Object make_buffer(GLsizeiptr bytes, GLbitfield flags = GL_DYNAMIC_STORAGE_BIT);
 // 2D, one level, clamped; `filter`: GL_NEAREST, or GL_LINEAR for a texture sampled at another size.
 Object make_texture(GLenum format, int width, int height, GLenum filter = GL_NEAREST);
 Object make_framebuffer(std::initializer_list<GLuint> colour, GLuint depth);  // throws if incomplete
+// The same storage read as another format of its size (an R32UI image read as R32F).
+Object make_texture_view(GLuint texture, GLenum format);
 Object make_vertex_array();
-Object make_time_query();  // GL_TIME_ELAPSED: the GPU time of the commands between begin and end
+Object make_timestamp_query();  // GL_TIMESTAMP: the GPU's clock when the commands before it are done
 
 // A program linked from the embedded shaders named `vertex` and `fragment` (file
 // stems); throws gl::Error with the compiler's log on failure.
 Object make_program(const std::string& vertex, const std::string& fragment);
+Object make_compute_program(const std::string& compute);
 
 }  // namespace pbflow::gl

@@ -11,11 +11,21 @@ namespace pbflow::capture {
 
 namespace {
 
-constexpr int kPassShaded = 0, kPassSurface = 1, kPassSolid = 2;  // render_common.glsl
-constexpr float kNoFluid = 1e30f;                                   // NO_FLUID there
-constexpr int kSmoothingRounds = 1;  // bilateral x then y, once (smooth_depth.frag says why)
-constexpr int kTile = 8;             // surface texels on a side of a tile: TILE in render_common.glsl
-constexpr int kTilesHoldingFluid = 0, kTilesNearFluid = 1;  // tile_mask.frag's channels
+constexpr int kPassShaded = 0, kPassSolid = 1;  // render_common.glsl
+constexpr float kNoFluid = 1e30f;                // NO_FLUID there
+constexpr int kTile = 8;                         // surface texels on a side of a tile: TILE there
+constexpr int kTilesHoldingFluid = 0, kTilesNearFluid = 1;  // surface_tiles.glsl's lists
+constexpr GLuint kSplatGroup = 64, kTileMaskGroup = 8;      // surface_splat.comp's, tile_mask.comp's local sizes
+
+// A compute pass's writes, read by the next as textures, images or dispatch arguments.
+void pass_done() {
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT |
+                  GL_COMMAND_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+}
+
+void clear(GLuint texture, GLenum format, GLenum type, const void* value = nullptr) {  // nullptr: zero
+  glClearTexImage(texture, 0, format, type, value);
+}
 
 }  // namespace
 
@@ -55,11 +65,11 @@ Renderer::Renderer(const View& view)
     throw InputError("the fluid surface's resolution divisor must be 1 or 2, not " + std::to_string(view.surface_divisor));
   const int w = view.width, h = view.height;
   vao_ = gl::make_vertex_array();
-  timer_ = gl::make_time_query();
+  began_ = gl::make_timestamp_query();
+  drawn_ = gl::make_timestamp_query();
   glEnable(GL_PROGRAM_POINT_SIZE);  // sphere.vert sizes each particle's sprite
   frame_ubo_ = gl::make_buffer(sizeof(FrameUniforms));
   sphere_ = gl::make_program("sphere.vert", "sphere.frag");
-  sphere_surface_ = gl::make_program("sphere.vert", "sphere_surface.frag");
   box_ = gl::make_program("box.vert", "box.frag");
   scene_colour_ = gl::make_texture(GL_RGBA8, w, h);
   scene_depth_ = gl::make_texture(GL_DEPTH_COMPONENT32F, w, h);
@@ -68,34 +78,28 @@ Renderer::Renderer(const View& view)
   output_depth_ = gl::make_texture(GL_DEPTH_COMPONENT32F, w, h);
   output_fb_ = gl::make_framebuffer({output_colour_}, output_depth_);
   if (surface_style()) {
-    tile_mask_ = gl::make_program("fullscreen.vert", "tile_mask.frag");
-    smooth_ = gl::make_program("surface_tiles.vert", "smooth_depth.frag");
-    smooth_thickness_ = gl::make_program("surface_tiles.vert", "smooth_thickness.frag");
-    normals_ = gl::make_program("surface_tiles.vert", "surface_normals.frag");
-    smooth_normals_ = gl::make_program("surface_tiles.vert", "smooth_normals.frag");
-    fluid_ = gl::make_program("surface_tiles.vert", "fluid_shade.frag");
+    splat_ = gl::make_compute_program("surface_splat.comp");
+    tile_mask_ = gl::make_compute_program("tile_mask.comp");
+    smooth_ = gl::make_compute_program("smooth_depth.comp");
+    smooth_thickness_ = gl::make_compute_program("smooth_thickness.comp");
+    normals_ = gl::make_compute_program("surface_normals.comp");
+    smooth_normals_ = gl::make_compute_program("smooth_normals.comp");
+    fluid_ = gl::make_compute_program("fluid_shade.comp");
     // The smoothed surface holds (linear eye depth, coverage 1) where there is fluid and 0
     // elsewhere, so that the shading's bilinear read at full size, r/g, blends only depths
-    // of fluid and g says how much of the pixel the fluid covers. (The surface pass's raw
-    // depth, before smoothing, is NO_FLUID where no sphere was drawn.)
+    // of fluid and g says how much of the pixel the fluid covers. (The splat's depth,
+    // before smoothing, is NO_FLUID where no sphere was drawn.)
     const int sw = surface_size_.x, sh = surface_size_.y;
+    splat_depth_ = gl::make_texture(GL_R32UI, sw, sh);
+    splat_depth_view_ = gl::make_texture_view(splat_depth_, GL_R32F);
+    chord_sum_ = gl::make_texture(GL_R32UI, sw, sh);
     for (auto& t : fluid_depth_) t = gl::make_texture(GL_RG32F, sw, sh, GL_LINEAR);
-    tiles_ = (surface_size_ + kTile - 1) / kTile;
-    tile_marks_ = gl::make_texture(GL_RG8, tiles_.x, tiles_.y);
-    tile_marks_fb_ = gl::make_framebuffer({tile_marks_}, 0);
     thickness_ = gl::make_texture(GL_R32F, sw, sh, GL_LINEAR);
-    // The tank's depth at the surface's size: fluid behind an obstacle stays hidden.
-    surface_zbuffer_ = gl::make_texture(GL_DEPTH_COMPONENT32F, sw, sh);
-    surface_fb_ = gl::make_framebuffer({fluid_depth_[0], thickness_}, surface_zbuffer_);
-    smooth_fb_[0] = gl::make_framebuffer({fluid_depth_[1]}, 0);
-    smooth_fb_[1] = gl::make_framebuffer({fluid_depth_[0]}, 0);
-    thickness_blur_ = gl::make_texture(GL_R32F, sw, sh, GL_LINEAR);
-    thickness_fb_[0] = gl::make_framebuffer({thickness_blur_}, 0);
-    thickness_fb_[1] = gl::make_framebuffer({thickness_}, 0);
-    for (int k = 0; k < 2; ++k) {
-      normal_[k] = gl::make_texture(GL_RGBA16F, sw, sh, GL_LINEAR);
-      normal_fb_[k] = gl::make_framebuffer({normal_[k]}, 0);
-    }
+    thickness_blur_ = gl::make_texture(GL_R32F, sw, sh);
+    for (auto& t : normal_) t = gl::make_texture(GL_RGBA16F, sw, sh, GL_LINEAR);
+    tiles_ = (surface_size_ + kTile - 1) / kTile;
+    // The dispatches (4 words each), then both lists interleaved: a tile's place in each.
+    tile_lists_ = gl::make_buffer(GLsizeiptr(sizeof(GLuint)) * (8 + 2 * tiles_.x * tiles_.y));
   }
   for (const Obstacle& o : view.obstacles) {
     if (o.kind != Obstacle::Kind::Sphere) continue;
@@ -142,13 +146,13 @@ void Renderer::upload(const FrameUniforms& u) {
 void Renderer::draw_spheres(uint32_t count, int pass, glm::ivec2 viewport) {
   if (count == 0) return;
   upload(uniforms(count, pass, viewport));
-  glUseProgram(pass == kPassSurface ? sphere_surface_ : sphere_);
+  glUseProgram(sphere_);
   glDrawArrays(GL_POINTS, 0, GLsizei(count));
 }
 
 const Image& Renderer::render(GLuint buffer, uint32_t count) {
   const int w = view_.width, h = view_.height;
-  glBeginQuery(GL_TIME_ELAPSED, timer_);
+  glQueryCounter(began_, GL_TIMESTAMP);
   glBindVertexArray(vao_);
   glViewport(0, 0, w, h);
   // The camera, the tank and the obstacles stand still: they are drawn once (4-8 ms of a
@@ -160,16 +164,16 @@ const Image& Renderer::render(GLuint buffer, uint32_t count) {
   copy_image(scene_colour_, output_colour_);
   if (!fluid) copy_image(scene_depth_, output_depth_);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buffer);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
   if (fluid) {
     fluid_surface(count);
   } else {
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
     glBindFramebuffer(GL_FRAMEBUFFER, output_fb_);
     draw_spheres(count, kPassShaded, image_size_);
+    glDisable(GL_DEPTH_TEST);
   }
-  glDisable(GL_DEPTH_TEST);
-  glEndQuery(GL_TIME_ELAPSED);
+  glQueryCounter(drawn_, GL_TIMESTAMP);
 
   glBindFramebuffer(GL_READ_FRAMEBUFFER, output_fb_);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
@@ -179,9 +183,10 @@ const Image& Renderer::render(GLuint buffer, uint32_t count) {
   for (int y = 0; y < h / 2; ++y)  // GL's rows run from the bottom
     std::swap_ranges(rgb + y * row, rgb + (y + 1) * row, rgb + (h - 1 - y) * row);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
-  GLuint64 ns = 0;  // ready: the read-back waited for the drawing
-  glGetQueryObjectui64v(timer_, GL_QUERY_RESULT, &ns);
-  last_gpu_seconds_ = 1e-9 * double(ns);
+  GLuint64 began = 0, drawn = 0;  // ready: the read-back waited for the drawing
+  glGetQueryObjectui64v(began_, GL_QUERY_RESULT, &began);
+  glGetQueryObjectui64v(drawn_, GL_QUERY_RESULT, &drawn);
+  last_gpu_seconds_ = 1e-9 * double(drawn - began);
   return image_;
 }
 
@@ -223,118 +228,107 @@ void Renderer::draw_tank_and_obstacles() {
     }
   }
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-  // The fluid's surface passes test against the tank's depth at their own size; they
-  // never write it.
-  if (surface_style())
-    glBlitNamedFramebuffer(scene_fb_, surface_fb_, 0, 0, image_size_.x, image_size_.y, 0, 0, surface_size_.x,
-                           surface_size_.y, GL_DEPTH_BUFFER_BIT, GL_NEAREST);
 }
 
 void Renderer::fluid_surface(uint32_t count) {
-  const glm::ivec2 size = surface_size_;
-  glViewport(0, 0, size.x, size.y);
-  // 1. Nearest sphere depth per pixel (linear eye depth) and every sphere's chord summed,
-  //    in one draw: min and sum blending. The tank's depth, brought to the surface's size
-  //    when the tank was drawn, hides the fluid behind it; fluid does not hide fluid (no
-  //    depth writes).
-  const float no_fluid[4] = {kNoFluid, 0, 0, 0}, zero[4] = {0, 0, 0, 0};
-  glClearNamedFramebufferfv(surface_fb_, GL_COLOR, 0, no_fluid);
-  glClearNamedFramebufferfv(surface_fb_, GL_COLOR, 1, zero);
-  glBindFramebuffer(GL_FRAMEBUFFER, surface_fb_);
-  glDepthMask(GL_FALSE);
-  glEnable(GL_BLEND);
-  glBlendFunc(GL_ONE, GL_ONE);
-  glBlendEquationi(0, GL_MIN);
-  glBlendEquationi(1, GL_FUNC_ADD);
-  draw_spheres(count, kPassSurface, size);
-  glBlendEquation(GL_FUNC_ADD);
-  glDisable(GL_BLEND);
-  glDepthMask(GL_TRUE);
-  glDisable(GL_DEPTH_TEST);
+  const glm::vec2 image_per_texel = glm::vec2(image_size_) / glm::vec2(surface_size_);
+  // 1. The splat: per surface texel, the nearest sphere's linear eye depth and every
+  //    sphere's chord summed (surface_splat.comp), behind the tank's depth.
+  const GLuint no_fluid = glm::floatBitsToUint(kNoFluid);
+  clear(splat_depth_, GL_RED_INTEGER, GL_UNSIGNED_INT, &no_fluid);
+  clear(chord_sum_, GL_RED_INTEGER, GL_UNSIGNED_INT);
+  upload(uniforms(count, kPassShaded, surface_size_));
+  glUseProgram(splat_);
+  glUniform2f(2, image_per_texel.x, image_per_texel.y);
+  glBindImageTexture(0, splat_depth_, 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+  glBindImageTexture(1, chord_sum_, 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+  glBindTextureUnit(3, scene_depth_);
+  glDispatchCompute((count + kSplatGroup - 1) / kSplatGroup, 1, 1);
+  pass_done();
 
-  // 2. The tiles that hold fluid and those near it (tile_mask.frag), where the smoothing
-  //    and the shading run (surface_tiles.vert).
-  glViewport(0, 0, tiles_.x, tiles_.y);
-  glBindFramebuffer(GL_FRAMEBUFFER, tile_marks_fb_);
+  // 2. The lists of tiles that hold fluid and of those near it (tile_mask.comp), on which
+  //    every later pass runs (surface_tiles.glsl).
+  const GLuint no_tiles[8] = {0, 1, 1, 0, 0, 1, 1, 0};
+  glNamedBufferSubData(tile_lists_, 0, sizeof no_tiles, no_tiles);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, tile_lists_);
+  glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, tile_lists_);
   glUseProgram(tile_mask_);
-  glBindTextureUnit(0, fluid_depth_[0]);
-  glDrawArrays(GL_TRIANGLES, 0, 3);
-  glBindTextureUnit(4, tile_marks_);
+  glBindTextureUnit(0, splat_depth_view_);
+  glDispatchCompute((GLuint(tiles_.x) + kTileMaskGroup - 1) / kTileMaskGroup,
+                    (GLuint(tiles_.y) + kTileMaskGroup - 1) / kTileMaskGroup, 1);
+  pass_done();
 
-  // 3. Smoothing, ping-ponging between the two depth textures; ends in fluid_depth_[0].
-  //    Away from the fluid the smoothed surface reads 0: each target is cleared before
-  //    its first round (fluid_depth_[0] once the first round has read the splat), and
-  //    every round writes the same tiles.
-  glViewport(0, 0, size.x, size.y);
-  upload(uniforms(count, kPassShaded, size));
-  glUseProgram(smooth_);
-  for (int round = 0; round < kSmoothingRounds; ++round)
-    for (int axis = 0; axis < 2; ++axis) {
-      if (round == 0) glClearNamedFramebufferfv(smooth_fb_[axis], GL_COLOR, 0, zero);
-      glBindFramebuffer(GL_FRAMEBUFFER, smooth_fb_[axis]);
-      glBindTextureUnit(0, fluid_depth_[axis]);
-      glUniform2i(0, axis == 0 ? 1 : 0, axis == 0 ? 0 : 1);
-      draw_tiles(kTilesHoldingFluid, glm::vec2(1.0f));
-    }
-
+  // 3. The depth smoothed, then 4. the thickness blurred and the surface's normals. Every
+  //    target is cleared first: texels outside the tiles must read 0 (no fluid), also for
+  //    the shading's bilinear reads.
+  smooth_depth();
   smooth_thickness();
   surface_normals();
 
   // 5. Shading over the copy of the tank, at the image's size, on the tiles near the fluid.
-  glViewport(0, 0, image_size_.x, image_size_.y);
   upload(uniforms(count, kPassShaded, image_size_));
-  glBindFramebuffer(GL_FRAMEBUFFER, output_fb_);
   glUseProgram(fluid_);
+  glUniform2f(2, image_per_texel.x, image_per_texel.y);
+  glBindImageTexture(0, output_colour_, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
   glBindTextureUnit(0, scene_colour_);
   glBindTextureUnit(1, fluid_depth_[0]);
   glBindTextureUnit(2, thickness_);
   glBindTextureUnit(3, scene_depth_);
   glBindTextureUnit(5, normal_[0]);
-  draw_tiles(kTilesNearFluid, glm::vec2(image_size_) / glm::vec2(size));
+  run_tiles(kTilesNearFluid);
 }
 
-// 4a. The thickness blurred, x into thickness_blur_ then y back into thickness_
-//     (smooth_thickness.frag). The blur target is cleared first: its texels outside the
-//     tiles drawn must read 0 for the y pass.
-void Renderer::smooth_thickness() {
-  const float zero[4] = {0, 0, 0, 0};
-  glClearNamedFramebufferfv(thickness_fb_[0], GL_COLOR, 0, zero);
-  glUseProgram(smooth_thickness_);
-  glBindTextureUnit(1, fluid_depth_[0]);
-  const GLuint from[2] = {thickness_, thickness_blur_};
+void Renderer::run_tiles(int kind) {
+  glUniform1i(1, kind);
+  glDispatchComputeIndirect(GLintptr(kind) * 4 * GLintptr(sizeof(GLuint)));
+  pass_done();
+}
+
+// 3. A separable bilateral filter, x into fluid_depth_[1], y into fluid_depth_[0]
+//    (smooth_depth.comp).
+void Renderer::smooth_depth() {
+  glUseProgram(smooth_);
+  const GLuint from[2] = {splat_depth_view_, fluid_depth_[1]}, to[2] = {fluid_depth_[1], fluid_depth_[0]};
   for (int axis = 0; axis < 2; ++axis) {
-    glBindFramebuffer(GL_FRAMEBUFFER, thickness_fb_[axis]);
+    clear(to[axis], GL_RG, GL_FLOAT);
     glBindTextureUnit(0, from[axis]);
+    glBindImageTexture(0, to[axis], 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG32F);
     glUniform2i(0, axis == 0 ? 1 : 0, axis == 0 ? 0 : 1);
-    draw_tiles(kTilesHoldingFluid, glm::vec2(1.0f));
+    run_tiles(kTilesHoldingFluid);
   }
 }
 
-// 4b. The surface's normals from the smoothed depth, then smoothed along the surface, x then
-//    y (smooth_normals.frag); ends in normal_[0]. Both targets are cleared first: texels
-//    without fluid must read 0 for the shading's bilinear read.
+// 4a. The thickness blurred, x from the chord sums into thickness_blur_, then y into
+//     thickness_ (smooth_thickness.comp).
+void Renderer::smooth_thickness() {
+  glUseProgram(smooth_thickness_);
+  glBindTextureUnit(0, chord_sum_);
+  glBindTextureUnit(1, fluid_depth_[0]);
+  glBindTextureUnit(6, thickness_blur_);
+  const GLuint to[2] = {thickness_blur_, thickness_};
+  for (int axis = 0; axis < 2; ++axis) {
+    clear(to[axis], GL_RED, GL_FLOAT);
+    glBindImageTexture(0, to[axis], 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+    glUniform2i(0, axis == 0 ? 1 : 0, axis == 0 ? 0 : 1);
+    run_tiles(kTilesHoldingFluid);
+  }
+}
+
+// 4b. The surface's normals from the smoothed depth into normal_[0], then smoothed along
+//     the surface, x into normal_[1] and y back into normal_[0] (smooth_normals.comp).
 void Renderer::surface_normals() {
-  const float zero[4] = {0, 0, 0, 0};
-  for (const gl::Object& fb : normal_fb_) glClearNamedFramebufferfv(fb, GL_COLOR, 0, zero);
-  glBindFramebuffer(GL_FRAMEBUFFER, normal_fb_[0]);
+  for (const gl::Object& t : normal_) clear(t, GL_RGBA, GL_FLOAT);
   glUseProgram(normals_);
   glBindTextureUnit(0, fluid_depth_[0]);
-  draw_tiles(kTilesHoldingFluid, glm::vec2(1.0f));
+  glBindImageTexture(0, normal_[0], 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+  run_tiles(kTilesHoldingFluid);
   glUseProgram(smooth_normals_);
   for (int axis = 0; axis < 2; ++axis) {
-    glBindFramebuffer(GL_FRAMEBUFFER, normal_fb_[1 - axis]);
     glBindTextureUnit(0, normal_[axis]);
+    glBindImageTexture(0, normal_[1 - axis], 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
     glUniform2i(0, axis == 0 ? 1 : 0, axis == 0 ? 0 : 1);
-    draw_tiles(kTilesHoldingFluid, glm::vec2(1.0f));
+    run_tiles(kTilesHoldingFluid);
   }
-}
-
-// One point per tile of the surface (surface_tiles.vert) with the current program, drawn
-// where tile_marks_ holds `channel`; `scale`: the viewport's pixels per surface texel.
-void Renderer::draw_tiles(int channel, glm::vec2 scale) {
-  glUniform1i(1, channel);
-  glUniform2f(2, scale.x, scale.y);
-  glDrawArrays(GL_POINTS, 0, tiles_.x * tiles_.y);
 }
 
 }  // namespace pbflow::capture

@@ -62,28 +62,32 @@ class Renderer {
   void draw_spheres(uint32_t count, int pass, glm::ivec2 viewport);
   void copy_image(GLuint from, GLuint to) const;  // a texture of the image's size
   bool surface_style() const { return view_.style == Style::Fluid || view_.style == Style::Normals; }
-  void draw_tank_and_obstacles();  // into scene_fb_, and for the fluid style its depth into surface_fb_
+  void draw_tank_and_obstacles();  // into scene_fb_
+  // The fluid style's surface, in compute passes over the surface's tiles (surface_tiles.glsl).
   void fluid_surface(uint32_t count);
-  void draw_tiles(int channel, glm::vec2 scale);
-  void surface_normals();
+  void run_tiles(int kind);  // the bound program, one workgroup per tile of the list `kind`
+  void smooth_depth();
   void smooth_thickness();
+  void surface_normals();
 
   View view_;
   glm::ivec2 image_size_, surface_size_;  // the fluid surface's passes run at surface_size_
   gl::Object vao_, frame_ubo_;
-  gl::Object sphere_, sphere_surface_, box_, tile_mask_, smooth_, smooth_thickness_, normals_, smooth_normals_, fluid_;
+  gl::Object sphere_, box_, splat_, tile_mask_, smooth_, smooth_thickness_, normals_, smooth_normals_, fluid_;
   gl::Object scene_colour_, scene_depth_, scene_fb_;
   gl::Object output_colour_, output_depth_, output_fb_;  // a frame: the tank's image copied, then the particles
-  gl::Object fluid_depth_[2], surface_zbuffer_, thickness_;
   Image image_;  // what render() returns
-  gl::Object timer_;
+  gl::Object began_, drawn_;  // timestamps around the drawing
   double last_gpu_seconds_ = 0;
   std::vector<gl::Object> obstacle_spheres_;  // one particle each (frame layout), drawn at its radius
-  gl::Object surface_fb_, smooth_fb_[2];
-  gl::Object normal_[2], normal_fb_[2];  // the surface's normals and the smoothing's other target
-  gl::Object thickness_blur_, thickness_fb_[2];  // the thickness blur's other target; fbs onto it and thickness_
-  glm::ivec2 tiles_{0};  // the surface's tiles of TILE x TILE texels (render_common.glsl)
-  gl::Object tile_marks_, tile_marks_fb_;  // tile_mask.frag's marks, one texel per tile
+  // The fluid surface, at surface_size_: the splat's nearest depth (float bits, atomic min;
+  // read as R32F through the view) and chord sum; the smoothed depth (x into [1], y into
+  // [0]), the thickness blurred (x into thickness_blur_, y into thickness_), the normals
+  // (computed into [0], smoothed x into [1], y back into [0]).
+  gl::Object splat_depth_, splat_depth_view_, chord_sum_;
+  gl::Object fluid_depth_[2], thickness_, thickness_blur_, normal_[2];
+  glm::ivec2 tiles_{0};    // the surface's tiles of TILE x TILE texels (render_common.glsl)
+  gl::Object tile_lists_;  // tile_mask.comp's lists and their dispatches (surface_tiles.glsl)
   bool tank_drawn_ = false;
 };
 

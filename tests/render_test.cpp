@@ -121,7 +121,7 @@ TEST_F(RenderTest, SpheresCoverTheirProjectedDiscsAndNothingElse) {
 }
 
 // The fluid style smooths and shades only the tiles of the surface that the fluid may
-// touch (tile_mask.frag, surface_tiles.vert): lone drops in the corners and at the edges
+// touch (tile_mask.comp, surface_tiles.glsl): lone drops in the corners and at the edges
 // of an image whose size is no multiple of a tile are shaded whole, at either surface
 // size, and the tank away from them is left as it was.
 TEST_F(RenderTest, FluidShadingTilesMissNoDropAtTheImagesEdges) {

@@ -1,8 +1,9 @@
 // The fluid surface's view-space normal per surface texel, from the smoothed depth's slopes
 // (each from the neighbour on the side with the smaller step, so that silhouettes do not
-// smear), facing the eye; written with the texel's depth beside it for smooth_normals.frag.
+// smear), facing the eye; written with the texel's depth beside it for smooth_normals.comp.
 // 0 where there is no fluid.
-layout(location = 0) out vec4 result;
+layout(local_size_x = TILE, local_size_y = TILE) in;
+layout(binding = 0, rgba16f) uniform restrict writeonly image2D result;
 layout(binding = 0) uniform sampler2D depth_texture;  // smoothed (linear depth, coverage); 0 = no fluid
 
 float surface_depth(ivec2 p) {
@@ -13,10 +14,11 @@ float surface_depth(ivec2 p) {
 vec3 view_position(ivec2 p, float d) { return view_ray(vec2(p) + 0.5) * d; }
 
 void main() {
-  ivec2 p = ivec2(gl_FragCoord.xy);
+  ivec2 p = tile_texel();
+  if (any(greaterThanEqual(p, textureSize(depth_texture, 0)))) return;
   float d = surface_depth(p);
   if (d <= 0.0) {
-    result = vec4(0.0);
+    imageStore(result, p, vec4(0.0));
     return;
   }
   vec3 pos = view_position(p, d);
@@ -31,5 +33,5 @@ void main() {
   }
   vec3 n = (ddx == vec3(0.0) || ddy == vec3(0.0)) ? vec3(0.0, 0.0, 1.0) : normalize(cross(ddx, ddy));
   if (dot(n, pos) > 0.0) n = -n;
-  result = vec4(n, d);
+  imageStore(result, p, vec4(n, d));
 }

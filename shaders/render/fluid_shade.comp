@@ -1,15 +1,18 @@
 // Screen-space fluid: a surface from the smoothed depth, normals from its slopes smoothed
-// along the surface (surface_normals.frag, smooth_normals.frag),
+// along the surface (surface_normals.comp, smooth_normals.comp),
 // Fresnel mix of the sky's reflection and the scene refracted and absorbed through
-// the fluid's thickness, and a specular highlight. Drawn on the tiles that the fluid may
-// touch (surface_tiles.vert) over a copy of the tank's image.
-layout(location = 0) out vec4 result;
+// the fluid's thickness, and a specular highlight. Written on the tiles that the fluid may
+// touch (TILES_NEAR_FLUID, surface_tiles.glsl) over a copy of the tank's image, at the
+// image's size: a tile's workgroup covers the image pixels of its surface texels.
+layout(local_size_x = TILE, local_size_y = TILE) in;
+layout(binding = 0, rgba8) uniform restrict writeonly image2D result;
 layout(binding = 0) uniform sampler2D scene_texture;
 // Both at the surface's size, read bilinearly at the image's.
 layout(binding = 1) uniform sampler2D depth_texture;      // smoothed (linear depth, coverage); 0 = no fluid
 layout(binding = 2) uniform sampler2D thickness_texture;  // summed chord lengths, m
 layout(binding = 3) uniform sampler2D scene_depth;        // the tank's and obstacles' depth buffer
 layout(binding = 5) uniform sampler2D normal_texture;     // smoothed view-space normals, at the surface's size
+layout(location = 2) uniform vec2 tile_scale;             // image pixels per surface texel
 
 // The surface's depth seen through pixel p: the covered texels' depths blended, 0 where
 // they cover under half of it (the silhouette falls between texels, not on their grid).
@@ -26,28 +29,22 @@ float tank_depth(ivec2 p) {
 
 vec3 view_position(ivec2 p, float d) { return view_ray(vec2(p) + 0.5) * d; }
 
-void main() {
-  ivec2 p = ivec2(gl_FragCoord.xy);
-  vec2 uv = gl_FragCoord.xy / viewport;
+vec3 shade(ivec2 p) {
+  vec2 uv = (vec2(p) + 0.5) / viewport;
   vec3 background = texelFetch(scene_texture, p, 0).rgb;
   float d = surface_depth(p);
   // The tank shows where there is no fluid (most of the image, which reads nothing more)
   // and where a surface texel straddling an obstacle's outline lies behind the obstacle
   // (by more than a particle radius, the smoothing's slack).
-  if (d <= 0.0 || d > tank_depth(p) + radius) {
-    result = vec4(background, 1.0);
-    return;
-  }
+  if (d <= 0.0 || d > tank_depth(p) + radius) return background;
   vec3 pos = view_position(p, d);
   // Read bilinearly: the texels without fluid hold 0 and add nothing to the direction.
   vec3 blended = texture(normal_texture, uv).xyz;
   vec3 n = dot(blended, blended) > 1e-6 ? normalize(blended) : vec3(0.0, 0.0, 1.0);
   vec3 eye_dir = normalize(-pos);
   if (dot(n, eye_dir) < 0.0) n = -n;
-  if (style == STYLE_NORMALS) {  // world space: the view matrix is a rotation and a shift
-    result = vec4(0.5 * normalize(transpose(mat3(view)) * n) + 0.5, 1.0);
-    return;
-  }
+  if (style == STYLE_NORMALS)  // world space: the view matrix is a rotation and a shift
+    return 0.5 * normalize(transpose(mat3(view)) * n) + 0.5;
 
   float thickness = texture(thickness_texture, uv).r;
   vec2 offset = n.xy * min(thickness, 0.3) * 0.15;
@@ -58,5 +55,16 @@ void main() {
   vec3 reflected = sky(reflect(-eye_dir, n));
   vec3 h = normalize(light_view.xyz + eye_dir);
   float specular = pow(max(dot(n, h), 0.0), 120.0);
-  result = vec4(mix(absorbed, reflected, fresnel) + vec3(0.8 * specular), 1.0);
+  return mix(absorbed, reflected, fresnel) + vec3(0.8 * specular);
+}
+
+void main() {
+  // The tile's pixels: where a texel spans a fractional number of pixels, the pixels that
+  // any part of its texels covers (a pixel between two tiles is shaded by both, alike).
+  ivec2 tile = group_tile();
+  ivec2 lo = ivec2(floor(vec2(tile * TILE) * tile_scale));
+  ivec2 hi = min(ivec2(ceil(vec2((tile + 1) * TILE) * tile_scale)), ivec2(viewport));
+  for (int y = lo.y + int(gl_LocalInvocationID.y); y < hi.y; y += TILE)
+    for (int x = lo.x + int(gl_LocalInvocationID.x); x < hi.x; x += TILE)
+      imageStore(result, ivec2(x, y), vec4(shade(ivec2(x, y)), 1.0));
 }

@@ -1,7 +1,6 @@
 // Ray-sphere intersection per fragment: the exact silhouette and depth of each particle
-// (PASS_SHADED) or obstacle sphere (PASS_SOLID), lit. The fluid style's splat is
-// sphere_surface.frag: llvmpipe runs both sides of a branch on every pixel, so one
-// shader for both paid for the lighting in the splat.
+// (PASS_SHADED) or obstacle sphere (PASS_SOLID), lit. The fluid style splats its spheres
+// in a compute pass instead (surface_splat.comp).
 flat in vec3 centre_view;
 flat in float scalar;
 layout(location = 0) out vec4 result;

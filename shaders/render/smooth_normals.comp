@@ -1,12 +1,13 @@
-// One direction of a separable filter on the surface's normals (surface_normals.frag): a
+// One direction of a separable filter on the surface's normals (surface_normals.comp): a
 // wide Gaussian that averages only the normals of the same surface. The depth filter
-// (smooth_depth.frag) takes out the spheres' bumps at the particle's scale; what it leaves
+// (smooth_depth.comp) takes out the spheres' bumps at the particle's scale; what it leaves
 // is the fluid's own roughness, a few degrees between particle columns, which a depth
 // filter wide enough to remove it would round the fluid's edges with. Here a sample counts
 // only where it lies on the centre's tangent plane (within two radii along the ray: not a
 // layer behind or in front) and its normal is near the centre's (weight exp(-(1 - cos)/s),
 // a tenth at 35 degrees): across an edge between two faces, or a crest, nothing mixes.
-layout(location = 0) out vec4 result;
+layout(local_size_x = TILE, local_size_y = TILE) in;
+layout(binding = 0, rgba16f) uniform restrict writeonly image2D result;
 layout(binding = 0) uniform sampler2D normal_texture;  // (view-space normal, linear depth); 0 = no fluid
 layout(location = 0) uniform ivec2 direction;
 
@@ -14,10 +15,12 @@ const float NORMAL_SIMILARITY = 0.08;  // 1 - cos of the normals' difference at 
 const float SPAN = 8.0;                // the filter's reach, in particle radii on screen
 
 void main() {
-  ivec2 p = ivec2(gl_FragCoord.xy);
+  ivec2 p = tile_texel();
+  ivec2 size = textureSize(normal_texture, 0);
+  if (any(greaterThanEqual(p, size))) return;
   vec4 c = texelFetch(normal_texture, p, 0);
   if (c.w <= 0.0) {
-    result = vec4(0.0);
+    imageStore(result, p, vec4(0.0));
     return;
   }
   vec3 n0 = c.xyz, p0 = view_ray(vec2(p) + 0.5) * c.w;
@@ -25,7 +28,6 @@ void main() {
   int taps = int(clamp(SPAN * radius_px, 1.0, 48.0));
   float sigma = max(float(taps) / 2.0, 0.5);
   int stride = max(taps / 8, 1), samples = taps / stride;
-  ivec2 size = textureSize(normal_texture, 0);
   vec3 sum = vec3(0.0);
   for (int s = -samples; s <= samples; ++s) {
     int k = s * stride;
@@ -40,5 +42,5 @@ void main() {
     float w = exp(-0.5 * float(k * k) / (sigma * sigma) - (1.0 - dot(e.xyz, n0)) / NORMAL_SIMILARITY);
     sum += w * e.xyz;
   }
-  result = vec4(normalize(sum + 1e-6 * n0), c.w);
+  imageStore(result, p, vec4(normalize(sum + 1e-6 * n0), c.w));
 }

@@ -24,16 +24,12 @@ void main() {
     corner += half_size * (c.x * u + c.y * cross(u, axis));
   } else {
     // The outline's extent from the projected centre: f r / sqrt(d^2 - r^2) on the axis,
-    // stretched by up to sec^2 of the angle off it; the splat's growth of half a pixel
-    // (sphere_surface.frag), and half a pixel of margin. Every pixel of the sprite runs the
-    // fragment shader, the dearest part of a frame on llvmpipe: 2.2 pixels of margin
-    // instead of one cost 45 ms a frame against 31 (16k particles, 720p).
+    // stretched by up to sec^2 of the angle off it, and half a pixel of margin. Every pixel
+    // of the sprite runs the fragment shader, the dearest part of a frame on llvmpipe: 2.2
+    // pixels of margin instead of one cost 45 ms a frame against 31 (16k particles, 720p).
     float secant = d / max(-centre_view.z, 1e-9);
     float pixels = 0.5 * viewport.y * proj[1][1] * half_size / max(-centre_view.z, 1e-9) * secant * secant;
-    gl_PointSize = 2.0 * pixels + (pass == PASS_SURFACE ? 2.0 : 1.0);
-    // At the sphere's nearest point, on the ray through the centre: the sprite's depth,
-    // which the splat's depth test reads (sphere_surface.frag).
-    corner *= 1.0 - radius / d;
+    gl_PointSize = 2.0 * pixels + 1.0;
   }
   // An eye inside a sphere sees nothing of it: it is moved out of the clip volume.
   gl_Position = d > radius ? proj * vec4(corner, 1.0) : vec4(2.0, 2.0, 2.0, 1.0);

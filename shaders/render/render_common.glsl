@@ -4,10 +4,10 @@
 
 const int STYLE_FLUID = 0, STYLE_PARTICLES = 1, STYLE_DENSITY = 2, STYLE_SPEED = 3, STYLE_NORMALS = 4;
 const int PASS_SHADED = 0;
-const int PASS_SURFACE = 1;  // the fluid style's nearest depth and summed thickness, in one draw
-const int PASS_SOLID = 2;    // obstacles: boxes seen from outside, spheres in the solid colour
-const int TILE = 8;  // surface texels on a side of a tile of the fluid's smoothing and shading (surface_tiles.vert)
-const float NO_FLUID = 1e30;  // the surface pass's depth where no sphere was drawn (blended by min)
+const int PASS_SOLID = 1;  // obstacles: boxes seen from outside, spheres in the solid colour
+const int TILE = 8;  // surface texels on a side of a tile of the fluid's smoothing and shading (surface_tiles.glsl)
+const float NO_FLUID = 1e30;  // the splat's depth where no sphere was drawn (surface_splat.comp)
+const float CHORD_UNIT = 1e-6;  // m: the splat sums chords as integers of this (image atomics)
 const vec3 SOLID_COLOUR = vec3(0.62, 0.48, 0.34);
 
 layout(std140, binding = 0) uniform Frame {

@@ -1,0 +1,21 @@
+// Prepended to the fluid surface's compute passes (capture/gl_objects.cpp). They run on
+// the tiles of TILE x TILE surface texels that hold fluid or lie near it, one workgroup a
+// tile, from the lists that tile_mask.comp writes: the tank, most of the image, costs
+// nothing (a dam break at 720p on llvmpipe spent 16 of its shading's 20 ms on the tank
+// when every texel ran).
+const int TILES_HOLDING_FLUID = 0;  // the smoothing's tiles
+const int TILES_NEAR_FLUID = 1;     // and those within a margin of them: the shading's
+
+layout(std430, binding = 1) buffer Tiles {
+  uvec4 tile_dispatch[2];  // per list, the indirect dispatch (tiles, 1, 1, unused)
+  uint tile_list[];        // the two lists interleaved: list k's n-th tile at 2 n + k, x | y << 16
+};
+layout(location = 1) uniform int tile_kind;  // the list this dispatch runs on
+
+ivec2 group_tile() {
+  uint t = tile_list[2u * gl_WorkGroupID.x + uint(tile_kind)];
+  return ivec2(t & 0xffffu, t >> 16);
+}
+
+// The invocation's surface texel, in a workgroup of TILE x TILE on the group's tile.
+ivec2 tile_texel() { return group_tile() * TILE + ivec2(gl_LocalInvocationID.xy); }
