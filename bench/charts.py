@@ -10,6 +10,10 @@ Usage: charts.py DIR   (writes DIR/*.png; `pbflow bench` runs it and leaves a co
   time_per_step.png      ms per step vs iterations, per method (seed paper, Figure 7)
   compression_over_time.png, kinetic_energy.png
                          pbf@1,2,3 and ldc@1 on dam_break (seed paper, Figures 1/4 and 6)
+  pareto.png             with several substeps: mean compression against ms per frame (ms per
+                         step x substeps), one line per method and substep count through its
+                         iteration counts, a panel per scene and particle count, the front of
+                         the cheapest settings in grey; below, the energy gain of the same runs
   stability_pbf.png, stability_ldc.png
                          with --stability (several substeps): each run's class
                          (stable / compressed / gains energy / diverged) over substeps x
@@ -83,6 +87,56 @@ def accuracy_vs_cost(runs, out_dir, device):
     fig.suptitle(f"Accuracy against cost on {device}")
     fig.tight_layout()
     fig.savefig(os.path.join(out_dir, "accuracy_vs_cost.png"), dpi=110)
+    plt.close(fig)
+
+
+def frame_ms(r):
+    return float(r["step_ms_mean"]) * int(r["substeps"])
+
+
+def sound(runs):
+    """The runs a user may take: no divergence, energy gain at most 1 % of PE_0 (docs/design.md)."""
+    return [r for r in runs if r["diverged"] == "0" and float(r["energy_gain"]) <= 0.01]
+
+
+def pareto(runs, out_dir, device):
+    panels = sorted({(r["scene"], int(r["particles"])) for r in runs})
+    fig, axes = plt.subplots(2, len(panels), figsize=(5.5 * len(panels) + 1.8, 8.4), squeeze=False)
+    dashes = ["-", "--", ":", "-."]
+    for col, (scene, n) in enumerate(panels):
+        rows = [r for r in runs if r["scene"] == scene and int(r["particles"]) == n]
+        subs = sorted({int(r["substeps"]) for r in rows})
+        for (column, scale), ax in zip((("mean_compression_avg", "log"), ("energy_gain", "linear")), axes[:, col]):
+            for sub in subs:
+                for method, rs in by_method([r for r in rows if int(r["substeps"]) == sub]).items():
+                    x, y = [frame_ms(r) for r in rs], [100 * float(r[column]) for r in rs]
+                    ax.plot(x, y, linestyle=dashes[subs.index(sub) % len(dashes)], label=f"{method} x {sub}",
+                            **STYLE.get(method, {}))
+                    for r, xi, yi in zip(rs, x, y):
+                        ax.annotate(r["iterations"], (xi, yi), textcoords="offset points", xytext=(4, 4), fontsize=7)
+            if column == "mean_compression_avg":
+                # The front: each run that no cheaper run beats, among the sound ones.
+                front, best = [], float("inf")
+                for r in sorted(sound(rows), key=frame_ms):
+                    if float(r["mean_compression_avg"]) < best:
+                        best = float(r["mean_compression_avg"])
+                        front.append((frame_ms(r), 100 * best))
+                if front:
+                    ax.step(*zip(*front), where="post", color="grey", linewidth=3, alpha=0.35, label="front")
+                ax.set_title(f"{scene}, {n} particles")
+                ax.set_ylabel("mean compression, time average (%)")
+                if col == len(panels) - 1:  # beside the last panel: the lines fill the diagonal
+                    ax.legend(title="method x substeps\n(labels: iterations)", fontsize=7, title_fontsize=8,
+                              loc="upper left", bbox_to_anchor=(1.02, 1.0))
+            else:
+                ax.axhline(1.0, color="grey", linestyle="--", linewidth=0.8)  # docs/design.md's bound
+                ax.set_ylabel("energy gain, largest (% of PE0)")
+            ax.set_xlabel("ms per frame")
+            ax.set_xscale("log")
+            ax.set_yscale(scale)
+    fig.suptitle(f"Compression against cost per frame on {device}")
+    fig.tight_layout()
+    fig.savefig(os.path.join(out_dir, "pareto.png"), dpi=110)
     plt.close(fig)
 
 
@@ -226,23 +280,22 @@ def cheapest(runs, out_dir, device):
     without the energy gain gets none."""
     if not runs or "energy_gain" not in runs[0]:
         return
-    sound = [r for r in runs if r["diverged"] == "0" and float(r["energy_gain"]) <= 0.01
-             and float(r["target_compression"] or 0) == 0]
+    candidates = sound(fixed(runs))
     lines = [f"# The cheapest setting for each accuracy ({device})", "",
              "Time-averaged mean compression; cost per frame = ms per step x substeps; sound runs only "
              "(no divergence, energy gain at most 1 % of PE0). Regenerate: `python3 bench/charts.py DIR`.", "",
              "| scene | particles | target | setting | ms per frame | mean compression | energy gain |",
              "|---|---|---|---|---|---|---|"]
-    for key in sorted({(r["scene"], int(r["particles"])) for r in sound}):
-        group = [r for r in sound if (r["scene"], int(r["particles"])) == key]
+    for key in sorted({(r["scene"], int(r["particles"])) for r in candidates}):
+        group = [r for r in candidates if (r["scene"], int(r["particles"])) == key]
         for target in TARGETS:
             reach = [r for r in group if float(r["mean_compression_avg"]) <= target]
             if not reach:
                 lines.append(f"| {key[0]} | {key[1]} | {100 * target:g} % | none of the runs | | | |")
                 continue
-            best = min(reach, key=lambda r: float(r["step_ms_mean"]) * int(r["substeps"]))
+            best = min(reach, key=frame_ms)
             lines.append(f"| {key[0]} | {key[1]} | {100 * target:g} % | {best['method']}@{best['iterations']} x "
-                         f"{best['substeps']} | {float(best['step_ms_mean']) * int(best['substeps']):.1f} | "
+                         f"{best['substeps']} | {frame_ms(best):.1f} | "
                          f"{100 * float(best['mean_compression_avg']):.2f} % | "
                          f"{100 * float(best['energy_gain']):.2f} % |")
     with open(os.path.join(out_dir, "cheapest.md"), "w") as f:
@@ -264,6 +317,8 @@ def main():
     device = devices[0]
     cheapest(runs, out_dir, device)
     if len({r["substeps"] for r in runs}) > 1:
+        if "energy_gain" in runs[0]:  # studies from before it was recorded: the maps alone
+            pareto(fixed(runs), out_dir, device)
         stability_maps(runs, out_dir, device)
         return
     adaptive(runs, out_dir, device)

@@ -141,6 +141,21 @@ TEST(Bench, ChartScriptDrawsStabilityMapsFromAFixture) {
     EXPECT_GT(image.width, 300) << map;
   }
   EXPECT_FALSE(fs::exists(dir / "accuracy_vs_cost.png")) << "a stability study draws only its maps";
+  EXPECT_FALSE(fs::exists(dir / "pareto.png")) << "a study without the energy gain draws no front";
+}
+
+// A study over substeps (the H200's iterations-or-substeps study): the front per scene and
+// count with the energy gain below it, the maps, and cheapest.md's rows.
+TEST(Bench, ChartScriptDrawsTheFrontOverSubstepsFromAFixture) {
+  fs::path dir = charts_from_fixture("pareto");
+  capture::Image front = capture::read_png(dir / "pareto.png");
+  EXPECT_GT(front.width, 1000) << "a panel per particle count";
+  EXPECT_GT(front.height, 800) << "the energy gain's row of panels";
+  for (const char* map : {"stability_pbf.png", "stability_ldc.png"}) EXPECT_TRUE(fs::exists(dir / map)) << map;
+  std::ifstream cheapest(dir / "cheapest.md");
+  int rows = 0;
+  for (std::string line; std::getline(cheapest, line);) rows += line.rfind("| dam_break |", 0) == 0;
+  EXPECT_EQ(rows, 2 * 4) << "2 counts x 4 targets";
 }
 
 // --scaling at three small counts: a row per count with the promised columns, per-pass
