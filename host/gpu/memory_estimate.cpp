@@ -26,11 +26,12 @@ constexpr double kHostPerParticleCpuRun = 96 + 16 + 16 + 48 + 24 + 40, kHostPerC
 // Framebuffers and the image read back: colour and depth for the tank and for a frame (16),
 // the fluid's surface targets (24 at full size: two RG32F, R32F, depth), RGB copies.
 constexpr double kBytesPerPixel = 48;
-// What a run holds besides its arrays, measured as peak resident memory on lavapipe
-// (tests/memory_test.cpp holds the estimate above the measured peak): the process and its
-// libraries (8 MB), a CPU Vulkan device's compiler and JIT code (80 MB), llvmpipe's GL
-// context for the renderer (67 MB), each with room.
-constexpr double kMiB = 1 << 20, kProcessBytes = 16 * kMiB, kCpuDeviceBytes = 128 * kMiB, kRendererBytes = 96 * kMiB;
+// What a run holds besides its arrays, measured as peak resident memory (tests/memory_test.cpp
+// holds the estimate above the measured peak): the process and its libraries (8 MB); a Vulkan
+// driver in the process, lavapipe's compiler and JIT code (80 MB) or NVIDIA's (~95 MB, H200,
+// driver 580); a GL context for the renderer, llvmpipe's (67 MB) or NVIDIA's (~110 MB at
+// 640x360); each with room.
+constexpr double kMiB = 1 << 20, kProcessBytes = 16 * kMiB, kDriverBytes = 128 * kMiB, kRendererBytes = 128 * kMiB;
 
 double gib(uint64_t bytes) { return double(bytes) / double(1ULL << 30); }
 
@@ -78,7 +79,7 @@ MemoryNeed memory_need(const Derived& d, double particles, const vk::DeviceInfo*
     // Capped where the count is past any machine, so that the conversion stays defined.
     const SolverBuffers plan = plan_buffers(on_device, uint64_t(std::ceil(std::min(particles, 1e15))));
     gpu = double(plan.total());
-    host += kHostPerParticleGpuRun * particles + (device->kind == "cpu" ? kCpuDeviceBytes : 0.0);
+    host += kHostPerParticleGpuRun * particles + kDriverBytes;
     largest = double(plan.largest());
   } else {
     const double list_bytes = 8.0 * d.neighbour_capacity + 4;  // ReferenceSolver's lists, as the GPU's
