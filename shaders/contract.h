@@ -11,4 +11,16 @@
 // the iterations run so far this frame, at this word.
 #define INDIRECT_ITERATIONS_WORD 3
 
+// The coarse correction (coarse_deposit.comp, coarse_solve.comp, coarse_apply.comp; the
+// reference's coarse_correction): nodes COARSE_CELL spacings apart; a node is fluid where the
+// particles deposited there fill more than COARSE_FILL of its cell; COARSE_SWEEPS red-black
+// Gauss-Seidel sweeps; the deposit's sums in fixed point, COARSE_UNIT to a particle's whole
+// weight, a particle's compression counted up to COARSE_MAX_COMPRESSION (so the sums fit 32 bits).
+#define COARSE_CELL 4.0
+#define COARSE_STRENGTH 0.5
+#define COARSE_FILL 0.1
+#define COARSE_SWEEPS 200
+#define COARSE_UNIT 65536.0
+#define COARSE_MAX_COMPRESSION 8.0
+
 #endif

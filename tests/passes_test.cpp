@@ -155,6 +155,30 @@ TEST_P(PassTest, ConstraintApply) {
   expect_close(test::compare(gpu_apply_dp(gpu), reference_apply_dp(ref), "constraint apply dp"), 1e-3);
 }
 
+// The coarse correction (paired iterations only): a lambda pass for rho at x_pred, then the
+// deposit, the solve and the move, on the jittered dam break's compression.
+TEST_P(PassTest, CoarseCorrection) {
+  Scene paired = scene;
+  paired.solver.iterations = 2;
+  const Derived dp = with_capacity(derive(paired), GetParam().capacity);
+  ASSERT_GT(dp.coarse.strength, 0.0);
+  GpuSolver g(test::gpu(), dp, input.x);
+  ReferenceSolver r(dp, input.x);
+  g.upload(input);
+  g.begin();
+  g.grid_at_predictions();
+  g.constraint_lambda();
+  g.coarse_correction();
+  g.finish();
+  r.state = input;
+  r.build_grid(r.state.x_pred);
+  r.constraint_lambda();
+  r.coarse_correction();
+  expect_close(test::compare(test::difference(g.download().x_pred, input.x_pred),
+                             test::difference(r.state.x_pred, input.x_pred), "coarse correction's move"),
+               1e-3);
+}
+
 // A later iteration reads the lists the first built, at positions that have moved since.
 TEST_P(PassTest, SecondIterationReadsTheFirstOnesLists) {
   ParticleState g = run_gpu([&] {

@@ -42,6 +42,12 @@ SolverBuffers plan_buffers(const Derived& d, uint64_t particles) {
   b.watch = 6 * sizeof(uint32_t);
   b.overflow_groups = 4 * sizeof(uint32_t);
   b.adaptive_words = d.solver.target_compression > 0 ? 2 * sizeof(glm::vec4) : 0;
+  if (d.coarse.strength > 0) {
+    const uint64_t nodes = uint64_t(d.coarse.count());
+    b.coarse_sums = 2 * nodes * sizeof(uint32_t);
+    b.coarse_phi = nodes * sizeof(float);
+    b.coarse_grad = nodes * sizeof(glm::vec4);
+  }
   b.grid = plan_grid(d, particles);
   return b;
 }
@@ -49,7 +55,7 @@ SolverBuffers plan_buffers(const Derived& d, uint64_t particles) {
 uint64_t SolverBuffers::total() const {
   uint64_t sum = (kParticleVec4s + 1) * particle_vec4 + kIdArrays * id + rho + neighbour_count + neighbour_list +
                  x_lambda_spare + omega + partials + obstacles + watch + overflow_groups + 3 * adaptive_words +
-                 result + grid.cell + grid.rank;
+                 coarse_sums + coarse_phi + coarse_grad + result + grid.cell + grid.rank;
   for (uint64_t level : grid.levels) sum += level;
   return sum;
 }

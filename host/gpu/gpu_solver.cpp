@@ -15,6 +15,8 @@ namespace pbflow {
 
 namespace {
 
+constexpr uint32_t kCoarseSolveThreads = 256;  // coarse_solve.comp's one workgroup
+
 struct ReduceFinalPush {
   uint32_t partial_count, particle_count;
   float mass;
@@ -89,6 +91,20 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
     for (vk::Buffer* b : {&check_, &indirect_, &overflow_gated_}) *b = vk::Buffer(ctx, plan_.adaptive_words);
   if (plan_.omega) omega_ = vk::Buffer(ctx, plan_.omega);
   if (plan_.x_lambda_spare) x_lambda_spare_ = vk::Buffer(ctx, plan_.x_lambda_spare);
+  if (d.coarse.strength > 0) {
+    const Derived::Coarse& c = d.coarse;
+    std::vector<vk::Constant> grid = {{"NODES_X", uint32_t(c.nodes.x)},
+                                      {"NODES_Y", uint32_t(c.nodes.y)},
+                                      {"NODES_Z", uint32_t(c.nodes.z)},
+                                      {"CELL", std::bit_cast<uint32_t>(float(c.cell))}};
+    coarse_deposit_ = vk::Program(ctx, "coarse_deposit", sizeof(SimConstants), 0, grid);
+    coarse_solve_ = vk::Program(ctx, "coarse_solve", sizeof(SimConstants), kCoarseSolveThreads, grid);
+    grid.push_back({"STRENGTH", std::bit_cast<uint32_t>(float(c.strength))});
+    coarse_apply_ = vk::Program(ctx, "coarse_apply", sizeof(SimConstants), 0, grid);
+    coarse_sums_ = vk::Buffer(ctx, plan_.coarse_sums);
+    coarse_phi_ = vk::Buffer(ctx, plan_.coarse_phi);
+    coarse_grad_ = vk::Buffer(ctx, plan_.coarse_grad);
+  }
   ParticleState s;
   s.x = x0;
   s.v.assign(n_, glm::dvec3(0.0));
@@ -290,6 +306,25 @@ void GpuSolver::constraint_apply(double relax, const vk::Buffer* indirect) {
   swap_roles(XPred, Spare0);
 }
 
+void GpuSolver::coarse_correction() {
+  cmd_.fill(coarse_sums_, 0);
+  bind_particle_pass(coarse_deposit_);
+  cmd_.bind("x_pred", at(XPred));
+  cmd_.bind("rho", rho_);
+  cmd_.bind("sums", coarse_sums_);
+  cmd_.dispatch(n_);
+  bind_particle_pass(coarse_solve_);  // one workgroup
+  cmd_.bind("sums", coarse_sums_);
+  cmd_.bind("phi", coarse_phi_);
+  cmd_.bind("grad", coarse_grad_);
+  cmd_.dispatch(kCoarseSolveThreads);
+  bind_particle_pass(coarse_apply_);
+  cmd_.bind("x_pred", at(XPred));
+  cmd_.bind("grad", coarse_grad_);
+  cmd_.bind("obstacles", obstacles_);
+  cmd_.dispatch(n_);
+}
+
 void GpuSolver::reduce_measures(const vk::Buffer& into) {
   cmd_.set_program(reduce_);
   cmd_.push(sim_);
@@ -379,6 +414,10 @@ void GpuSolver::record_step() {
   predict();
   end_of(PassGroup::Predict);
   grid_at_predictions();
+  if (d_.coarse.strength > 0) {
+    constraint_lambda();  // rho at x_pred
+    coarse_correction();
+  }
   for (const Derived::ConstraintPass& pass : d_.constraint_schedule(d_.solver.iterations)) {
     constraint_lambda();
     if (pass.smoothed) constraint_smooth();

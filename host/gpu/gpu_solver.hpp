@@ -43,6 +43,7 @@ class GpuSolver : public Solver {
   void constraint_lambda(const vk::Buffer* indirect = nullptr);
   void constraint_smooth(const vk::Buffer* indirect = nullptr);  // solver.lambda_smoothing passes over lambda
   void constraint_apply(double relax, const vk::Buffer* indirect = nullptr);
+  void coarse_correction();  // x_pred += the coarse grid's correction, from rho at x_pred (a lambda pass's)
   void velocity_update();
   void viscosity_vorticity();
   void vorticity_force();
@@ -97,6 +98,7 @@ class GpuSolver : public Solver {
   vk::Program lists_, predict_, velocity_;
   NeighbourPass density_, correction_, lambda_, smooth_, apply_, viscosity_, vorticity_;
   vk::Program reduce_, reduce_final_, check_converged_, watch_;
+  vk::Program coarse_deposit_, coarse_solve_, coarse_apply_;  // built where the scene runs the coarse correction
   GpuGrid grid_;
   std::array<vk::Buffer, SolverBuffers::kParticleVec4s> vec4_;
   std::array<int, kSlots> role_{X, V, XPred, Spare0, Spare1};
@@ -109,6 +111,7 @@ class GpuSolver : public Solver {
   // The cell walkers' dispatch (neighbour_lists.comp), and its copy for an adaptive
   // iteration pair: zero where the pair does not run (check_converged.comp).
   vk::Buffer overflow_groups_, overflow_gated_;
+  vk::Buffer coarse_sums_, coarse_phi_, coarse_grad_;
   vk::Buffer watch_buf_;  // watch.comp: flags, first step, counts, the step being watched
   uint32_t step_in_frame_ = 0;  // adaptive iterations: the last check's measures, dispatch arguments + count
   vk::CommandList cmd_;

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "scene/keys.hpp"
+#include "shaders/contract.h"
 #include "sim/lattice.hpp"
 #include "sim/stability.hpp"
 
@@ -62,6 +63,11 @@ Derived derive(const Scene& scene) {
   if (cells.x * cells.y * cells.z > 1 << 26)
     throw InputError("the domain holds too many grid cells (over 2^26) at this particle_spacing");
   d.grid = glm::ivec3(cells);
+  if (d.solver.iterations >= 2) {
+    d.coarse.cell = COARSE_CELL * s;
+    d.coarse.nodes = glm::max(glm::ivec3(1), glm::ivec3(glm::ceil((d.wall_max - d.wall_min) / d.coarse.cell)));
+    d.coarse.strength = COARSE_STRENGTH;
+  }
   return d;
 }
 

@@ -88,6 +88,15 @@ struct Derived {
   // the neighbours inside h at kNeighbourHeadroom times rho0; a particle with more walks
   // its cells instead.
   uint32_t neighbour_capacity;
+  // The coarse correction of the long density modes, before a step's paired passes: the
+  // compression deposited on nodes `cell` apart, a Poisson problem solved there, x_pred
+  // moved by `strength` times its solution's gradient (docs/physics.md says why). strength 0:
+  // not run (a lone pass, which it drove to make energy).
+  struct Coarse {
+    glm::ivec3 nodes{0};
+    double cell = 0, strength = 0;
+    int count() const { return nodes.x * nodes.y * nodes.z; }
+  } coarse;
   SolverParams solver;
   std::vector<Obstacle> obstacles;  // grown by half a spacing: where particle centres may not be
   double speed_limit;  // m/s: the divergence watch stops a run with a particle faster than this

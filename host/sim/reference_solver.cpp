@@ -248,6 +248,78 @@ void ReferenceSolver::constraint_apply(double relax) {
   state.x_pred = std::move(next);
 }
 
+template <class F>
+void ReferenceSolver::for_each_coarse_node(const dvec3& x, F&& visit) const {
+  const Derived::Coarse& c = d_.coarse;
+  const dvec3 g = (x - d_.wall_min) / c.cell - 0.5;  // nodes at the cells' centres
+  const glm::ivec3 base = glm::ivec3(glm::floor(g));
+  const dvec3 t = g - dvec3(base);
+  for (int k = 0; k < 8; ++k) {
+    const glm::ivec3 o(k & 1, (k >> 1) & 1, (k >> 2) & 1);
+    const glm::ivec3 node = glm::clamp(base + o, glm::ivec3(0), c.nodes - 1);
+    const double w = (o.x ? t.x : 1 - t.x) * (o.y ? t.y : 1 - t.y) * (o.z ? t.z : 1 - t.z);
+    visit((node.z * c.nodes.y + node.y) * c.nodes.x + node.x, w);
+  }
+}
+
+// As coarse_deposit.comp, coarse_solve.comp and coarse_apply.comp, in their order and
+// fixed-point sums.
+void ReferenceSolver::coarse_correction() {
+  const Derived::Coarse& c = d_.coarse;
+  const int count = c.count();
+  std::vector<uint32_t> filled(count, 0), excess(count, 0);
+  for (size_t i = 0; i < state.x.size(); ++i) {
+    const double compression = std::clamp(state.rho[i] / d_.rho0 - 1.0, 0.0, COARSE_MAX_COMPRESSION);
+    for_each_coarse_node(state.x_pred[i], [&](int k, double w) {
+      filled[k] += uint32_t(w * COARSE_UNIT + 0.5);
+      excess[k] += uint32_t(w * compression * COARSE_UNIT + 0.5);
+    });
+  }
+  // grad^2 phi = the excess volume per volume, phi = 0 at nodes without fluid, no flux
+  // through the walls: x_pred moves along grad phi, away from the compressed fluid.
+  const double volume = d_.mass / d_.rho0;
+  std::vector<char> fluid(count);
+  std::vector<double> phi(count, 0.0);
+  for (int k = 0; k < count; ++k) fluid[k] = filled[k] / COARSE_UNIT * volume > COARSE_FILL * std::pow(c.cell, 3);
+  const glm::ivec3 n = c.nodes;
+  auto index = [&](glm::ivec3 p) { return (p.z * n.y + p.y) * n.x + p.x; };
+  auto value = [&](glm::ivec3 p) { return fluid[index(p)] ? phi[index(p)] : 0.0; };
+  for (int sweep = 0; sweep < COARSE_SWEEPS; ++sweep)
+    for (int colour = 0; colour < 2; ++colour)
+      for (int k = 0; k < count; ++k) {
+        const glm::ivec3 p(k % n.x, (k / n.x) % n.y, k / (n.x * n.y));
+        if (!fluid[k] || (p.x + p.y + p.z) % 2 != colour) continue;
+        double sum = 0;
+        int sides = 0;
+        for (int a = 0; a < 3; ++a)
+          for (int dir = -1; dir <= 1; dir += 2) {
+            glm::ivec3 q = p;
+            q[a] += dir;
+            if (q[a] < 0 || q[a] >= n[a]) continue;
+            sum += value(q);
+            ++sides;
+          }
+        if (sides > 0) phi[k] = (sum - excess[k] / COARSE_UNIT * volume / c.cell) / sides;
+      }
+  std::vector<dvec3> grad(count, dvec3(0.0));
+  for (int k = 0; k < count; ++k) {
+    if (!fluid[k]) continue;
+    const glm::ivec3 p(k % n.x, (k / n.x) % n.y, k / (n.x * n.y));
+    for (int a = 0; a < 3; ++a) {
+      glm::ivec3 lo = p, hi = p;
+      lo[a] -= 1;
+      hi[a] += 1;
+      const double below = lo[a] >= 0 ? value(lo) : phi[k], above = hi[a] < n[a] ? value(hi) : phi[k];
+      grad[k][a] = (above - below) / (2 * c.cell);
+    }
+  }
+  for (size_t i = 0; i < state.x.size(); ++i) {
+    dvec3 g(0.0);
+    for_each_coarse_node(state.x_pred[i], [&](int k, double w) { g += w * grad[k]; });
+    state.x_pred[i] = project_out_of_solids(state.x_pred[i] + c.strength * g);
+  }
+}
+
 void ReferenceSolver::velocity_update() {
   for (size_t i = 0; i < state.x.size(); ++i) {
     state.v[i] = (state.x_pred[i] - state.x[i]) / d_.dt;
@@ -297,6 +369,10 @@ void ReferenceSolver::step() {
   }
   predict();
   build_grid(state.x_pred);
+  if (d_.coarse.strength > 0) {
+    constraint_lambda();  // rho at x_pred
+    coarse_correction();
+  }
   for (const Derived::ConstraintPass& pass : d_.constraint_schedule(p.iterations)) {
     constraint_lambda();
     if (pass.smoothed) constraint_smooth();

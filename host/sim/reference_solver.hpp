@@ -32,6 +32,7 @@ class ReferenceSolver : public Solver {
   void constraint_lambda();                            // lambda at x_pred
   void constraint_smooth();                            // lambda averaged over the neighbours, lambda_smoothing times
   void constraint_apply(double relax);                 // x_pred += relax dp
+  void coarse_correction();                            // x_pred += the coarse grid's correction, from rho at x_pred
   void velocity_update();                              // v from x_pred - x; x = x_pred
   void viscosity_vorticity();                          // XSPH, omega
   void vorticity_force();                              // v += f_vort dt
@@ -86,6 +87,9 @@ class ReferenceSolver : public Solver {
   glm::dvec3 project_out_of_solids(glm::dvec3 x) const;  // out of the obstacles, then into the walls
 
   double mean_compression() const;  // of state.rho
+  // The eight coarse nodes around x with their trilinear weights (shaders/coarse_deposit.comp).
+  template <class F>
+  void for_each_coarse_node(const glm::dvec3& x, F&& visit) const;
   void watch_step(int step, Divergence& watch) const;  // the divergence watch (shaders/watch.comp)
 
   Derived d_;

@@ -1,0 +1,28 @@
+// The coarse correction's grid (contract.h, Derived::Coarse): nodes at the centres of cells
+// CELL wide from the walls' corner, NODES of them along each axis (specialisation constants
+// 1-4 of every coarse pass).
+layout(constant_id = 1) const int NODES_X = 1;
+layout(constant_id = 2) const int NODES_Y = 1;
+layout(constant_id = 3) const int NODES_Z = 1;
+layout(constant_id = 4) const float CELL = 0.08;  // m
+// Built at run time: a vector of specialisation constants made invalid SPIR-V once specialised
+// (the validation layer's 06719) where it was indexed or clamped against.
+ivec3 nodes() { return ivec3(NODES_X, NODES_Y, NODES_Z); }
+
+int node_index(ivec3 p) { return (p.z * NODES_Y + p.y) * NODES_X + p.x; }
+
+// The eight nodes around x and their trilinear weights: node k of 8 (bits: the axes stepped).
+struct CoarseCorner {
+  ivec3 base;
+  vec3 t;
+};
+CoarseCorner coarse_corner(vec3 x) {
+  vec3 g = (x - sim.wall_min) / CELL - 0.5;
+  vec3 b = floor(g);
+  return CoarseCorner(ivec3(b), g - b);
+}
+int coarse_node(CoarseCorner c, int k, out float w) {
+  ivec3 o = ivec3(k & 1, (k >> 1) & 1, (k >> 2) & 1);
+  w = (o.x == 1 ? c.t.x : 1.0 - c.t.x) * (o.y == 1 ? c.t.y : 1.0 - c.t.y) * (o.z == 1 ? c.t.z : 1.0 - c.t.z);
+  return node_index(clamp(c.base + o, ivec3(0), nodes() - 1));
+}

@@ -1,0 +1,68 @@
+#version 450
+// The coarse correction, 2 of 3 (contract.h), in one workgroup: grad^2 phi = the excess
+// volume per volume at the fluid's nodes, phi = 0 at nodes without fluid (the free surface),
+// no flux through the walls; COARSE_SWEEPS red-black Gauss-Seidel sweeps, then phi's
+// gradient at each fluid node (central differences; 0 elsewhere). A Jacobi pass corrects a
+// density mode by a gain that falls as (k spacing)^2, so the long modes that carry a
+// column's weight stay compressed; here they are solved whole (docs/physics.md).
+#extension GL_GOOGLE_include_directive : require
+layout(local_size_x_id = 0) in;
+#include "common.glsl"
+#include "contract.h"
+#include "coarse.glsl"
+
+layout(std430, binding = 5) readonly buffer Sums { uint sums[]; };
+layout(std430, binding = 6) coherent buffer Phi { float phi[]; };
+layout(std430, binding = 7) writeonly buffer Grad { vec4 grad[]; };
+
+bool fluid(int k) { return float(sums[2 * k]) / COARSE_UNIT * (sim.mass / sim.rho0) > COARSE_FILL * CELL * CELL * CELL; }
+float value(ivec3 p) {
+  int k = node_index(p);
+  return fluid(k) ? phi[k] : 0.0;
+}
+ivec3 node_at(int k) { return ivec3(k % NODES_X, (k / NODES_X) % NODES_Y, k / (NODES_X * NODES_Y)); }
+
+void sync() {
+  memoryBarrierBuffer();
+  barrier();
+}
+
+void main() {
+  int count = NODES_X * NODES_Y * NODES_Z, stride = int(gl_WorkGroupSize.x);
+  for (int k = int(gl_LocalInvocationID.x); k < count; k += stride) phi[k] = 0.0;
+  sync();
+  float volume = sim.mass / sim.rho0;
+  for (int sweep = 0; sweep < COARSE_SWEEPS; ++sweep)
+    for (int colour = 0; colour < 2; ++colour) {
+      for (int k = int(gl_LocalInvocationID.x); k < count; k += stride) {
+        ivec3 p = node_at(k);
+        if (!fluid(k) || (p.x + p.y + p.z) % 2 != colour) continue;
+        float sum = 0.0;
+        int sides = 0;
+        for (int a = 0; a < 3; ++a)
+          for (int dir = -1; dir <= 1; dir += 2) {
+            ivec3 q = p;
+            q[a] += dir;
+            if (q[a] < 0 || q[a] >= nodes()[a]) continue;
+            sum += value(q);
+            ++sides;
+          }
+        if (sides > 0) phi[k] = (sum - float(sums[2 * k + 1]) / COARSE_UNIT * volume / CELL) / float(sides);
+      }
+      sync();
+    }
+  for (int k = int(gl_LocalInvocationID.x); k < count; k += stride) {
+    vec3 g = vec3(0.0);
+    if (fluid(k)) {
+      ivec3 p = node_at(k);
+      for (int a = 0; a < 3; ++a) {
+        ivec3 lo = p, hi = p;
+        lo[a] -= 1;
+        hi[a] += 1;
+        float below = lo[a] >= 0 ? value(lo) : phi[k], above = hi[a] < nodes()[a] ? value(hi) : phi[k];
+        g[a] = (above - below) / (2.0 * CELL);
+      }
+    }
+    grad[k] = vec4(g, 0.0);
+  }
+}
