@@ -8,7 +8,7 @@ layout(local_size_x_id = 0) in;
 #include "coarse.glsl"
 
 layout(constant_id = 5) const float STRENGTH = 0.5;  // Derived::Coarse::strength
-layout(std430, binding = 5) buffer XPred { vec4 x_pred[]; };
+layout(binding = 5, rgba32f) uniform imageBuffer x_lambda;  // (x_pred, lambda), constraint_lambda.comp
 layout(std430, binding = 6) readonly buffer Grad { vec4 grad[]; };
 #define OBSTACLES_BINDING 7
 #include "obstacles.glsl"
@@ -16,7 +16,8 @@ layout(std430, binding = 6) readonly buffer Grad { vec4 grad[]; };
 void main() {
   uint i = thread_index();
   if (i >= sim.count) return;
-  vec3 xi = x_pred[i].xyz;
+  vec4 own = imageLoad(x_lambda, int(i));
+  vec3 xi = own.xyz;
   CoarseCorner c = coarse_corner(xi);
   vec3 g = vec3(0.0);
   for (int k = 0; k < 8; ++k) {
@@ -24,5 +25,5 @@ void main() {
     int node = coarse_node(c, k, w);
     g += w * grad[node].xyz;
   }
-  x_pred[i] = vec4(project_out_of_solids(xi + STRENGTH * g), 0.0);
+  imageStore(x_lambda, int(i), vec4(project_out_of_solids(xi + STRENGTH * g), own.w));
 }

@@ -127,6 +127,8 @@ void GpuSolver::upload(const ParticleState& s) {
   vec4_[role_[V]].upload(std::span<const glm::vec4>(pack(s.v, rho)));  // w: the dashpot's rho (velocity_update.comp)
   vec4_[role_[XPred]].upload(std::span<const glm::vec4>(pack(s.x_pred, zero)));
   rho_.upload(std::span<const float>(rho));
+  if (d_.coarse.strength > 0)  // the coarse solve starts from its last solution: a new state, from 0
+    coarse_phi_.upload(std::span<const float>(std::vector<float>(size_t(d_.coarse.count()), 0.0f)));
   std::vector<uint32_t> ids(n_);
   std::iota(ids.begin(), ids.end(), 0u);
   id_[id_current_].upload(std::span<const uint32_t>(ids));
@@ -319,7 +321,7 @@ void GpuSolver::coarse_correction() {
   cmd_.bind("grad", coarse_grad_);
   cmd_.dispatch(kCoarseSolveThreads);
   bind_particle_pass(coarse_apply_);
-  cmd_.bind("x_pred", at(XPred));
+  cmd_.bind("x_lambda", x_lambda_);
   cmd_.bind("grad", coarse_grad_);
   cmd_.bind("obstacles", obstacles_);
   cmd_.dispatch(n_);
@@ -414,12 +416,11 @@ void GpuSolver::record_step() {
   predict();
   end_of(PassGroup::Predict);
   grid_at_predictions();
-  if (d_.coarse.strength > 0) {
-    constraint_lambda();  // rho at x_pred
-    coarse_correction();
-  }
+  bool first = true;
   for (const Derived::ConstraintPass& pass : d_.constraint_schedule(d_.solver.iterations)) {
     constraint_lambda();
+    if (first && d_.coarse.strength > 0) coarse_correction();  // from the first pass's rho
+    first = false;
     if (pass.smoothed) constraint_smooth();
     constraint_apply(pass.relax);
   }

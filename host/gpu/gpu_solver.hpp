@@ -43,7 +43,7 @@ class GpuSolver : public Solver {
   void constraint_lambda(const vk::Buffer* indirect = nullptr);
   void constraint_smooth(const vk::Buffer* indirect = nullptr);  // solver.lambda_smoothing passes over lambda
   void constraint_apply(double relax, const vk::Buffer* indirect = nullptr);
-  void coarse_correction();  // x_pred += the coarse grid's correction, from rho at x_pred (a lambda pass's)
+  void coarse_correction();  // x_lambda's x_pred += the coarse grid's correction, from a lambda pass's rho
   void velocity_update();
   void viscosity_vorticity();
   void vorticity_force();

@@ -31,6 +31,7 @@ void ReferenceSolver::upload(const ParticleState& s) {
   state.rho.assign(state.x.size(), 0.0);
   std::copy_n(s.rho.begin(), std::min(s.rho.size(), state.rho.size()), state.rho.begin());
   neighbours_built_ = false;
+  coarse_phi_.clear();
 }
 
 glm::ivec3 ReferenceSolver::cell_of(const dvec3& x) const {
@@ -279,11 +280,15 @@ void ReferenceSolver::coarse_correction() {
   // through the walls: x_pred moves along grad phi, away from the compressed fluid.
   const double volume = d_.mass / d_.rho0;
   std::vector<char> fluid(count);
-  std::vector<double> phi(count, 0.0);
-  for (int k = 0; k < count; ++k) fluid[k] = filled[k] / COARSE_UNIT * volume > COARSE_FILL * std::pow(c.cell, 3);
+  std::vector<double>& phi = coarse_phi_;  // from the last step's (coarse_solve.comp says why)
+  phi.resize(count, 0.0);
+  for (int k = 0; k < count; ++k) {
+    fluid[k] = filled[k] / COARSE_UNIT * volume > COARSE_FILL * std::pow(c.cell, 3);
+    if (!fluid[k]) phi[k] = 0.0;
+  }
   const glm::ivec3 n = c.nodes;
   auto index = [&](glm::ivec3 p) { return (p.z * n.y + p.y) * n.x + p.x; };
-  auto value = [&](glm::ivec3 p) { return fluid[index(p)] ? phi[index(p)] : 0.0; };
+  auto value = [&](glm::ivec3 p) { return phi[index(p)]; };  // 0 at nodes without fluid
   for (int sweep = 0; sweep < COARSE_SWEEPS; ++sweep)
     for (int colour = 0; colour < 2; ++colour)
       for (int k = 0; k < count; ++k) {
@@ -299,7 +304,7 @@ void ReferenceSolver::coarse_correction() {
             sum += value(q);
             ++sides;
           }
-        if (sides > 0) phi[k] = (sum - excess[k] / COARSE_UNIT * volume / c.cell) / sides;
+        if (sides > 0) phi[k] = (sum - double(float(excess[k] / COARSE_UNIT * volume / c.cell))) / sides;
       }
   std::vector<dvec3> grad(count, dvec3(0.0));
   for (int k = 0; k < count; ++k) {
@@ -369,12 +374,11 @@ void ReferenceSolver::step() {
   }
   predict();
   build_grid(state.x_pred);
-  if (d_.coarse.strength > 0) {
-    constraint_lambda();  // rho at x_pred
-    coarse_correction();
-  }
+  bool first = true;
   for (const Derived::ConstraintPass& pass : d_.constraint_schedule(p.iterations)) {
     constraint_lambda();
+    if (first && d_.coarse.strength > 0) coarse_correction();  // from the first pass's rho
+    first = false;
     if (pass.smoothed) constraint_smooth();
     constraint_apply(pass.relax);
   }

@@ -32,7 +32,7 @@ class ReferenceSolver : public Solver {
   void constraint_lambda();                            // lambda at x_pred
   void constraint_smooth();                            // lambda averaged over the neighbours, lambda_smoothing times
   void constraint_apply(double relax);                 // x_pred += relax dp
-  void coarse_correction();                            // x_pred += the coarse grid's correction, from rho at x_pred
+  void coarse_correction();                            // x_pred += the coarse grid's correction, from a lambda pass's rho
   void velocity_update();                              // v from x_pred - x; x = x_pred
   void viscosity_vorticity();                          // XSPH, omega
   void vorticity_force();                              // v += f_vort dt
@@ -94,6 +94,7 @@ class ReferenceSolver : public Solver {
 
   Derived d_;
   long iterations_run_ = 0;  // constraint iterations in the current advance()
+  std::vector<double> coarse_phi_;  // the coarse correction's solution, the next step's start
   std::vector<std::vector<size_t>> cells_;  // particles binned by cell at the last build_grid
   // Per particle, as the GPU's lists: neighbour_capacity entries within h when the list was
   // built, and their count (past the capacity: overflowed, walk the cells).
