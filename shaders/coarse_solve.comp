@@ -37,7 +37,7 @@ void relax(ivec3 p) {
       sum += value(q);
       ++sides;
     }
-  if (sides > 0) phi[k] = (sum - uintBitsToFloat(sums[2 * k + 1])) / float(sides);
+  if (sides > 0) phi[k] = mix(phi[k], (sum - uintBitsToFloat(sums[2 * k + 1])) / float(sides), coarse_overrelaxation());
 }
 
 void sync() {
@@ -57,10 +57,14 @@ void main() {
   sync();
   for (int sweep = 0; sweep < COARSE_SWEEPS; ++sweep)
     for (int colour = 0; colour < 2; ++colour) {
-      // One row along x a thread, its nodes of this colour.
-      for (int row = int(gl_LocalInvocationID.x); row < NODES_Y * NODES_Z; row += stride) {
+      // A node of this colour a thread: the j-th of them is on row j / per_row, at x = 2 (j % per_row)
+      // or one more, as the row's parity makes the colour.
+      int per_row = (NODES_X + 1) / 2;
+      for (int j = int(gl_LocalInvocationID.x); j < per_row * NODES_Y * NODES_Z; j += stride) {
+        int row = j / per_row;
         ivec3 p = ivec3(0, row % NODES_Y, row / NODES_Y);
-        for (p.x = (colour + p.y + p.z) % 2; p.x < NODES_X; p.x += 2) relax(p);
+        p.x = 2 * (j % per_row) + (colour + p.y + p.z) % 2;
+        if (p.x < NODES_X) relax(p);
       }
       sync();
     }

@@ -15,7 +15,8 @@ namespace pbflow {
 
 namespace {
 
-constexpr uint32_t kCoarseSolveThreads = 256;  // coarse_solve.comp's one workgroup
+// coarse_solve.comp's one workgroup: a thread a node of a colour up to this many (the usual most).
+constexpr uint32_t kCoarseSolveThreads = 1024;
 
 struct ReduceFinalPush {
   uint32_t partial_count, particle_count;

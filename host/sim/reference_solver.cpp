@@ -4,6 +4,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <numbers>
 
 #include "sim/kernels.hpp"
 #include "sim/stability.hpp"
@@ -289,6 +290,8 @@ void ReferenceSolver::coarse_correction() {
   const glm::ivec3 n = c.nodes;
   auto index = [&](glm::ivec3 p) { return (p.z * n.y + p.y) * n.x + p.x; };
   auto value = [&](glm::ivec3 p) { return phi[index(p)]; };  // 0 at nodes without fluid
+  const int longest = std::max({n.x, n.y, n.z});  // coarse.glsl's coarse_overrelaxation
+  const double overrelaxation = 2.0 / (1.0 + std::sin(std::numbers::pi / (2.0 * longest)));
   for (int sweep = 0; sweep < COARSE_SWEEPS; ++sweep)
     for (int colour = 0; colour < 2; ++colour)
       for (int k = 0; k < count; ++k) {
@@ -304,7 +307,10 @@ void ReferenceSolver::coarse_correction() {
             sum += value(q);
             ++sides;
           }
-        if (sides > 0) phi[k] = (sum - double(float(excess[k] / COARSE_UNIT * volume / c.cell))) / sides;
+        if (sides > 0) {
+          const double gauss_seidel = (sum - double(float(excess[k] / COARSE_UNIT * volume / c.cell))) / sides;
+          phi[k] += overrelaxation * (gauss_seidel - phi[k]);
+        }
       }
   std::vector<dvec3> grad(count, dvec3(0.0));
   for (int k = 0; k < count; ++k) {
