@@ -122,11 +122,65 @@ TEST_P(RestTest, TankLosesEnergyAndSettles) {
 }
 
 INSTANTIATE_TEST_SUITE_P(RealStep, RestTest,
-                         ::testing::Values(Setting{"ldc", 1, 0.2}, Setting{"pbf", 1, 0.5}, Setting{"pbf", 2, 0.2},
-                                           Setting{"pbf", 3, 0.2}),
+                         ::testing::Values(Setting{"ldc", 1, 0.2}, Setting{"pbf", 1, 0.5}, Setting{"pbf", 2, 0.01},
+                                           Setting{"pbf", 3, 0.01}),
                          [](const auto& info) {
                            return std::string(info.param.method) + std::to_string(info.param.iterations);
                          });
+
+// Finer than the scenes' spacing and deeper than their water, at 60 fps x 2 substeps: the
+// paired passes churned in both (0.23-0.58 m/s in the tank at 0.0154 m; +2.8 % of PE0 and
+// 3.6 m/s in 0.9 m of water at 0.02 m) until the coarse correction took the column's weight.
+// A column 0.2 x 0.2 m across, settled, then 2 s: no energy made, the time-averaged mean
+// compression at most 2 %, the last second's max speed under the bound. The aim for the deep
+// column is 0.1 m/s, and it is not met: it reads 0.11-0.17 m/s (docs/physics.md), so it is held
+// under 0.25, where the churn it had before reads 3.6.
+struct Column {
+  const char* name;
+  double spacing, depth;
+  const char* method;
+  int iterations;
+  double last_second_max_speed;
+};
+void PrintTo(const Column& c, std::ostream* os) { *os << c.name; }
+
+class DeepOrFineTest : public test::GpuTest, public ::testing::WithParamInterface<Column> {};
+
+TEST_P(DeepOrFineTest, PairedPassesHoldTheColumnStillAndUnsqueezed) {
+  const Column& c = GetParam();
+  const std::string top = std::to_string(c.depth);
+  Scene scene = load_scene(
+      "hydrostatic", {"particle_spacing=" + std::to_string(c.spacing), "domain.max=[0.2," + std::to_string(c.depth + 0.1) + ",0.2]",
+                      "fluid_blocks=[{\"min\":[0,0,0],\"max\":[0.2," + top + ",0.2]}]", "solver.substeps=2",
+                      std::string("solver.method=\"") + c.method + "\"", "solver.iterations=" + std::to_string(c.iterations)});
+  Derived d = derive(scene);
+  GpuSolver solver(test::gpu(), d, initial_particles(scene));
+  // The settle may stop at its step limit still moving (fine_pbf2 does): what follows is judged.
+  const SettleReport settled = settle(solver, d);
+  std::printf("  settle: %d steps, %s\n", settled.steps, settled.converged ? "converged" : "at its step limit");
+  EnergyGain energy;
+  energy.add(solver.advance(0));
+  double sum_mean = 0, last_second_max = 0;
+  const int frames = int(2.0 * scene.fps);
+  for (int f = 0; f < frames; ++f) {
+    FrameStats s = solver.advance(scene.solver.substeps);
+    ASSERT_FALSE(s.divergence.any()) << "frame " << f;
+    energy.add(s);
+    sum_mean += s.mean_compression;
+    if (f >= scene.fps) last_second_max = std::max(last_second_max, s.max_speed);
+  }
+  std::printf("  %s (%zu particles): energy gain %+.4f, mean compression %.4f, last second's max speed %.3f m/s\n",
+              c.name, solver.particle_count(), energy.largest(), sum_mean / frames, last_second_max);
+  EXPECT_LE(energy.largest(), 0.01);
+  EXPECT_LE(sum_mean / frames, 0.02);
+  EXPECT_LT(last_second_max, c.last_second_max_speed);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    PairedPasses, DeepOrFineTest,
+    ::testing::Values(Column{"fine_pbf2", 0.0154, 0.4, "pbf", 2, 0.1}, Column{"fine_pbf3", 0.0154, 0.4, "pbf", 3, 0.1},
+                      Column{"deep_pbf2", 0.02, 0.9, "pbf", 2, 0.25}, Column{"deep_ldc2", 0.02, 0.9, "ldc", 2, 0.25}),
+    [](const auto& info) { return std::string(info.param.name); });
 
 }  // namespace
 }  // namespace pbflow
