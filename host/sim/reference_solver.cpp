@@ -271,7 +271,7 @@ void ReferenceSolver::coarse_correction() {
   const int count = c.count();
   std::vector<uint32_t> filled(count, 0), excess(count, 0);
   for (size_t i = 0; i < state.x.size(); ++i) {
-    const double compression = std::clamp(state.rho[i] / d_.rho0 - 1.0, 0.0, COARSE_MAX_COMPRESSION);
+    const double compression = std::clamp(state.rho[i] / d_.rho0 - 1.0 - COARSE_FLOOR, 0.0, COARSE_MAX_COMPRESSION);
     for_each_coarse_node(state.x_pred[i], [&](int k, double w) {
       filled[k] += uint32_t(w * COARSE_UNIT + 0.5);
       excess[k] += uint32_t(w * compression * COARSE_UNIT + 0.5);
