@@ -27,6 +27,9 @@ void clear(GLuint texture, GLenum format, GLenum type, const void* value = nullp
   glClearTexImage(texture, 0, format, type, value);
 }
 
+// A separable pass's direction (uniform location 0 of the smoothing shaders): x for axis 0, y for 1.
+void along_axis(int axis) { glUniform2i(0, axis == 0, axis == 1); }
+
 }  // namespace
 
 // The Frame uniform block of render_common.glsl (std140).
@@ -293,7 +296,7 @@ void Renderer::smooth_depth() {
     clear(to[axis], GL_RG, GL_FLOAT);
     glBindTextureUnit(0, from[axis]);
     glBindImageTexture(0, to[axis], 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG32F);
-    glUniform2i(0, axis == 0 ? 1 : 0, axis == 0 ? 0 : 1);
+    along_axis(axis);
     run_tiles(kTilesHoldingFluid);
   }
 }
@@ -309,7 +312,7 @@ void Renderer::smooth_thickness() {
   for (int axis = 0; axis < 2; ++axis) {
     clear(to[axis], GL_RED, GL_FLOAT);
     glBindImageTexture(0, to[axis], 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
-    glUniform2i(0, axis == 0 ? 1 : 0, axis == 0 ? 0 : 1);
+    along_axis(axis);
     run_tiles(kTilesHoldingFluid);
   }
 }
@@ -326,7 +329,7 @@ void Renderer::surface_normals() {
   for (int axis = 0; axis < 2; ++axis) {
     glBindTextureUnit(0, normal_[axis]);
     glBindImageTexture(0, normal_[1 - axis], 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
-    glUniform2i(0, axis == 0 ? 1 : 0, axis == 0 ? 0 : 1);
+    along_axis(axis);
     run_tiles(kTilesHoldingFluid);
   }
 }

@@ -260,7 +260,7 @@ void ReferenceSolver::for_each_coarse_node(const dvec3& x, F&& visit) const {
     const glm::ivec3 o(k & 1, (k >> 1) & 1, (k >> 2) & 1);
     const glm::ivec3 node = glm::clamp(base + o, glm::ivec3(0), c.nodes - 1);
     const double w = (o.x ? t.x : 1 - t.x) * (o.y ? t.y : 1 - t.y) * (o.z ? t.z : 1 - t.z);
-    visit((node.z * c.nodes.y + node.y) * c.nodes.x + node.x, w);
+    visit(c.index(node), w);
   }
 }
 
@@ -288,14 +288,13 @@ void ReferenceSolver::coarse_correction() {
     if (!fluid[k]) phi[k] = 0.0;
   }
   const glm::ivec3 n = c.nodes;
-  auto index = [&](glm::ivec3 p) { return (p.z * n.y + p.y) * n.x + p.x; };
-  auto value = [&](glm::ivec3 p) { return phi[index(p)]; };  // 0 at nodes without fluid
+  auto value = [&](glm::ivec3 p) { return phi[c.index(p)]; };  // 0 at nodes without fluid
   const int longest = std::max({n.x, n.y, n.z});  // coarse.glsl's coarse_overrelaxation
   const double overrelaxation = 2.0 / (1.0 + std::sin(std::numbers::pi / (2.0 * longest)));
   for (int sweep = 0; sweep < COARSE_SWEEPS; ++sweep)
     for (int colour = 0; colour < 2; ++colour)
       for (int k = 0; k < count; ++k) {
-        const glm::ivec3 p(k % n.x, (k / n.x) % n.y, k / (n.x * n.y));
+        const glm::ivec3 p = c.node(k);
         if (!fluid[k] || (p.x + p.y + p.z) % 2 != colour) continue;
         double sum = 0;
         int sides = 0;
@@ -315,7 +314,7 @@ void ReferenceSolver::coarse_correction() {
   std::vector<dvec3> grad(count, dvec3(0.0));
   for (int k = 0; k < count; ++k) {
     if (!fluid[k]) continue;
-    const glm::ivec3 p(k % n.x, (k / n.x) % n.y, k / (n.x * n.y));
+    const glm::ivec3 p = c.node(k);
     for (int a = 0; a < 3; ++a) {
       glm::ivec3 lo = p, hi = p;
       lo[a] -= 1;

@@ -11,9 +11,8 @@ layout(location = 0) uniform ivec2 direction;
 bool fluid(float d) { return d > 0.0 && d < NO_FLUID; }
 
 void main() {
-  ivec2 p = tile_texel();
-  ivec2 size = textureSize(depth_texture, 0);
-  if (any(greaterThanEqual(p, size))) return;
+  ivec2 size = textureSize(depth_texture, 0), p;
+  if (!tile_texel(size, p)) return;
   float d0 = texelFetch(depth_texture, p, 0).r;
   if (!fluid(d0)) {
     imageStore(result, p, vec4(0.0));

@@ -15,9 +15,8 @@ const float NORMAL_SIMILARITY = 0.08;  // 1 - cos of the normals' difference at 
 const float SPAN = 8.0;                // the filter's reach, in particle radii on screen
 
 void main() {
-  ivec2 p = tile_texel();
-  ivec2 size = textureSize(normal_texture, 0);
-  if (any(greaterThanEqual(p, size))) return;
+  ivec2 size = textureSize(normal_texture, 0), p;
+  if (!tile_texel(size, p)) return;
   vec4 c = texelFetch(normal_texture, p, 0);
   if (c.w <= 0.0) {
     imageStore(result, p, vec4(0.0));

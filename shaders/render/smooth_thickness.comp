@@ -17,9 +17,8 @@ float thickness(ivec2 q) {
 }
 
 void main() {
-  ivec2 p = tile_texel();
-  ivec2 size = textureSize(depth_texture, 0);
-  if (any(greaterThanEqual(p, size))) return;
+  ivec2 size = textureSize(depth_texture, 0), p;
+  if (!tile_texel(size, p)) return;
   vec2 s = texelFetch(depth_texture, p, 0).rg;
   if (s.g <= 0.0) {
     imageStore(result, p, vec4(thickness(p)));

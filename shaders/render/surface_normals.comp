@@ -14,8 +14,8 @@ float surface_depth(ivec2 p) {
 vec3 view_position(ivec2 p, float d) { return view_ray(vec2(p) + 0.5) * d; }
 
 void main() {
-  ivec2 p = tile_texel();
-  if (any(greaterThanEqual(p, textureSize(depth_texture, 0)))) return;
+  ivec2 p;
+  if (!tile_texel(textureSize(depth_texture, 0), p)) return;
   float d = surface_depth(p);
   if (d <= 0.0) {
     imageStore(result, p, vec4(0.0));

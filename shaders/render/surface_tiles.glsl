@@ -17,5 +17,9 @@ ivec2 group_tile() {
   return ivec2(t & 0xffffu, t >> 16);
 }
 
-// The invocation's surface texel, in a workgroup of TILE x TILE on the group's tile.
-ivec2 tile_texel() { return group_tile() * TILE + ivec2(gl_LocalInvocationID.xy); }
+// The invocation's surface texel p, in a workgroup of TILE x TILE on the group's tile; false
+// past the surface's edge (`size`), which a tile at the border reaches over.
+bool tile_texel(ivec2 size, out ivec2 p) {
+  p = group_tile() * TILE + ivec2(gl_LocalInvocationID.xy);
+  return all(lessThan(p, size));
+}
