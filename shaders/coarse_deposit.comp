@@ -21,6 +21,6 @@ void main() {
     float w;
     int node = coarse_node(c, k, w);
     atomicAdd(sums[2 * node], uint(w * COARSE_UNIT + 0.5));
-    atomicAdd(sums[2 * node + 1], uint(w * compression * COARSE_UNIT + 0.5));
+    if (compression > 0.0) atomicAdd(sums[2 * node + 1], uint(w * compression * COARSE_UNIT + 0.5));
   }
 }

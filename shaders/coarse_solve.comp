@@ -24,7 +24,7 @@ ivec3 node_at(int k) { return ivec3(k % NODES_X, (k / NODES_X) % NODES_Y, k / (N
 
 // Gauss-Seidel at one fluid node: phi = (its neighbours' phi - the right-hand side h^2) / their
 // count; a neighbour past a wall is left out (no flux), one without fluid reads 0.
-void relax(ivec3 p) {
+void relax(ivec3 p, float omega) {
   int k = node_index(p);
   if (!fluid(k)) return;
   float sum = 0.0;
@@ -37,7 +37,7 @@ void relax(ivec3 p) {
       sum += value(q);
       ++sides;
     }
-  if (sides > 0) phi[k] = mix(phi[k], (sum - uintBitsToFloat(sums[2 * k + 1])) / float(sides), coarse_overrelaxation());
+  if (sides > 0) phi[k] = mix(phi[k], (sum - uintBitsToFloat(sums[2 * k + 1])) / float(sides), omega);
 }
 
 void sync() {
@@ -47,7 +47,7 @@ void sync() {
 
 void main() {
   int count = NODES_X * NODES_Y * NODES_Z, stride = int(gl_WorkGroupSize.x);
-  float volume = sim.mass / sim.rho0;
+  float volume = sim.mass / sim.rho0, omega = coarse_overrelaxation();
   for (int k = int(gl_LocalInvocationID.x); k < count; k += stride) {
     bool filled = float(sums[2 * k]) / COARSE_UNIT * volume > COARSE_FILL * CELL * CELL * CELL;
     sums[2 * k + 1] = floatBitsToUint(float(sums[2 * k + 1]) / COARSE_UNIT * volume / CELL);
@@ -64,7 +64,7 @@ void main() {
         int row = j / per_row;
         ivec3 p = ivec3(0, row % NODES_Y, row / NODES_Y);
         p.x = 2 * (j % per_row) + (colour + p.y + p.z) % 2;
-        if (p.x < NODES_X) relax(p);
+        if (p.x < NODES_X) relax(p, omega);
       }
       sync();
     }

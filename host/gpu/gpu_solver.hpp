@@ -112,6 +112,7 @@ class GpuSolver : public Solver {
   // iteration pair: zero where the pair does not run (check_converged.comp).
   vk::Buffer overflow_groups_, overflow_gated_;
   vk::Buffer coarse_sums_, coarse_phi_, coarse_grad_;
+  uint32_t coarse_solve_threads_ = 0;  // coarse_solve.comp's one workgroup
   vk::Buffer watch_buf_;  // watch.comp: flags, first step, counts, the step being watched
   uint32_t step_in_frame_ = 0;  // adaptive iterations: the last check's measures, dispatch arguments + count
   vk::CommandList cmd_;

@@ -12,10 +12,10 @@
 namespace pbflow {
 
 // The passes of a step, grouped as the benchmarks report them (docs/design.md's list).
-enum class PassGroup { Grid, Lists, Density, Correction, Predict, Constraints, Velocity, Viscosity, Count };
+enum class PassGroup { Grid, Lists, Density, Correction, Predict, Constraints, Coarse, Velocity, Viscosity, Count };
 constexpr size_t kPassGroups = size_t(PassGroup::Count);
 constexpr const char* kPassGroupNames[kPassGroups] = {"grid", "lists", "density",  "correction", "predict",
-                                                      "constraints", "velocity", "viscosity"};
+                                                      "constraints", "coarse", "velocity", "viscosity"};
 
 // What the divergence watch saw in a frame's steps: particles whose position or velocity
 // is not finite, faster than the scene's bound (Derived::speed_limit), or outside the
