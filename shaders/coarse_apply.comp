@@ -1,5 +1,5 @@
 #version 450
-// The coarse correction, 3 of 3 (contract.h): x_pred += STRENGTH times the coarse solution's
+// The coarse correction, 5 of 5 (contract.h): x_pred += STRENGTH times the coarse solution's
 // gradient, interpolated from the eight nodes around it, then out of walls and obstacles.
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x_id = 0) in;

@@ -1,5 +1,5 @@
 #version 450
-// The coarse correction, 1 of 3 (contract.h): each particle's weight and compression past
+// The coarse correction, 1 of 5 (contract.h): each particle's weight and compression past
 // the floor, max(rho/rho0 - 1 - COARSE_FLOOR, 0) at x_pred, spread over the eight coarse nodes around it
 // (cloud-in-cell), summed in fixed point by atomics. The buffer is cleared before.
 #extension GL_GOOGLE_include_directive : require

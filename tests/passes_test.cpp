@@ -13,6 +13,11 @@ namespace {
 
 constexpr double kPassTolerance = 1e-4;  // max error / max |reference value|
 
+void expect_close(const test::ErrorReport& e, double tolerance = kPassTolerance) {
+  EXPECT_GT(e.scale, 0.0) << "the compared field is all zeros: the test compares nothing";
+  EXPECT_LE(e.max_abs, tolerance * e.scale);
+}
+
 // The passes read neighbour lists (shaders/neighbours.glsl); a particle whose list is full
 // walks its cells instead. Each test runs with the scene's capacity (no list full), with
 // 24 entries (the jittered lattice's ~30 neighbours fill some lists), with 1 (all full)
@@ -85,10 +90,6 @@ class PassTest : public test::GpuTest, public ::testing::WithParamInterface<List
   static Derived with_capacity(Derived d, int capacity) {
     if (capacity >= 0) d.neighbour_capacity = uint32_t(capacity);
     return d;
-  }
-  static void expect_close(const test::ErrorReport& e, double tolerance = kPassTolerance) {
-    EXPECT_GT(e.scale, 0.0) << "the compared field is all zeros: the test compares nothing";
-    EXPECT_LE(e.max_abs, tolerance * e.scale);
   }
 };
 
@@ -181,6 +182,38 @@ TEST_P(PassTest, CoarseCorrection) {
   r.constraint_apply(0.5);
   expect_close(test::compare(test::difference(g.download().x_pred, input.x_pred),
                              test::difference(r.state.x_pred, input.x_pred), "coarse correction and apply"),
+               1e-3);
+}
+
+// A grid with more nodes of a colour than eight a thread of one workgroup's most sweeps in a
+// dispatch per half sweep (GpuSolver's coarse_sweep_group): the same column in a tank wide
+// enough for 50 x 19 x 19 nodes, with the apply pass, against the reference.
+using CoarseTest = test::GpuTest;
+TEST_F(CoarseTest, SweepsADispatchAHalfSweepOnALargeGrid) {
+  Scene wide = load_scene("dam_break", {"particle_spacing=0.04", "solver.iterations=2"});
+  wide.domain.max = {8.0, 3.0, 3.0};
+  const Derived d = derive(wide);
+  ASSERT_GT(d.coarse.per_colour(), 8 * 1024);
+  const ParticleState input = test::jittered_state(wide);
+  GpuSolver g(test::gpu(), d, input.x);
+  ReferenceSolver r(d, input.x);
+  g.upload(input);
+  g.begin();
+  g.grid_at_predictions();
+  g.constraint_lambda();
+  g.coarse_correction();
+  g.constraint_apply(0.5);  // x_pred from x_lambda, where the move went
+  g.finish();
+  r.state = input;
+  r.build_grid(r.state.x_pred);
+  r.constraint_lambda();
+  const std::vector<glm::dvec3> before = r.state.x_pred;
+  r.coarse_correction();
+  const test::ErrorReport moved = test::compare(r.state.x_pred, before, "the coarse move alone");
+  EXPECT_GT(moved.max_abs, 0.0) << "the jittered column's compression moves it";
+  r.constraint_apply(0.5);
+  expect_close(test::compare(test::difference(g.download().x_pred, input.x_pred),
+                             test::difference(r.state.x_pred, input.x_pred), "coarse correction on a large grid"),
                1e-3);
 }
 

@@ -16,15 +16,16 @@ namespace pbflow {
 
 namespace {
 
-// coarse_solve.comp's one workgroup, in steps of 64 within the device's most: on a GPU a thread
-// a node of a colour, as idle threads cost nothing; on a CPU device (lavapipe) a thread for about
-// eight, as one CPU thread takes every invocation through every sweep's barrier (dam break at
-// 16k: 1024 threads cost a pbf@2 step 4.5 ms, 64 threads 2.5 ms; on an H200 128 threads
-// cost it 0.35 ms, 1024 0.17 ms).
-uint32_t coarse_solve_threads(const vk::Context& ctx, glm::ivec3 nodes) {
-  uint32_t per_colour = uint32_t(nodes.x * nodes.y * nodes.z + 1) / 2;
-  uint32_t wanted = ctx.info().kind == "cpu" ? per_colour / 8 : per_colour;
-  uint32_t most = std::min(1024u, ctx.limits().maxComputeWorkGroupInvocations) / 64 * 64;
+// coarse_sweep.comp in one workgroup of this many threads for a grid of this many nodes of a
+// colour, or 0: a dispatch a half sweep. One workgroup saves the dispatches' barriers (on an
+// H200 at 16k particles the solve took 0.12 ms so, 0.28 ms in 40 dispatches) until its threads
+// have too many nodes each (at 1M, 2.0 ms against 0.48). Idle threads cost a CPU device
+// (lavapipe), which takes every invocation through every barrier: a thread for eight nodes
+// there (at 16k 1024 threads cost a pbf@2 step 4.5 ms, 64 threads 2.5 ms).
+uint32_t coarse_sweep_group(const vk::Context& ctx, uint32_t per_colour) {
+  const uint32_t most = std::min(1024u, ctx.limits().maxComputeWorkGroupInvocations) / 64 * 64;
+  if (per_colour > 8 * most) return 0;
+  const uint32_t wanted = ctx.info().kind == "cpu" ? per_colour / 8 : per_colour;
   return std::clamp((wanted + 63) / 64 * 64, 64u, most);
 }
 
@@ -109,8 +110,21 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
                                       {"NODES_Z", uint32_t(c.nodes.z)},
                                       {"CELL", std::bit_cast<uint32_t>(float(c.cell))}};
     coarse_deposit_ = vk::Program(ctx, "coarse_deposit", sizeof(SimConstants), 0, grid);
-    coarse_solve_threads_ = coarse_solve_threads(ctx, c.nodes);
-    coarse_solve_ = vk::Program(ctx, "coarse_solve", sizeof(SimConstants), coarse_solve_threads_, grid);
+    coarse_prepare_ = vk::Program(ctx, "coarse_prepare", sizeof(SimConstants), 0, grid);
+    coarse_gradient_ = vk::Program(ctx, "coarse_gradient", sizeof(SimConstants), 0, grid);
+    const std::vector<vk::Constant> nodes(grid.begin(), grid.begin() + 3);  // the sweep reads no CELL
+    auto sweep = [&](uint32_t threads, uint32_t first_colour, uint32_t colours, uint32_t sweeps) {
+      std::vector<vk::Constant> k = nodes;
+      k.insert(k.end(), {{"FIRST_COLOUR", first_colour}, {"COLOURS", colours}, {"SWEEPS", sweeps}});
+      return vk::Program(ctx, "coarse_sweep", sizeof(SimConstants), threads, k);
+    };
+    coarse_sweep_threads_ = coarse_sweep_group(ctx, uint32_t(c.per_colour()));
+    if (coarse_sweep_threads_) {
+      coarse_sweeps_.push_back(sweep(coarse_sweep_threads_, 0, 2, COARSE_SWEEPS));
+    } else {
+      coarse_sweeps_.push_back(sweep(0, 0, 1, 1));
+      coarse_sweeps_.push_back(sweep(0, 1, 1, 1));
+    }
     grid.push_back({"STRENGTH", std::bit_cast<uint32_t>(float(c.strength))});
     coarse_apply_ = vk::Program(ctx, "coarse_apply", sizeof(SimConstants), 0, grid);
     coarse_sums_ = vk::Buffer(ctx, plan_.coarse_sums);
@@ -327,11 +341,24 @@ void GpuSolver::coarse_correction() {
   cmd_.bind("rho", rho_);
   cmd_.bind("sums", coarse_sums_);
   cmd_.dispatch(n_);
-  bind_particle_pass(coarse_solve_);  // one workgroup
+  const uint32_t nodes = uint32_t(d_.coarse.count()), per_colour = uint32_t(d_.coarse.per_colour());
+  bind_particle_pass(coarse_prepare_);
+  cmd_.bind("sums", coarse_sums_);
+  cmd_.bind("phi", coarse_phi_);
+  cmd_.dispatch(nodes);
+  // All the sweeps in one workgroup, or a dispatch per half sweep (coarse_sweep_group).
+  for (int sweep = 0; sweep < (coarse_sweep_threads_ ? 1 : COARSE_SWEEPS); ++sweep)
+    for (const vk::Program& half : coarse_sweeps_) {
+      bind_particle_pass(half);
+      cmd_.bind("sums", coarse_sums_);
+      cmd_.bind("phi", coarse_phi_);
+      cmd_.dispatch(coarse_sweep_threads_ ? coarse_sweep_threads_ : per_colour);
+    }
+  bind_particle_pass(coarse_gradient_);
   cmd_.bind("sums", coarse_sums_);
   cmd_.bind("phi", coarse_phi_);
   cmd_.bind("grad", coarse_grad_);
-  cmd_.dispatch(coarse_solve_threads_);
+  cmd_.dispatch(nodes);
   bind_particle_pass(coarse_apply_);
   cmd_.bind("x_lambda", x_lambda_);
   cmd_.bind("grad", coarse_grad_);

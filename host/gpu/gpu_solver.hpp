@@ -98,7 +98,11 @@ class GpuSolver : public Solver {
   vk::Program lists_, predict_, velocity_;
   NeighbourPass density_, correction_, lambda_, smooth_, apply_, viscosity_, vorticity_;
   vk::Program reduce_, reduce_final_, check_converged_, watch_;
-  vk::Program coarse_deposit_, coarse_solve_, coarse_apply_;  // built where the scene runs the coarse correction
+  // Built where the scene runs the coarse correction: the sweeps as one program in one
+  // workgroup of coarse_sweep_threads_, or (0) a program per colour, a dispatch each.
+  vk::Program coarse_deposit_, coarse_prepare_, coarse_gradient_, coarse_apply_;
+  std::vector<vk::Program> coarse_sweeps_;
+  uint32_t coarse_sweep_threads_ = 0;
   GpuGrid grid_;
   std::array<vk::Buffer, SolverBuffers::kParticleVec4s> vec4_;
   std::array<int, kSlots> role_{X, V, XPred, Spare0, Spare1};
@@ -112,7 +116,6 @@ class GpuSolver : public Solver {
   // iteration pair: zero where the pair does not run (check_converged.comp).
   vk::Buffer overflow_groups_, overflow_gated_;
   vk::Buffer coarse_sums_, coarse_phi_, coarse_grad_;
-  uint32_t coarse_solve_threads_ = 0;  // coarse_solve.comp's one workgroup
   vk::Buffer watch_buf_;  // watch.comp: flags, first step, counts, the step being watched
   uint32_t step_in_frame_ = 0;  // adaptive iterations: the last check's measures, dispatch arguments + count
   vk::CommandList cmd_;

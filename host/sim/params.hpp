@@ -96,6 +96,7 @@ struct Derived {
     glm::ivec3 nodes{0};
     double cell = 0, strength = 0;
     int count() const { return nodes.x * nodes.y * nodes.z; }
+    int per_colour() const { return (nodes.x + 1) / 2 * nodes.y * nodes.z; }  // coarse_sweep.comp's threads
     int index(glm::ivec3 p) const { return (p.z * nodes.y + p.y) * nodes.x + p.x; }  // coarse.glsl's node_index
     glm::ivec3 node(int k) const { return {k % nodes.x, (k / nodes.x) % nodes.y, k / (nodes.x * nodes.y)}; }
   } coarse;

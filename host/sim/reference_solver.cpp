@@ -264,7 +264,7 @@ void ReferenceSolver::for_each_coarse_node(const dvec3& x, F&& visit) const {
   }
 }
 
-// As coarse_deposit.comp, coarse_solve.comp and coarse_apply.comp, in their order and
+// As coarse_deposit, coarse_prepare, coarse_sweep, coarse_gradient and coarse_apply.comp, in their order and
 // fixed-point sums.
 void ReferenceSolver::coarse_correction() {
   const Derived::Coarse& c = d_.coarse;
@@ -281,7 +281,7 @@ void ReferenceSolver::coarse_correction() {
   // through the walls: x_pred moves along grad phi, away from the compressed fluid.
   const double volume = d_.mass / d_.rho0;
   std::vector<char> fluid(count);
-  std::vector<double>& phi = coarse_phi_;  // from the last step's (coarse_solve.comp says why)
+  std::vector<double>& phi = coarse_phi_;  // from the last step's (coarse_sweep.comp says why)
   phi.resize(count, 0.0);
   for (int k = 0; k < count; ++k) {
     fluid[k] = filled[k] / COARSE_UNIT * volume > COARSE_FILL * std::pow(c.cell, 3);

@@ -1,0 +1,29 @@
+#version 450
+// The coarse correction, 4 of 5 (contract.h): phi's gradient at each fluid node by central
+// differences (one-sided against a wall, where phi's flux is 0); 0 at the other nodes.
+#extension GL_GOOGLE_include_directive : require
+layout(local_size_x_id = 0) in;
+#include "common.glsl"
+#include "contract.h"
+#include "coarse.glsl"
+
+layout(std430, binding = 5) readonly buffer Sums { uint sums[]; };  // coarse_prepare.comp's
+layout(std430, binding = 6) readonly buffer Phi { float phi[]; };
+layout(std430, binding = 7) writeonly buffer Grad { vec4 grad[]; };
+
+void main() {
+  int k = int(thread_index());
+  if (k >= NODES_X * NODES_Y * NODES_Z) return;
+  vec3 g = vec3(0.0);
+  if (sums[2 * k] != 0u) {
+    ivec3 p = ivec3(k % NODES_X, (k / NODES_X) % NODES_Y, k / (NODES_X * NODES_Y));
+    for (int a = 0; a < 3; ++a) {
+      ivec3 lo = p, hi = p;
+      lo[a] -= 1;
+      hi[a] += 1;
+      float below = lo[a] >= 0 ? phi[node_index(lo)] : phi[k], above = hi[a] < nodes()[a] ? phi[node_index(hi)] : phi[k];
+      g[a] = (above - below) / (2.0 * CELL);
+    }
+  }
+  grad[k] = vec4(g, 0.0);
+}

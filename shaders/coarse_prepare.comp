@@ -1,0 +1,23 @@
+#version 450
+// The coarse correction, 2 of 5 (contract.h): each node's deposit becomes (fluid: 1 or 0, the
+// Poisson equation's right-hand side h^2 times the excess volume per volume, as float bits).
+// A node is fluid where its deposit fills more than COARSE_FILL of its cell; phi is 0 at the
+// others (the free surface and the air) and stays 0, as no sweep updates them.
+#extension GL_GOOGLE_include_directive : require
+layout(local_size_x_id = 0) in;
+#include "common.glsl"
+#include "contract.h"
+#include "coarse.glsl"
+
+layout(std430, binding = 5) buffer Sums { uint sums[]; };
+layout(std430, binding = 6) writeonly buffer Phi { float phi[]; };
+
+void main() {
+  int k = int(thread_index());
+  if (k >= NODES_X * NODES_Y * NODES_Z) return;
+  float volume = sim.mass / sim.rho0;
+  bool filled = float(sums[2 * k]) / COARSE_UNIT * volume > COARSE_FILL * CELL * CELL * CELL;
+  sums[2 * k + 1] = floatBitsToUint(float(sums[2 * k + 1]) / COARSE_UNIT * volume / CELL);
+  sums[2 * k] = filled ? 1u : 0u;
+  if (!filled) phi[k] = 0.0;
+}

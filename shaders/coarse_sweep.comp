@@ -1,0 +1,56 @@
+#version 450
+// The coarse correction, 3 of 5 (contract.h): red-black sweeps of over-relaxed Gauss-Seidel
+// for grad^2 phi = the excess volume per volume at the fluid nodes, COARSE_SWEEPS of them from
+// the last step's phi (it changes little from step to step). A Jacobi pass corrects a density mode by a gain that falls
+// as (k spacing)^2, so the long modes that carry a column's weight stay compressed; here they
+// are solved whole (docs/physics.md).
+#extension GL_GOOGLE_include_directive : require
+layout(local_size_x_id = 0) in;
+#include "common.glsl"
+#include "contract.h"
+#include "coarse.glsl"
+
+// A small grid is solved in one dispatch: one workgroup, all COARSE_SWEEPS sweeps, a barrier
+// between half sweeps. A large one takes a dispatch per half sweep (COLOURS 1, SWEEPS 1), across
+// as many workgroups as it has nodes of a colour (GpuSolver::coarse_correction says where).
+layout(constant_id = 5) const int FIRST_COLOUR = 0;  // (x + y + z) % 2 of the nodes updated first
+layout(constant_id = 6) const int COLOURS = 2;
+layout(constant_id = 7) const int SWEEPS = 1;
+layout(std430, binding = 5) readonly buffer Sums { uint sums[]; };  // coarse_prepare.comp's
+layout(std430, binding = 6) coherent buffer Phi { float phi[]; };
+
+// phi at the j-th node of a colour moves toward (its neighbours' phi - the right-hand side) /
+// their count; a neighbour past a wall is left out (no flux), one without fluid reads 0. The
+// j-th node is on row j / per_row, at x = 2 (j % per_row) or one more, as the row's parity
+// makes the colour.
+void relax(int j, int colour, float omega) {
+  int per_row = (NODES_X + 1) / 2, row = j / per_row;
+  ivec3 p = ivec3(0, row % NODES_Y, row / NODES_Y);
+  p.x = 2 * (j % per_row) + (colour + p.y + p.z) % 2;
+  if (p.x >= NODES_X) return;
+  int k = node_index(p);
+  if (sums[2 * k] == 0u) return;  // not fluid
+  float sum = 0.0;
+  int sides = 0;
+  for (int a = 0; a < 3; ++a)
+    for (int dir = -1; dir <= 1; dir += 2) {
+      ivec3 q = p;
+      q[a] += dir;
+      if (q[a] < 0 || q[a] >= nodes()[a]) continue;
+      sum += phi[node_index(q)];
+      ++sides;
+    }
+  if (sides > 0) phi[k] = mix(phi[k], (sum - uintBitsToFloat(sums[2 * k + 1])) / float(sides), omega);
+}
+
+void main() {
+  int per_colour = (NODES_X + 1) / 2 * NODES_Y * NODES_Z;  // Derived::Coarse::per_colour
+  int stride = int(gl_NumWorkGroups.x * gl_NumWorkGroups.y * gl_WorkGroupSize.x);
+  float omega = coarse_overrelaxation();
+  for (int sweep = 0; sweep < SWEEPS; ++sweep)
+    for (int c = 0; c < COLOURS; ++c) {
+      for (int j = int(thread_index()); j < per_colour; j += stride) relax(j, (FIRST_COLOUR + c) % 2, omega);
+      memoryBarrierBuffer();
+      barrier();
+    }
+}
