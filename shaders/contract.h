@@ -11,14 +11,15 @@
 // the iterations run so far this frame, at this word.
 #define INDIRECT_ITERATIONS_WORD 3
 
-// The coarse correction (coarse_deposit.comp, coarse_solve.comp, coarse_apply.comp; the
-// reference's coarse_correction): nodes COARSE_CELL spacings apart; a node is fluid where the
-// particles deposited there fill more than COARSE_FILL of its cell; COARSE_SWEEPS red-black
-// Gauss-Seidel sweeps; the deposit's sums in fixed point, COARSE_UNIT to a particle's whole
-// weight, a particle's compression counted up to COARSE_MAX_COMPRESSION (so the sums fit 32 bits)
-// and past COARSE_FLOOR: a disordered packing's density reads a few tenths of a percent off
-// whatever the step, and a correction of that noise, a move independent of dt, is a velocity
-// that grows as 1/dt (without the floor the dam break at 0.01 m x 4 substeps gained 5 %).
+// The coarse correction (coarse_deposit, coarse_prepare, coarse_sweep, coarse_gradient and
+// coarse_apply.comp; the reference's coarse_correction): nodes COARSE_CELL spacings apart; a
+// node is fluid where the particles deposited there fill more than COARSE_FILL of its cell;
+// COARSE_SWEEPS red-black Gauss-Seidel sweeps; the deposit's sums in fixed point, COARSE_UNIT
+// to a particle's whole weight, a particle's compression counted up to COARSE_MAX_COMPRESSION
+// (so the sums fit 32 bits) and past COARSE_FLOOR: a disordered packing's density reads a few
+// tenths of a percent off whatever the step, and a correction of that noise, a move independent
+// of dt, is a velocity that grows as 1/dt (without the floor the dam break at 0.01 m x 4
+// substeps gained 5 %).
 #define COARSE_CELL 4.0
 #define COARSE_STRENGTH 0.5
 #define COARSE_FILL 0.1
