@@ -61,6 +61,7 @@ Line fit(const std::vector<double>& x, const std::vector<double>& y, const std::
 
 Measured measure(const ScalingOptions& o, const Scene& base, const vk::Context* ctx, int count) {
   std::vector<std::string> overrides = {"particle_spacing=" + number(spacing_for(base, count))};
+  if (!o.method.empty()) overrides.push_back("solver.method=" + o.method);
   if (o.iterations > 0) overrides.push_back("solver.iterations=" + std::to_string(o.iterations));
   const Scene scene = load_scene(o.scene, overrides);
   const Derived d = derive(scene);

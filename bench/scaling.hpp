@@ -17,6 +17,7 @@ struct ScalingOptions {
   std::string device = "auto";
   std::string scene = "dam_break";
   std::vector<int> counts;  // empty: 10 000 x 2^k up to 4 000 000
+  std::string method;       // "pbf" or "ldc"; empty: the scene's
   int iterations = 0;       // 0: the scene's
   double seconds = 0.05;    // simulated per count, after one warm-up frame
   double budget_minutes = 15;  // no count starts that would end past this

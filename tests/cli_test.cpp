@@ -55,7 +55,7 @@ TEST(Cli, GpuAndCpuWriteMatchingStats) {
     EXPECT_NEAR(rows_g[f][4], rows_c[f][4], 1e-3 * rows_c[f][4] + 1e-9) << "kinetic energy, frame " << f;
     EXPECT_NEAR(rows_g[f][5], rows_c[f][5], 1e-5 * rows_c[f][5]) << "potential energy, frame " << f;
     EXPECT_NEAR(rows_g[f][6], rows_c[f][6], 1e-3 * rows_c[f][6] + 1e-9) << "max speed, frame " << f;
-    EXPECT_EQ(rows_g[f][7], f > 0 ? 1.0 : 0.0) << "iterations, frame " << f;
+    EXPECT_EQ(rows_g[f][7], f > 0 ? 2.0 : 0.0) << "iterations, frame " << f;  // the default two
     EXPECT_EQ(rows_c[f][7], rows_g[f][7]) << "iterations, frame " << f;
     if (f > 0) {
       EXPECT_GT(rows_g[f][8], 0.0) << "step_ms";

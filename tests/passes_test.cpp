@@ -30,8 +30,9 @@ void PrintTo(const ListCase& c, std::ostream* os) { *os << c.name; }
 
 class PassTest : public test::GpuTest, public ::testing::WithParamInterface<ListCase> {
  protected:
-  // Coarse dam break with every optional pass switched on.
-  Scene scene = load_scene("dam_break", {"particle_spacing=0.04", "solver.xsph=0.05", "solver.vorticity=0.1"});
+  // Coarse dam break with every optional pass switched on (ldc's correction among them).
+  Scene scene = load_scene("dam_break",
+                           {"particle_spacing=0.04", "solver.xsph=0.05", "solver.vorticity=0.1", "solver.method=ldc"});
   Derived d = with_capacity(derive(scene), GetParam().capacity);
   ParticleState input = test::jittered_state(scene);
   GpuSolver gpu{test::gpu(), d, input.x};
@@ -353,7 +354,7 @@ class ProfileTest : public test::GpuTest {};
 // Profiling marks the end of every pass group of every step (the grid twice per ldc step):
 // many steps in one frame must fit the timer, and the groups add up to the step time.
 TEST_F(ProfileTest, PassGroupsOfManyStepsAddUpToTheStepTime) {
-  Scene scene = load_scene("dam_break", {"particle_spacing=0.05", "solver.xsph=0.05"});
+  Scene scene = load_scene("dam_break", {"particle_spacing=0.05", "solver.xsph=0.05", "solver.method=ldc"});
   GpuSolver gpu(test::gpu(), derive(scene), initial_particles(scene));
   gpu.set_profiling(true);
   gpu.advance(0);
@@ -361,6 +362,7 @@ TEST_F(ProfileTest, PassGroupsOfManyStepsAddUpToTheStepTime) {
   double sum = 0;
   for (double ms : s.pass_ms) sum += ms;
   EXPECT_GT(s.pass_ms[size_t(PassGroup::Correction)], 0.0);
+  EXPECT_GT(s.pass_ms[size_t(PassGroup::Coarse)], 0.0);  // two iterations, the default
   EXPECT_GT(s.pass_ms[size_t(PassGroup::Viscosity)], 0.0);
   EXPECT_NEAR(sum, s.step_ms, 0.05 * s.step_ms + 1e-3) << "the groups should cover the step";
 }

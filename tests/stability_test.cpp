@@ -124,7 +124,7 @@ TEST(Stability, CompressedFluidIsNotOvercorrected) {
 // its default strength stays within kLdcCap of its limit, and the dashpot, at the default
 // and at the largest accepted damping, leaves its fastest mode within 1.5 (driven past 2).
 TEST(Stability, ExplicitTermsKeepTheirLimitsInSqueezedFluid) {
-  const Derived d = derive(load_scene("dam_break"));
+  const Derived d = derive(load_scene("dam_break", {"solver.method=ldc"}));
   const double ldc_rest = ldc_stiffness_max(2.0), damping_rest = damping_gain_max(2.0);
   const double strength = d.ldc_k / d.ldc_k_limit;
   std::printf("  at rest: LDC stiffness %.3f, dashpot eigenvalue %.3f; ldc_room %.3f, damping_limit %.3f\n", ldc_rest,
@@ -149,15 +149,15 @@ TEST(Stability, ExplicitTermsKeepTheirLimitsInSqueezedFluid) {
 // LDC's K is a fraction of what the step carries: it scales as 1/dt^2, and a stated K
 // past the limit is refused with a message naming it.
 TEST(Stability, LdcStiffnessScalesWithTheStep) {
-  Derived two = derive(load_scene("dam_break", {"solver.substeps=2"}));
-  Derived four = derive(load_scene("dam_break", {"solver.substeps=4"}));
+  Derived two = derive(load_scene("dam_break", {"solver.method=ldc", "solver.substeps=2"}));
+  Derived four = derive(load_scene("dam_break", {"solver.method=ldc", "solver.substeps=4"}));
   EXPECT_NEAR(four.ldc_k / two.ldc_k, 4.0, 1e-9);
   EXPECT_NEAR(two.ldc_k, two.solver.ldc_strength * two.ldc_k_limit, 1e-9);
   // Independent of the spacing: the limit depends on h / spacing only.
-  Derived coarse = derive(load_scene("dam_break", {"particle_spacing=0.04"}));
+  Derived coarse = derive(load_scene("dam_break", {"solver.method=ldc", "particle_spacing=0.04"}));
   EXPECT_NEAR(coarse.ldc_k_limit, two.ldc_k_limit, 1e-9 * two.ldc_k_limit);
   try {
-    derive(load_scene("dam_break", {"solver.ldc_k=" + std::to_string(1.01 * two.ldc_k_limit)}));
+    derive(load_scene("dam_break", {"solver.method=ldc", "solver.ldc_k=" + std::to_string(1.01 * two.ldc_k_limit)}));
     ADD_FAILURE() << "a K past the stability limit was accepted";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("stability limit"), std::string::npos) << e.what();

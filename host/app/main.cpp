@@ -38,17 +38,20 @@ int list_scenes() {
 }
 
 // --scaling takes the study's options that make sense for one scene and one setting.
-pbflow::bench::ScalingOptions scaling_options(const pbflow::bench::StudyOptions& b, double budget_minutes) {
+pbflow::bench::ScalingOptions scaling_options(const pbflow::bench::StudyOptions& b, double budget_minutes,
+                                              const std::string& method) {
   if (b.scenes.size() > 1 || b.iterations.size() > 1)
     throw pbflow::InputError("--scaling runs one scene at one iteration count: give at most one of each");
   if (b.stability || b.quick || !b.targets.empty() || !b.substeps.empty() || !b.ldc_strength.empty())
-    throw pbflow::InputError("--scaling takes --counts, --scenes, --iterations, --seconds and --budget-minutes only");
+    throw pbflow::InputError(
+        "--scaling takes --counts, --scenes, --method, --iterations, --seconds and --budget-minutes only");
   pbflow::bench::ScalingOptions o;
   o.out = b.out;
   o.device = b.device;
   if (!b.scenes.empty()) o.scene = b.scenes[0];
   o.counts = b.counts;
   if (!b.iterations.empty()) o.iterations = b.iterations[0];
+  o.method = method;
   if (b.seconds > 0) o.seconds = b.seconds;
   o.budget_minutes = budget_minutes;
   o.charts = b.charts;
@@ -145,6 +148,9 @@ int main(int argc, char** argv) {
   bench_cmd->add_option("--budget-minutes", budget_minutes, "with --scaling: start no count that would end past this")
       ->check(kFinite & CLI::PositiveNumber)
       ->capture_default_str();
+  std::string scaling_method;
+  bench_cmd->add_option("--method", scaling_method, "with --scaling: pbf or ldc (default: the scene's)")
+      ->check(CLI::IsMember({"pbf", "ldc"}));
   bool no_charts = false;
   bench_cmd->add_flag("--no-charts", no_charts, "CSV only");
 
@@ -167,7 +173,8 @@ int main(int argc, char** argv) {
     if (*scenes_cmd) return list_scenes();
     if (*devices_cmd) return list_devices();
     if (*keys_cmd) return std::cout << pbflow::scene_keys_markdown(), 0;
-    if (*bench_cmd && scaling) return pbflow::bench::run_scaling(scaling_options(bench, budget_minutes));
+    if (!scaling_method.empty() && !scaling) throw pbflow::InputError("--method is for --scaling (the study runs both)");
+    if (*bench_cmd && scaling) return pbflow::bench::run_scaling(scaling_options(bench, budget_minutes, scaling_method));
     if (*bench_cmd) return pbflow::bench::run_study(bench);
     return pbflow::run(run);  // `pbflow` alone runs the default scene
   } catch (const pbflow::InputError& e) {

@@ -91,6 +91,11 @@ nlohmann::json describe_run(const RunOptions& o, const Scene& scene, const Deriv
   nlohmann::json chosen = {{"solver.lambda_smoothing", d.solver.lambda_smoothing}};
   if (!stated.contains(nlohmann::json::json_pointer("/solver/substeps")))
     chosen["solver.substeps"] = scene.solver.substeps;  // chosen_substeps
+  // The keys' defaults, from the accuracy-against-cost front (host/scene/keys.cpp).
+  if (!stated.contains(nlohmann::json::json_pointer("/solver/method")))
+    chosen["solver.method"] = method_name(scene.solver.method);
+  if (!stated.contains(nlohmann::json::json_pointer("/solver/iterations")))
+    chosen["solver.iterations"] = scene.solver.iterations;
   const nlohmann::json camera = stated.value("camera", nlohmann::json::object());
   auto vec = [](const glm::dvec3& v) { return nlohmann::json::array({v.x, v.y, v.z}); };
   if (!camera.contains("eye")) chosen["camera.eye"] = vec(scene.camera.eye);  // framing_camera
@@ -128,6 +133,7 @@ int run(const RunOptions& o) {
                                     export_format == capture::ExportFormat::None ? "" : capture::export_extension(export_format)});
   nlohmann::json about = describe_run(o, scene, d, *solver);
   const bool chose_substeps = about["chosen"].contains("solver.substeps");  // for the first line
+  const bool chose_setting = about["chosen"].contains("solver.method") || about["chosen"].contains("solver.iterations");
   about["memory_estimate"] = {{"host_bytes", host_bytes(need, device)}, {"device_bytes", need.device}};
   dir.begin(std::move(about));
   InterruptGuard interrupt;
@@ -142,7 +148,8 @@ int run(const RunOptions& o) {
       const std::string averages =
           pairs ? " (lambda averaged " + std::to_string(d.solver.lambda_smoothing) + "x)" : "";
       std::cerr << "pbflow: " << scene.name << ", " << x0.size() << " particles, " << method_name(scene.solver.method)
-                << " with " << scene.solver.iterations << " iteration(s)" << averages
+                << " with " << scene.solver.iterations << " iteration(s)" << (chose_setting ? " (chosen)" : "")
+                << averages
                 << ", " << scene.solver.substeps << " substeps per frame" << (chose_substeps ? " (chosen)" : "")
                 << ", on " << solver->device_name() << "\n";
       if (capture && o.verbose) std::cerr << "pbflow: rendering with " << capture->description() << "\n";

@@ -171,7 +171,8 @@ Scene parse_scene(const std::string& json_text, const std::string& origin, const
   read_scalars(j, s);
   SolverParams& p = s.solver;
   if (!j.contains(json::json_pointer("/solver/max_iterations"))) p.max_iterations = std::max(p.max_iterations, p.iterations);
-  require(p.max_iterations >= p.iterations, "solver.max_iterations must be at least solver.iterations");
+  require(p.max_iterations >= p.iterations, "solver.max_iterations (" + std::to_string(p.max_iterations) +
+                                                ") is below solver.iterations (" + std::to_string(p.iterations) + ")");
   require(p.lambda_smoothing == SolverParams::kChosenSmoothing || p.lambda_smoothing % 2 == 0,
           "solver.lambda_smoothing must be 0, 2 or 4: a single average turns some density modes' correction around");
   auto inside_domain = [&](glm::dvec3 lo, glm::dvec3 hi) {
