@@ -1,10 +1,11 @@
 #pragma once
-// The capture stage of a run: after each frame, particles to GL, render, write the
-// frame's PNG, and feed the video when one is asked for.
+// The capture stage of a run: after each frame, particles to GL, render, feed the video when
+// one is asked for, and hand the frame's PNG to the writer's threads.
 #include <filesystem>
 #include <memory>
 #include <string>
 
+#include "capture/frame_writer.hpp"
 #include "capture/gl_context.hpp"
 #include "capture/particle_transfer.hpp"
 #include "capture/renderer.hpp"
@@ -26,11 +27,13 @@ class FrameCapture {
   FrameCapture(const CaptureOptions& options, const Solver& solver, const vk::Context* vk);
   ~FrameCapture();
 
-  void write(const std::filesystem::path& png, const Solver& solver);
-  void finish();  // completes the video
+  // Draws the solver's frame and starts writing it to `png`; `written` runs once the file is
+  // whole, in frame order (FrameWriter), here or in a later write() or finish().
+  void write(const std::filesystem::path& png, const Solver& solver, std::function<void()> written);
+  void finish();  // waits for the frames' files, then completes the video
 
   std::string description() const;  // GL platform, renderer and transfer path
-  double seconds() const { return seconds_; }  // spent rendering and writing so far
+  double seconds() const { return seconds_; }  // the run's time in write() and finish() so far
   double drawing_seconds() const { return drawing_seconds_; }  // of which particles to GL, drawing, reading back
   double gpu_drawing_seconds() const { return gpu_drawing_seconds_; }  // the GPU's time drawing (timer queries)
   std::vector<std::string> gl_errors() const { return gl_.errors(); }
@@ -41,6 +44,7 @@ class FrameCapture {
   Renderer renderer_;
   std::unique_ptr<ParticleTransfer> transfer_;
   std::unique_ptr<VideoEncoder> video_;
+  FrameWriter writer_{FrameWriter::default_in_flight()};
   double seconds_ = 0, drawing_seconds_ = 0, gpu_drawing_seconds_ = 0;
 };
 

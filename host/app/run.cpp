@@ -182,18 +182,24 @@ int run(const RunOptions& o) {
         break;
       }
       // The frame's files first, its stats row last: a row stands for a frame whole on disk.
-      if (capture) capture->write(dir.frame_path(frame), *solver);
+      // The PNG is written on the capture's threads: its row follows when the file is whole.
       if (export_format != capture::ExportFormat::None)
         capture::write_particles(dir.particle_path(frame), export_format, solver->read_frame());
-      csv.write(frame, t, s);
-      dir.frames_done(frame + 1);
+      auto row = [&csv, &dir, frame, t, s] {
+        csv.write(frame, t, s);
+        dir.frames_done(frame + 1);
+      };
+      if (capture)
+        capture->write(dir.frame_path(frame), *solver, row);
+      else
+        row();
       energy.add(s);
       sum_mean += s.mean_compression;
       worst = std::max(worst, s.max_compression);
       sum_step_ms += s.step_ms;
       progress.update(frame, t, wall());
     }
-    if (capture) capture->finish();  // the video of the frames done, also when stopped early
+    if (capture) capture->finish();  // the frames' files and rows, the video: also when stopped early
     progress.done();
     if (!diverged.empty()) {
       std::cerr << "pbflow: " << diverged << "\n";
