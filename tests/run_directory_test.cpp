@@ -243,7 +243,7 @@ TEST(RunDirectory, TheManifestRecordsTheChosenLambdaAverages) {
 
 // And the camera it framed where the scene names none (host/scene/framing.cpp): the domain's
 // centre, the eye in front of it (+z) and above; and the substeps it chose (chosen_substeps:
-// 2 here). A stated eye or count stands and is not listed.
+// 2 here), method and iterations. A stated eye, count or setting stands and is not listed.
 TEST(RunDirectory, TheManifestRecordsTheChosenCameraAndSubsteps) {
   fs::path dir = fresh_dir("chosen_camera");
   Result r = run_pbflow("run --no-render --param particle_spacing=0.04 --frames 1 --out " + dir.string());
@@ -257,13 +257,19 @@ TEST(RunDirectory, TheManifestRecordsTheChosenCameraAndSubsteps) {
   EXPECT_GT(eye[1].get<double>(), 0.5);
   EXPECT_GT(eye[2].get<double>(), 0.4);
   EXPECT_EQ(m["chosen"]["solver.substeps"], 2);
+  // The built-in scenes leave the setting out too: the front's pbf@2 (keys.cpp).
+  EXPECT_NE(r.output.find("pbf with 2 iteration(s) (chosen)"), std::string::npos) << r.output;
+  EXPECT_EQ(m["chosen"]["solver.method"], "pbf");
+  EXPECT_EQ(m["chosen"]["solver.iterations"], 2);
   r = run_pbflow("run --no-render --param particle_spacing=0.04 --frames 1 --param camera.eye=[3,2,4]"
-                 " --param solver.substeps=3 --out " + dir.string());
+                 " --param solver.substeps=3 --method ldc --iterations 1 --out " + dir.string());
   ASSERT_EQ(r.status, 0) << r.output;
-  EXPECT_NE(r.output.find("3 substeps per frame, on"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("ldc with 1 iteration(s), 3 substeps per frame, on"), std::string::npos) << r.output;
   m = manifest(dir);
   EXPECT_FALSE(m["chosen"].contains("camera.eye")) << m.dump();
   EXPECT_FALSE(m["chosen"].contains("solver.substeps")) << m.dump();
+  EXPECT_FALSE(m["chosen"].contains("solver.method")) << m.dump();
+  EXPECT_FALSE(m["chosen"].contains("solver.iterations")) << m.dump();
   EXPECT_TRUE(m["chosen"].contains("camera.target")) << m.dump();
 }
 
