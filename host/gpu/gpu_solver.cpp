@@ -21,10 +21,9 @@ namespace {
 // H200 at 16k particles the solve took 0.12 ms so, 0.28 ms in 40 dispatches) until its threads
 // have too many nodes each: on the H200 past four (at 159k particles, six a thread, 0.47 ms
 // against 0.33-0.34 by dispatches; at 79k, three a thread, 0.30 against 0.31-0.32; at 1M 2.0
-// against 0.48). Idle threads cost a
-// CPU device (lavapipe), which takes every invocation through every barrier and dispatches
-// dearly: a thread for eight nodes there, up to eight a thread (at 16k 1024 threads cost a
-// pbf@2 step 4.5 ms, 64 threads 2.5 ms).
+// against 0.48). A CPU device (lavapipe) takes every invocation through every barrier and
+// dispatches dearly: there a thread for eight nodes, and one workgroup up to eight a thread
+// (at 16k 1024 threads cost a pbf@2 step 4.5 ms, 64 threads 2.5 ms).
 uint32_t coarse_sweep_group(const vk::Context& ctx, uint32_t per_colour) {
   const bool cpu = ctx.info().kind == "cpu";
   const uint32_t most = std::min(1024u, ctx.limits().maxComputeWorkGroupInvocations) / 64 * 64;
