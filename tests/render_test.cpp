@@ -247,8 +247,8 @@ TEST(StillWater, TheSettledTanksFacesRenderNearlyFlat) {
               100 * up.size() / pixels, p95(up), 100 * side.size() / pixels, p95(side));
   EXPECT_GE(up.size(), 0.05 * pixels);
   EXPECT_GE(side.size(), 0.05 * pixels);
-  EXPECT_LE(p95(up), 15.0);
-  EXPECT_LE(p95(side), 15.0);
+  EXPECT_LE(p95(up), 5.0);
+  EXPECT_LE(p95(side), 5.0);
 }
 
 // The fluid style's surface at half size (the default) against full size: the same

@@ -18,27 +18,31 @@ void main() {
     imageStore(result, p, vec4(0.0));
     return;
   }
-  // The filter spans about two particle radii on screen (sigma one radius), at most 32
-  // pixels: it takes the splats' bumps out (a particle spacing apart, passed at e^-5 per
-  // direction) and no more. Wider, or run more than once, it rounded the fluid's edges and
-  // tilted its faces: the settled tank's top read 36 degrees (95th percentile) off +y at
-  // three radii thrice, 9 at two radii once, the rest left to smooth_normals.comp. It
-  // reads every stride-th pixel, half a sigma apart, at most 9 pixels a pass.
+  // The filter spans about two and a half particle radii on screen: it takes the splats'
+  // bumps out (a particle spacing apart) and no more; wider, it rounds the fluid's edges and
+  // tilts its faces (the rest is left to smooth_normals.comp). It weighs samples in pairs,
+  // one each side, by how far the pair's mean lies from the centre: a sloped face (the tank's
+  // top seen at a grazing angle) passes whole, as a plane's pairs average to its centre,
+  // while a depth jump on either side drops the pair. Weighed one by one, the far samples
+  // on the side that runs away from the eye counted less than the near ones, and the tank's
+  // whole top leaned 3 degrees towards the eye. A pair that leaves the fluid ends the filter
+  // there, so that an outline's one-sided mean bends nothing. It reads every stride-th
+  // pixel, at most 9 pixels a pass.
   float radius_px = 0.5 * viewport.y * proj[1][1] * radius / d0;
-  int taps = int(clamp(2.0 * radius_px, 1.0, 32.0));
+  int taps = int(clamp(2.5 * radius_px, 1.0, 32.0));
   float sigma = max(float(taps) / 2.0, 0.5);
   int stride = max(taps / 4, 1), samples = taps / stride;
   float depth_sigma = 2.0 * radius;
-  float sum = 0.0, weights = 0.0;
-  for (int s = -samples; s <= samples; ++s) {
+  float sum = d0, weights = 1.0;
+  for (int s = 1; s <= samples; ++s) {
     int k = s * stride;
-    ivec2 q = clamp(p + k * direction, ivec2(0), size - 1);
-    float d = texelFetch(depth_texture, q, 0).r;
-    if (!fluid(d)) continue;
-    float dd = (d - d0) / depth_sigma;
+    float a = texelFetch(depth_texture, clamp(p - k * direction, ivec2(0), size - 1), 0).r;
+    float b = texelFetch(depth_texture, clamp(p + k * direction, ivec2(0), size - 1), 0).r;
+    if (!fluid(a) || !fluid(b)) break;
+    float dd = (0.5 * (a + b) - d0) / depth_sigma;
     float w = exp(-0.5 * float(k * k) / (sigma * sigma) - 0.5 * dd * dd);
-    sum += w * d;
-    weights += w;
+    sum += w * (a + b);
+    weights += 2.0 * w;
   }
   imageStore(result, p, vec4(sum / weights, 1.0, 0.0, 0.0));
 }
