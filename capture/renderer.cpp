@@ -83,6 +83,7 @@ Renderer::Renderer(const View& view)
   if (surface_style()) {
     splat_ = gl::make_compute_program("surface_splat.comp");
     tile_mask_ = gl::make_compute_program("tile_mask.comp");
+    fill_pits_ = gl::make_compute_program("fill_pits.comp");
     smooth_ = gl::make_compute_program("smooth_depth.comp");
     smooth_thickness_ = gl::make_compute_program("smooth_thickness.comp");
     normals_ = gl::make_compute_program("surface_normals.comp");
@@ -96,6 +97,7 @@ Renderer::Renderer(const View& view)
     splat_depth_ = gl::make_texture(GL_R32UI, sw, sh);
     splat_depth_view_ = gl::make_texture_view(splat_depth_, GL_R32F);
     chord_sum_ = gl::make_texture(GL_R32UI, sw, sh);
+    filled_depth_ = gl::make_texture(GL_R32F, sw, sh);
     for (auto& t : fluid_depth_) t = gl::make_texture(GL_RG32F, sw, sh, GL_LINEAR);
     thickness_ = gl::make_texture(GL_R32F, sw, sh, GL_LINEAR);
     thickness_blur_ = gl::make_texture(GL_R32F, sw, sh);
@@ -287,11 +289,16 @@ void Renderer::run_tiles(int kind) {
   pass_done();
 }
 
-// 3. A separable bilateral filter, x into fluid_depth_[1], y into fluid_depth_[0]
-//    (smooth_depth.comp).
+// 3. The splat's pits filled into filled_depth_ (fill_pits.comp), then a separable bilateral
+//    filter, x into fluid_depth_[1], y into fluid_depth_[0] (smooth_depth.comp).
 void Renderer::smooth_depth() {
+  clear(filled_depth_, GL_RED, GL_FLOAT);
+  glUseProgram(fill_pits_);
+  glBindTextureUnit(0, splat_depth_view_);
+  glBindImageTexture(0, filled_depth_, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+  run_tiles(kTilesHoldingFluid);
   glUseProgram(smooth_);
-  const GLuint from[2] = {splat_depth_view_, fluid_depth_[1]}, to[2] = {fluid_depth_[1], fluid_depth_[0]};
+  const GLuint from[2] = {filled_depth_, fluid_depth_[1]}, to[2] = {fluid_depth_[1], fluid_depth_[0]};
   for (int axis = 0; axis < 2; ++axis) {
     clear(to[axis], GL_RG, GL_FLOAT);
     glBindTextureUnit(0, from[axis]);

@@ -73,7 +73,7 @@ class Renderer {
   View view_;
   glm::ivec2 image_size_, surface_size_;  // the fluid surface's passes run at surface_size_
   gl::Object vao_, frame_ubo_;
-  gl::Object sphere_, box_, splat_, tile_mask_, smooth_, smooth_thickness_, normals_, smooth_normals_, fluid_;
+  gl::Object sphere_, box_, splat_, tile_mask_, fill_pits_, smooth_, smooth_thickness_, normals_, smooth_normals_, fluid_;
   gl::Object scene_colour_, scene_depth_, scene_fb_;
   gl::Object output_colour_, output_depth_, output_fb_;  // a frame: the tank's image copied, then the particles
   Image image_;  // what render() returns
@@ -84,7 +84,7 @@ class Renderer {
   // read as R32F through the view) and chord sum; the smoothed depth (x into [1], y into
   // [0]), the thickness blurred (x into thickness_blur_, y into thickness_), the normals
   // (computed into [0], smoothed x into [1], y back into [0]).
-  gl::Object splat_depth_, splat_depth_view_, chord_sum_;
+  gl::Object splat_depth_, splat_depth_view_, chord_sum_, filled_depth_;
   gl::Object fluid_depth_[2], thickness_, thickness_blur_, normal_[2];
   glm::ivec2 tiles_{0};    // the surface's tiles of TILE x TILE texels (render_common.glsl)
   gl::Object tile_lists_;  // tile_mask.comp's lists and their dispatches (surface_tiles.glsl)

@@ -216,19 +216,20 @@ TEST_F(RenderTest, NormalsStyleShowsUnitWorldNormalsOnBlack) {
 }
 
 // Still water renders still: the settled tank at 0.5 s at its defaults (pbf@2, the default
-// camera), 640x360, in the normals style. The pixels facing up (within 45 degrees of +y)
-// and those facing the open side (within 45 degrees of z) each cover at least 5 % of the
-// image, and 95 % of each lie within the bound of their axis. The bounds are what the
-// renderer reaches with room (2026-11-26: top 13.3 degrees, side 11.6 at pbf@2; ldc@1 read
-// 7.8-10.3 and 15.2-18.0 in four runs; the renderer before the normals' smoothing 36 and 31);
-// the aim is 5, which the fluid's own top, a few degrees rough between particle columns, does
-// not yet allow (docs/rendering.md).
-TEST(StillWater, TheSettledTanksFacesRenderNearlyFlat) {
+// camera) in the normals style. The pixels facing up (within 45 degrees of +y) and those
+// facing the open side (within 45 degrees of z) each cover at least 5 % of the image, and
+// 95 % of each lie within a bound of their axis.
+struct StillWaterFaces {
+  double up_cover = 0, up_p95 = 90, side_cover = 0, side_p95 = 90;  // fractions of the image, degrees
+};
+
+StillWaterFaces settled_tank_faces(int width, int height) {
   namespace fs = std::filesystem;
-  const fs::path dir = test::fresh_dir("still_water");
-  const std::string cmd = std::string(PBFLOW_BINARY) + " run hydrostatic --frames 31 --style normals --width 640" +
-                          " --height 360 --quiet --out " + dir.string() + " > /dev/null 2>&1";
-  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  const fs::path dir = test::fresh_dir("still_water_" + std::to_string(width));
+  const std::string cmd = std::string(PBFLOW_BINARY) + " run hydrostatic --frames 31 --style normals --width " +
+                          std::to_string(width) + " --height " + std::to_string(height) + " --quiet --out " +
+                          dir.string() + " > /dev/null 2>&1";
+  EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
   const capture::Image image = capture::read_png(dir / "frames" / "frame_00030.png");
   std::vector<double> up, side;  // angles, degrees
   for (size_t i = 0; i < image.rgb.size(); i += 3) {
@@ -243,12 +244,33 @@ TEST(StillWater, TheSettledTanksFacesRenderNearlyFlat) {
     return a.empty() ? 90.0 : a[size_t(0.95 * double(a.size() - 1))];
   };
   const double pixels = double(image.width) * image.height;
-  std::printf("[ still    ] up: %.1f %% of the image, 95th percentile %.1f deg; side: %.1f %%, %.1f deg\n",
-              100 * up.size() / pixels, p95(up), 100 * side.size() / pixels, p95(side));
-  EXPECT_GE(up.size(), 0.05 * pixels);
-  EXPECT_GE(side.size(), 0.05 * pixels);
-  EXPECT_LE(p95(up), 5.0);
-  EXPECT_LE(p95(side), 5.0);
+  StillWaterFaces f{double(up.size()) / pixels, p95(up), double(side.size()) / pixels, p95(side)};
+  std::printf("[ still    ] %dx%d up: %.1f %% of the image, 95th percentile %.1f deg; side: %.1f %%, %.1f deg\n", width,
+              height, 100 * f.up_cover, f.up_p95, 100 * f.side_cover, f.side_p95);
+  return f;
+}
+
+// At 640x360 the aim, 5 degrees, holds for both faces (2026-11-26: top 3.9-4.3, side 2.5;
+// before the still-water smoothing 13.3 and 11.6).
+TEST(StillWater, TheSettledTanksFacesRenderFlat) {
+  const StillWaterFaces f = settled_tank_faces(640, 360);
+  EXPECT_GE(f.up_cover, 0.05);
+  EXPECT_GE(f.side_cover, 0.05);
+  EXPECT_LE(f.up_p95, 5.0);
+  EXPECT_LE(f.side_p95, 5.0);
+}
+
+// At 1280x720 a sphere spans twice the texels, and the gaps between a layer's spheres show
+// the layer behind unless filled (fill_pits.comp): without the filling the side read 5.2
+// degrees and the top 6.6, with it 2.9-3.1 and 5.6-5.7. The top's bound is 7: the row of
+// particles against the front wall stands 3.7 mm low, and its bevel covers twice the texels
+// at this size.
+TEST(StillWater, TheSettledTanksFacesRenderFlatAt720p) {
+  const StillWaterFaces f = settled_tank_faces(1280, 720);
+  EXPECT_GE(f.up_cover, 0.05);
+  EXPECT_GE(f.side_cover, 0.05);
+  EXPECT_LE(f.up_p95, 7.0);
+  EXPECT_LE(f.side_p95, 5.0);
 }
 
 // The fluid style's surface at half size (the default) against full size: the same

@@ -1,14 +1,14 @@
 // One direction of a separable bilateral filter on linear eye depth: smooths the
 // bumps of the sphere splats into a surface while keeping silhouettes (depth jumps)
-// sharp. Runs at the surface's size (Renderer's surface_divisor). Reads linear depth
-// (the first round: NO_FLUID where no sphere was drawn; later rounds: 0); writes (depth,
-// coverage 1) where there is fluid, 0 elsewhere.
+// sharp. Runs at the surface's size (Renderer's surface_divisor). Reads linear depth, 0
+// where there is no fluid (the x pass fill_pits.comp's, the y pass the x pass's); writes
+// (depth, coverage 1) where there is fluid, 0 elsewhere.
 layout(local_size_x = TILE, local_size_y = TILE) in;
 layout(binding = 0, rg32f) uniform restrict writeonly image2D result;
 layout(binding = 0) uniform sampler2D depth_texture;
 layout(location = 0) uniform ivec2 direction;
 
-bool fluid(float d) { return d > 0.0 && d < NO_FLUID; }
+bool fluid(float d) { return d > 0.0; }
 
 void main() {
   ivec2 size = textureSize(depth_texture, 0), p;
@@ -26,12 +26,13 @@ void main() {
   // while a depth jump on either side drops the pair. Weighed one by one, the far samples
   // on the side that runs away from the eye counted less than the near ones, and the tank's
   // whole top leaned 3 degrees towards the eye. A pair that leaves the fluid ends the filter
-  // there, so that an outline's one-sided mean bends nothing. It reads every stride-th
-  // pixel, at most 9 pixels a pass.
+  // there, so that an outline's one-sided mean bends nothing. It reads every texel up to 16
+  // a side: read sparser, the rows of a face seen at a grazing angle (a radius apart on
+  // screen) aliased into bands.
   float radius_px = 0.5 * viewport.y * proj[1][1] * radius / d0;
   int taps = int(clamp(2.5 * radius_px, 1.0, 32.0));
   float sigma = max(float(taps) / 2.0, 0.5);
-  int stride = max(taps / 4, 1), samples = taps / stride;
+  int stride = max(taps / 16, 1), samples = taps / stride;
   float depth_sigma = 2.0 * radius;
   float sum = d0, weights = 1.0;
   for (int s = 1; s <= samples; ++s) {
