@@ -7,10 +7,13 @@
 namespace pbflow::capture {
 
 void upload_frame(GLuint buffer, const ParticleFrame& f) {
-  const GLsizeiptr n = GLsizeiptr(f.x.size()), vec4s = n * GLsizeiptr(sizeof(glm::vec4));
+  const GLsizeiptr n = GLsizeiptr(f.x.size()), vec4s = n * GLsizeiptr(sizeof(glm::vec4)),
+                   floats = n * GLsizeiptr(sizeof(float));
   glNamedBufferSubData(buffer, 0, vec4s, f.x.data());
   glNamedBufferSubData(buffer, vec4s, vec4s, f.v.data());
-  glNamedBufferSubData(buffer, 2 * vec4s, n * GLsizeiptr(sizeof(float)), f.rho.data());
+  glNamedBufferSubData(buffer, 2 * vec4s, floats, f.rho.data());
+  // Without smoothed positions, x stands in (as GpuSolver::copy_frame).
+  glNamedBufferSubData(buffer, 2 * vec4s + floats, vec4s, (f.x_smooth.empty() ? f.x : f.x_smooth).data());
 }
 
 namespace {

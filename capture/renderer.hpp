@@ -15,6 +15,8 @@ namespace pbflow::capture {
 // where there is no fluid (the debug view of the surface; the rendering tests read it).
 enum class Style { Fluid, Particles, Density, Speed, Normals };
 inline constexpr Style kStyles[] = {Style::Fluid, Style::Particles, Style::Density, Style::Speed, Style::Normals};
+// The styles that draw the fluid's surface (from the smoothed positions), not its particles.
+inline bool draws_surface(Style s) { return s == Style::Fluid || s == Style::Normals; }
 Style parse_style(const std::string& name);  // throws InputError naming the choices
 const char* style_name(Style style);
 
@@ -61,7 +63,7 @@ class Renderer {
   void upload(const FrameUniforms& u);
   void draw_spheres(uint32_t count, int pass, glm::ivec2 viewport);
   void copy_image(GLuint from, GLuint to) const;  // a texture of the image's size
-  bool surface_style() const { return view_.style == Style::Fluid || view_.style == Style::Normals; }
+  bool surface_style() const { return draws_surface(view_.style); }
   void draw_tank_and_obstacles();  // into scene_fb_
   // The fluid style's surface, in compute passes over the surface's tiles (surface_tiles.glsl).
   void fluid_surface(uint32_t count);

@@ -37,6 +37,12 @@ float smoothing_weight(vec3 d) {
   return max(1.0 - t2 * t2, 0.0);
 }
 
+// The weight of the smoothed positions' mean, 1 - (r/h)^3 (kernels::position_weight says why).
+float position_weight(vec3 d) {
+  float t = length(d) / sim.h;
+  return max(1.0 - t * t * t, 0.0);
+}
+
 // The walls are mirrors: the fluid behind a wall is the fluid in front of it, reflected
 // (ghost particles; host/reference_solver.hpp says why). A neighbour j of particle i has
 // an image behind every wall within h of i (the nearer wall of each axis), and one behind

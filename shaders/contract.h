@@ -28,4 +28,9 @@
 #define COARSE_MAX_COMPRESSION 8.0
 #define COARSE_FLOOR 0.003
 
+// The smoothed positions the fluid style draws (smoothed_positions.comp; the reference's
+// smoothed_positions): each particle moved this much of the way to its neighbourhood's mean
+// (Yu & Turk 2013's lambda).
+#define POSITION_SMOOTHING 0.9
+
 #endif

@@ -104,6 +104,24 @@ TEST_P(PassTest, Density) {
   expect_close(test::compare(g.rho, ref.state.rho, "density rho"));
 }
 
+// The positions the fluid's surface is drawn from, at x from the lists at x: how far each
+// particle moved towards its neighbourhood's mean (small beside x itself).
+TEST_P(PassTest, SmoothedPositions) {
+  gpu.set_smoothed_positions(true);
+  gpu.begin();
+  gpu.grid_at_positions();
+  gpu.smoothed_positions();
+  gpu.finish();
+  const ParticleFrame f = gpu.read_frame();
+  ASSERT_EQ(f.x_smooth.size(), input.x.size());
+  std::vector<glm::dvec3> g(input.x.size());
+  for (size_t k = 0; k < f.id.size(); ++k) g[f.id[k]] = glm::dvec3(glm::vec3(f.x_smooth[k]));
+  ref.build_grid(ref.state.x);
+  expect_close(test::compare(test::difference(g, input.x), test::difference(ref.smoothed_positions(), input.x),
+                             "smoothed positions x_smooth - x"),
+               1e-3);
+}
+
 TEST_P(PassTest, CorrectionForce) {
   ParticleState g = run_gpu([&] {
     gpu.grid_at_positions();

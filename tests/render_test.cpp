@@ -250,8 +250,8 @@ StillWaterFaces settled_tank_faces(int width, int height) {
   return f;
 }
 
-// At 640x360 the aim, 5 degrees, holds for both faces (2026-11-26: top 3.9-4.3, side 2.5;
-// before the still-water smoothing 13.3 and 11.6).
+// At 640x360 the aim, 5 degrees, holds for both faces (2026-11-26: top 3.9, side 2.0; before
+// the still-water smoothing 13.3 and 11.6).
 TEST(StillWater, TheSettledTanksFacesRenderFlat) {
   const StillWaterFaces f = settled_tank_faces(640, 360);
   EXPECT_GE(f.up_cover, 0.05);
@@ -262,9 +262,9 @@ TEST(StillWater, TheSettledTanksFacesRenderFlat) {
 
 // At 1280x720 a sphere spans twice the texels, and the gaps between a layer's spheres show
 // the layer behind unless filled (fill_pits.comp): without the filling the side read 5.2
-// degrees and the top 6.6, with it 2.9-3.1 and 5.6-5.7. The top's bound is 7: the row of
-// particles against the front wall stands 3.7 mm low, and its bevel covers twice the texels
-// at this size.
+// degrees and the top 6.6, with it 2.9-3.1 and 5.6-5.7, and drawn at the smoothed positions
+// 2.5 and 5.2. The top's bound is 7: the row of particles against the front wall stands
+// 3.7 mm low, and its bevel covers twice the texels at this size.
 TEST(StillWater, TheSettledTanksFacesRenderFlatAt720p) {
   const StillWaterFaces f = settled_tank_faces(1280, 720);
   EXPECT_GE(f.up_cover, 0.05);

@@ -51,6 +51,40 @@ TEST_P(WallTest, ALatticeAtRestReadsRho0AtTheWalls) {
   EXPECT_LT(surface_wall_worst / surface_middle - 1, 1e-4);
 }
 
+// The smoothed positions the fluid's surface is drawn from (smoothed_positions.comp): a lattice
+// at rest keeps its interior and its particles at the walls where they are, the walls' images
+// completing their neighbourhoods, and only the free surface moves, inward, by less than a
+// spacing. Without the images the wall layers would be drawn a fraction of a spacing off
+// the walls, and a tank's water would stand clear of its glass.
+TEST_P(WallTest, SmoothedPositionsMoveOnlyTheFreeSurface) {
+  const double spacing = GetParam();
+  Scene scene = load_scene("hydrostatic", {"particle_spacing=" + std::to_string(spacing)});
+  Derived d = derive(scene);
+  GpuSolver solver(test::gpu(), d, initial_particles(scene));
+  solver.set_smoothed_positions(true);
+  solver.advance(0);
+  const ParticleFrame f = solver.read_frame();
+  ASSERT_EQ(f.x_smooth.size(), f.x.size());
+  const double rounding = 1e-6;  // m: a few float ulps of coordinates under 1 m, summed over ~30 neighbours
+  double below_surface = 0, surface_least = 1e9, surface_most = 0;
+  for (size_t k = 0; k < f.x.size(); ++k) {
+    const glm::dvec3 x(glm::vec3(f.x[k])), moved = glm::dvec3(glm::vec3(f.x_smooth[k])) - x;
+    if (x.y < 0.4 - d.h) {
+      below_surface = std::max(below_surface, glm::length(moved));
+    } else if (std::abs(x.y - (0.4 - 0.5 * spacing)) < 1e-6) {  // the top layer
+      EXPECT_LT(std::abs(moved.x) + std::abs(moved.z), rounding) << "a top particle moved sideways";
+      surface_least = std::min(surface_least, -moved.y);
+      surface_most = std::max(surface_most, -moved.y);
+    }
+  }
+  std::printf("  moved, in spacings: below the surface at most %.1e; the top layer down by %.3f to %.3f\n",
+              below_surface / spacing, surface_least / spacing, surface_most / spacing);
+  EXPECT_LT(below_surface, rounding);
+  EXPECT_GT(surface_least, 0.05 * spacing);
+  EXPECT_LT(surface_most, 0.5 * spacing);
+  EXPECT_LT(surface_most - surface_least, rounding);  // at the walls as in the middle
+}
+
 INSTANTIATE_TEST_SUITE_P(Spacings, WallTest, testing::Values(0.02, 0.05));
 
 }  // namespace

@@ -127,6 +127,7 @@ int run(const RunOptions& o) {
   const capture::ExportFormat export_format = capture::parse_export_format(o.export_format);
   std::unique_ptr<capture::FrameCapture> capture;
   if (o.render) capture = make_capture(o, scene, *solver, ctx.get());
+  if (capture) solver->set_smoothed_positions(capture->draws_surface());
 
   // Everything is checked: from here the run owns DIR and replaces the previous run's files.
   RunDirectory dir(out, RunFiles{scene.frames, bool(capture),

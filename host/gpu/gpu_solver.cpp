@@ -163,6 +163,7 @@ void GpuSolver::upload(const ParticleState& s) {
   id_[id_current_].upload(std::span<const uint32_t>(ids));
   density_current_ = false;
   lists_built_ = false;
+  smoothed_current_ = false;
 }
 
 ParticleState GpuSolver::download() const {
@@ -192,7 +193,21 @@ ParticleState GpuSolver::download() const {
 
 ParticleFrame GpuSolver::read_frame() const {
   return {at(X).download<glm::vec4>(n_), at(V).download<glm::vec4>(n_), rho_.download<float>(n_),
-          id_[id_current_].download<uint32_t>(n_)};
+          id_[id_current_].download<uint32_t>(n_),
+          smoothed_current_ ? at(Spare0).download<glm::vec4>(n_) : std::vector<glm::vec4>{}};
+}
+
+void GpuSolver::set_smoothed_positions(bool on) {
+  Solver::set_smoothed_positions(on);
+  if (on && positions_.lists.pipeline() == VK_NULL_HANDLE) positions_ = neighbour_pass("smoothed_positions", {});
+}
+
+void GpuSolver::smoothed_positions() {
+  run_neighbour_pass(positions_, nullptr, [&] {
+    cmd_.bind("x", at(X));
+    cmd_.bind("x_smooth", at(Spare0));
+  });
+  smoothed_current_ = true;
 }
 
 void GpuSolver::copy_frame(const vk::Buffer& dst) const {
@@ -200,10 +215,12 @@ void GpuSolver::copy_frame(const vk::Buffer& dst) const {
   const VkDeviceSize vec4s = n_ * sizeof(glm::vec4), floats = n_ * sizeof(float);
   ctx_.submit_and_wait([&](VkCommandBuffer cb) {
     vk::memory_barrier(cb);  // the frame's shader writes are visible to the copies
-    VkBufferCopy x{0, 0, vec4s}, v{0, vec4s, vec4s}, rho{0, 2 * vec4s, floats};
+    VkBufferCopy x{0, 0, vec4s}, v{0, vec4s, vec4s}, rho{0, 2 * vec4s, floats}, smooth{0, 2 * vec4s + floats, vec4s};
     vkCmdCopyBuffer(cb, at(X).handle(), dst.handle(), 1, &x);
     vkCmdCopyBuffer(cb, at(V).handle(), dst.handle(), 1, &v);
     vkCmdCopyBuffer(cb, rho_.handle(), dst.handle(), 1, &rho);
+    // Without smoothed positions (not asked for, or before the first frame), x stands in.
+    vkCmdCopyBuffer(cb, (smoothed_current_ ? at(Spare0) : at(X)).handle(), dst.handle(), 1, &smooth);
     vk::memory_barrier(cb);
   });
 }
@@ -542,6 +559,7 @@ FrameStats GpuSolver::advance(int steps) {
   if (timer_->capacity() < marks) timer_ = std::make_unique<vk::GpuTimer>(ctx_, marks);
   segments_.clear();
   begin();
+  smoothed_current_ = false;  // the steps' sorts reuse the spare slot
   const uint32_t watch_reset[6] = {0, ~0u, 0, 0, 0, 0};
   cmd_.update(watch_buf_, watch_reset, sizeof watch_reset);
   step_in_frame_ = 0;
@@ -556,6 +574,7 @@ FrameStats GpuSolver::advance(int steps) {
   timing_steps_ = false;  // the measures' grid build is not a step's
   const uint32_t end = timer_->mark(cmd_);
   record_measures();
+  if (smoothed_positions_) smoothed_positions();
   finish();
   FrameStats s = read_measures();
   if (steps > 0) {

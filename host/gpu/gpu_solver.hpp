@@ -25,8 +25,10 @@ class GpuSolver : public Solver {
 
   FrameStats advance(int steps) override;
   ParticleFrame read_frame() const override;
-  // Copies x, v and rho (frame_bytes layout) into `dst` on the device: no host round trip.
+  // Copies x, v, rho and the smoothed positions where asked for (frame_bytes layout) into
+  // `dst` on the device: no host round trip.
   void copy_frame(const vk::Buffer& dst) const;
+  void set_smoothed_positions(bool on) override;  // builds the pass's programs when first asked
   size_t particle_count() const override { return n_; }
   std::string device_name() const override;
 
@@ -48,6 +50,9 @@ class GpuSolver : public Solver {
   void viscosity_vorticity();
   void vorticity_force();
   void watch();  // flags non-finite, runaway and escaped particles of this step
+  // The fluid surface's positions at x, from the last lists (smoothed_positions.comp), into a
+  // spare slot, which no pass writes again before the next frame's first grid build.
+  void smoothed_positions();
   void record_step();  // one step, then the divergence watch
   void record_measures();  // grid and density at x, then the reductions
 
@@ -94,9 +99,10 @@ class GpuSolver : public Solver {
   bool viscosity_pass_, vorticity_pass_, correction_pass_;
   bool density_current_ = false;  // rho already matches x (the viscosity pass or a density pass left it)
   bool lists_built_ = false;      // the grid and lists follow the particles' order (built since the upload)
+  bool smoothed_current_ = false; // the spare slot holds the smoothed positions (since the last one recorded)
 
   vk::Program lists_, predict_, velocity_;
-  NeighbourPass density_, correction_, lambda_, smooth_, apply_, viscosity_, vorticity_;
+  NeighbourPass density_, correction_, lambda_, smooth_, apply_, viscosity_, vorticity_, positions_;
   vk::Program reduce_, reduce_final_, check_converged_, watch_;
   // Built where the scene runs the coarse correction: the sweeps as one program in one
   // workgroup of coarse_sweep_threads_, or (0) a program per colour, a dispatch each.

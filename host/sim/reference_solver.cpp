@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "shaders/contract.h"
 #include "sim/kernels.hpp"
 #include "sim/stability.hpp"
 
@@ -33,6 +34,7 @@ void ReferenceSolver::upload(const ParticleState& s) {
   std::copy_n(s.rho.begin(), std::min(s.rho.size(), state.rho.size()), state.rho.begin());
   neighbours_built_ = false;
   coarse_phi_.clear();
+  x_smooth.clear();
 }
 
 glm::ivec3 ReferenceSolver::cell_of(const dvec3& x) const {
@@ -452,6 +454,24 @@ FrameStats ReferenceSolver::measure() {
   return s;
 }
 
+std::vector<dvec3> ReferenceSolver::smoothed_positions() {
+  if (!neighbours_current_) build_neighbours(state.x);  // else the last step's, as density()
+  std::vector<dvec3> out(state.x.size());
+  for (size_t i = 0; i < state.x.size(); ++i) {
+    const dvec3 xi = state.x[i];
+    dvec3 sum(0.0);
+    double weights = 0;
+    for_each_neighbour(i, xi, [&](size_t j, const WallImage& m) {
+      const dvec3 xj = m.of(state.x[j]);
+      const double w = kernels::position_weight(xi - xj, d_.h);
+      sum += w * xj;
+      weights += w;
+    });
+    out[i] = glm::mix(xi, sum / weights, POSITION_SMOOTHING);
+  }
+  return out;
+}
+
 glm::dvec3 ReferenceSolver::project_out_of_solids(glm::dvec3 x) const {
   for (const Obstacle& o : d_.obstacles) x = project_out(o, x, d_.wall_min, d_.wall_max);
   return glm::clamp(x, d_.wall_min, d_.wall_max);
@@ -465,6 +485,7 @@ ParticleFrame ReferenceSolver::read_frame() const {
     f.rho.push_back(float(state.rho[i]));
     f.id.push_back(uint32_t(i));
   }
+  for (const dvec3& xs : x_smooth) f.x_smooth.emplace_back(glm::vec3(xs), 0.0f);
   return f;
 }
 
@@ -478,6 +499,7 @@ FrameStats ReferenceSolver::advance(int steps) {
   }
   double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   FrameStats s = measure();
+  x_smooth = smoothed_positions_ ? smoothed_positions() : std::vector<dvec3>{};
   s.step_ms = steps > 0 ? ms / steps : 0.0;
   s.iterations = steps > 0 ? double(iterations_run_) / steps : 0.0;
   s.divergence = watch;

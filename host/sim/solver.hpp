@@ -72,15 +72,18 @@ struct ParticleState {
 };
 
 // What capture and export read after a frame, in float: positions (xyz, w unused),
-// velocities (xyz, w unused), densities and particle ids, in the solver's own order
-// (id[k] is the id of entry k). On the GPU x, v and rho lie back to back in one
-// buffer (frame_bytes); ids are read only for export.
+// velocities (xyz, w unused), densities, particle ids and, where the solver was asked for
+// them (Solver::set_smoothed_positions), the smoothed positions the fluid's surface is drawn
+// from (xyz, w unused; empty otherwise), in the solver's own order (id[k] is the id of entry
+// k). On the GPU x, v, rho and x_smooth lie back to back in one buffer (frame_bytes); ids are
+// read only for export.
 struct ParticleFrame {
   std::vector<glm::vec4> x, v;
   std::vector<float> rho;
   std::vector<uint32_t> id;
+  std::vector<glm::vec4> x_smooth;
 };
-inline size_t frame_bytes(size_t n) { return n * (2 * sizeof(glm::vec4) + sizeof(float)); }
+inline size_t frame_bytes(size_t n) { return n * (3 * sizeof(glm::vec4) + sizeof(float)); }
 
 class Solver {
  public:
@@ -92,6 +95,13 @@ class Solver {
   virtual void upload(const ParticleState& s) = 0;  // x, v, x_pred and rho, in id order
   virtual size_t particle_count() const = 0;
   virtual std::string device_name() const = 0;
+
+  // From the next advance() on, each frame also smooths the positions (x_smooth), for a
+  // capture that draws the fluid's surface; off, a frame costs no more than its steps.
+  virtual void set_smoothed_positions(bool on) { smoothed_positions_ = on; }
+
+ protected:
+  bool smoothed_positions_ = false;
 };
 
 }  // namespace pbflow

@@ -1,6 +1,6 @@
 // Shared by the render shaders (prepended after #version by capture/gl_objects.cpp):
 // the per-frame uniforms and the particle buffer in the solver's frame layout
-// (vec4 x[n], vec4 v[n], float rho[n], see solver.hpp).
+// (vec4 x[n], vec4 v[n], float rho[n], vec4 x_smooth[n], see solver.hpp).
 
 const int STYLE_FLUID = 0, STYLE_PARTICLES = 1, STYLE_DENSITY = 2, STYLE_SPEED = 3, STYLE_NORMALS = 4;
 const int PASS_SHADED = 0;
@@ -33,6 +33,11 @@ vec3 particle_v(int i) {
   return vec3(particle_data[o], particle_data[o + 1], particle_data[o + 2]);
 }
 float particle_rho(int i) { return particle_data[8 * count + i]; }
+// Where the fluid's surface draws the particle: its smoothed position (or x, where the solver has none).
+vec3 particle_x_smooth(int i) {
+  int o = 9 * count + 4 * i;
+  return vec3(particle_data[o], particle_data[o + 1], particle_data[o + 2]);
+}
 
 // The view-space ray through a point of the viewport (pixels): the point at linear eye
 // depth d on it is d times the ray (its z is -1; the projection is symmetric).

@@ -1,5 +1,6 @@
-// The fluid style's splat, one invocation per particle: over the surface texels its sphere
-// covers, the linear eye depth where the texel's ray enters the sphere (atomic min: the
+// The fluid style's splat, one invocation per particle at its smoothed position (the
+// solver's smoothed_positions.comp: a surface's rows and columns do not show): over the
+// surface texels its sphere covers, the linear eye depth where the texel's ray enters the sphere (atomic min: the
 // nearest sphere) and the chord through it (atomic sum: every layer's thickness). A compute
 // pass, where a point sprite per particle was drawn: an H200 ran that draw's blending at
 // ~20 ms for 1M particles at 1080p, its graphics units being few beside its compute.
@@ -13,7 +14,7 @@ layout(location = 2) uniform vec2 image_scale;                   // image pixels
 void main() {
   int i = int(gl_GlobalInvocationID.x);
   if (i >= count) return;
-  vec3 c = (view * vec4(particle_x(i), 1.0)).xyz;
+  vec3 c = (view * vec4(particle_x_smooth(i), 1.0)).xyz;
   float d = length(c);
   if (-c.z <= radius) return;  // at or behind the eye: not seen whole, and never in a framed tank
   // The outline's extent from the projected centre: f r / sqrt(d^2 - r^2) on the axis,
