@@ -2,14 +2,14 @@
 // texels wide, the gaps between a layer's spheres (a square lattice's are 0.4 radii across)
 // show the layer behind, a spacing deeper; smoothed, those pits dented the surface (the
 // settled tank at 720p read 5.2 degrees at the 95th percentile on its open side and 6.6 on
-// its top without the filling, 3.1 and 5.7 with it). A texel is a
-// pit where, along at least two of four directions, the surface within 0.6 particle radii on
-// screen is nearer by half a radius on both sides; it takes the depth of the deeper of
-// those two rims, the shallowest such bridge over the directions. (Along one direction only,
-// a trough between two rows, the top's last row standing lower against a wall bridged over
-// too, and the tank's top read 5.6 degrees where it reads 4.8 without any filling.) A face seen at a grazing angle
-// is no pit (along it one side lies deeper), nor is the far side of an outline (one side
-// holds nothing or lies nearer only on that side). Writes 0 where no sphere was drawn.
+// its top without the filling, 3.1 and 5.7 with it). A texel is a pit where, along at least
+// two of four directions, the surface within 0.6 particle radii on screen is nearer by half
+// a radius on both sides; it takes the depth of the deeper of those two rims, the shallowest
+// such bridge over the directions. Along one direction only, a trough between two rows was
+// bridged too: the top's last row, standing lower against a wall, and the tank's top read 5.6
+// degrees where it read 4.8 without any filling. A face seen at a grazing angle is no pit
+// (along it one side lies deeper), nor is the far side of an outline (one side holds nothing
+// or lies nearer only on that side). Writes 0 where no sphere was drawn.
 layout(local_size_x = TILE, local_size_y = TILE) in;
 layout(binding = 0, r32f) uniform restrict writeonly image2D result;
 layout(binding = 0) uniform sampler2D depth_texture;  // the splat's: NO_FLUID where no sphere was drawn
