@@ -10,7 +10,8 @@
 // their likeness to the first round's mean, more sharply (a step of mean shift): near a
 // crease the first mean still leans towards the crease's rounded texels, the second goes to
 // the normal that most samples share, the face's own (the settled tank's top read 5.2
-// degrees at the 95th percentile in one round, 4.4 in two; docs/rendering.md).
+// degrees at the 95th percentile in one round, 4.8 in two alike, 4.1-4.3 with the second
+// sharper over half the reach; docs/rendering.md).
 layout(local_size_x = TILE, local_size_y = TILE) in;
 layout(binding = 0, rgba16f) uniform restrict writeonly image2D result;
 layout(binding = 0) uniform sampler2D normal_texture;  // (view-space normal, linear depth); 0 = no fluid
