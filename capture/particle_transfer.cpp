@@ -7,13 +7,13 @@
 namespace pbflow::capture {
 
 void upload_frame(GLuint buffer, const ParticleFrame& f) {
-  const GLsizeiptr n = GLsizeiptr(f.x.size()), vec4s = n * GLsizeiptr(sizeof(glm::vec4)),
-                   floats = n * GLsizeiptr(sizeof(float));
-  glNamedBufferSubData(buffer, 0, vec4s, f.x.data());
-  glNamedBufferSubData(buffer, vec4s, vec4s, f.v.data());
-  glNamedBufferSubData(buffer, 2 * vec4s, floats, f.rho.data());
+  const FrameOffsets to = frame_offsets(f.x.size());
+  const GLsizeiptr vec4s = GLsizeiptr(f.x.size() * sizeof(glm::vec4)), floats = GLsizeiptr(f.rho.size() * sizeof(float));
+  glNamedBufferSubData(buffer, GLintptr(to.x), vec4s, f.x.data());
+  glNamedBufferSubData(buffer, GLintptr(to.v), vec4s, f.v.data());
+  glNamedBufferSubData(buffer, GLintptr(to.rho), floats, f.rho.data());
   // Without smoothed positions, x stands in (as GpuSolver::copy_frame).
-  glNamedBufferSubData(buffer, 2 * vec4s + floats, vec4s, (f.x_smooth.empty() ? f.x : f.x_smooth).data());
+  glNamedBufferSubData(buffer, GLintptr(to.x_smooth), vec4s, (f.x_smooth.empty() ? f.x : f.x_smooth).data());
 }
 
 namespace {

@@ -212,10 +212,11 @@ void GpuSolver::smoothed_positions() {
 
 void GpuSolver::copy_frame(const vk::Buffer& dst) const {
   if (dst.bytes() < frame_bytes(n_)) throw vk::Error("copy_frame: destination buffer too small");
+  const FrameOffsets to = frame_offsets(n_);
   const VkDeviceSize vec4s = n_ * sizeof(glm::vec4), floats = n_ * sizeof(float);
   ctx_.submit_and_wait([&](VkCommandBuffer cb) {
     vk::memory_barrier(cb);  // the frame's shader writes are visible to the copies
-    VkBufferCopy x{0, 0, vec4s}, v{0, vec4s, vec4s}, rho{0, 2 * vec4s, floats}, smooth{0, 2 * vec4s + floats, vec4s};
+    VkBufferCopy x{0, to.x, vec4s}, v{0, to.v, vec4s}, rho{0, to.rho, floats}, smooth{0, to.x_smooth, vec4s};
     vkCmdCopyBuffer(cb, at(X).handle(), dst.handle(), 1, &x);
     vkCmdCopyBuffer(cb, at(V).handle(), dst.handle(), 1, &v);
     vkCmdCopyBuffer(cb, rho_.handle(), dst.handle(), 1, &rho);

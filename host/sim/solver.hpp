@@ -83,7 +83,16 @@ struct ParticleFrame {
   std::vector<uint32_t> id;
   std::vector<glm::vec4> x_smooth;
 };
-inline size_t frame_bytes(size_t n) { return n * (3 * sizeof(glm::vec4) + sizeof(float)); }
+// Where each array of the frame buffer starts, in bytes, for n particles (render_common.glsl
+// reads the same layout in floats).
+struct FrameOffsets {
+  size_t x, v, rho, x_smooth, end;
+};
+inline FrameOffsets frame_offsets(size_t n) {
+  const size_t vec4s = n * sizeof(glm::vec4);
+  return {0, vec4s, 2 * vec4s, 2 * vec4s + n * sizeof(float), 3 * vec4s + n * sizeof(float)};
+}
+inline size_t frame_bytes(size_t n) { return frame_offsets(n).end; }
 
 class Solver {
  public:

@@ -1,6 +1,6 @@
 // Shared by the render shaders (prepended after #version by capture/gl_objects.cpp):
 // the per-frame uniforms and the particle buffer in the solver's frame layout
-// (vec4 x[n], vec4 v[n], float rho[n], vec4 x_smooth[n], see solver.hpp).
+// (vec4 x[n], vec4 v[n], float rho[n], vec4 x_smooth[n]: frame_offsets in solver.hpp).
 
 const int STYLE_FLUID = 0, STYLE_PARTICLES = 1, STYLE_DENSITY = 2, STYLE_SPEED = 3, STYLE_NORMALS = 4;
 const int PASS_SHADED = 0;
