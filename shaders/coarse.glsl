@@ -1,13 +1,16 @@
 // The coarse correction's grid (contract.h, Derived::Coarse): nodes at the centres of cells
-// CELL wide from the walls' corner, NODES of them along each axis (specialisation constants
-// 1-4 of every coarse pass).
+// that tile the walls' span, NODES of them along each axis, CELL_X/Y/Z wide (specialisation
+// constants 1-6 of every coarse pass).
 layout(constant_id = 1) const int NODES_X = 1;
 layout(constant_id = 2) const int NODES_Y = 1;
 layout(constant_id = 3) const int NODES_Z = 1;
-layout(constant_id = 4) const float CELL = 0.08;  // m
+layout(constant_id = 4) const float CELL_X = 0.08;  // m
+layout(constant_id = 5) const float CELL_Y = 0.08;
+layout(constant_id = 6) const float CELL_Z = 0.08;
 // Built at run time: a vector of specialisation constants made invalid SPIR-V once specialised
 // (the validation layer's 06719) where it was indexed or clamped against.
 ivec3 nodes() { return ivec3(NODES_X, NODES_Y, NODES_Z); }
+vec3 cell() { return vec3(CELL_X, CELL_Y, CELL_Z); }
 
 // Successive over-relaxation's factor for the grid's longest side n: 2 / (1 + sin(pi / 2n)),
 // the optimum for the longest mode of a side fixed at one end and free at the other (a
@@ -25,7 +28,7 @@ struct CoarseCorner {
   vec3 t;
 };
 CoarseCorner coarse_corner(vec3 x) {
-  vec3 g = (x - sim.wall_min) / CELL - 0.5;
+  vec3 g = (x - sim.wall_min) / cell() - 0.5;
   vec3 b = floor(g);
   return CoarseCorner(ivec3(b), g - b);
 }

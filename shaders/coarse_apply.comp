@@ -7,7 +7,7 @@ layout(local_size_x_id = 0) in;
 #include "contract.h"
 #include "coarse.glsl"
 
-layout(constant_id = 5) const float STRENGTH = 0.5;  // Derived::Coarse::strength
+layout(constant_id = 7) const float STRENGTH = 0.5;  // Derived::Coarse::strength
 layout(binding = 5, rgba32f) uniform imageBuffer x_lambda;  // (x_pred, lambda), constraint_lambda.comp
 layout(std430, binding = 6) readonly buffer Grad { vec4 grad[]; };
 #define OBSTACLES_BINDING 7

@@ -22,7 +22,7 @@ void main() {
       lo[a] -= 1;
       hi[a] += 1;
       float below = lo[a] >= 0 ? phi[node_index(lo)] : phi[k], above = hi[a] < nodes()[a] ? phi[node_index(hi)] : phi[k];
-      g[a] = (above - below) / (2.0 * CELL);
+      g[a] = (above - below) / (2.0 * cell()[a]);
     }
   }
   grad[k] = vec4(g, 0.0);

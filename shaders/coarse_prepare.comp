@@ -1,6 +1,6 @@
 #version 450
 // The coarse correction, 2 of 5 (contract.h): each node's deposit becomes (fluid: 1 or 0, the
-// Poisson equation's right-hand side h^2 times the excess volume per volume, as float bits).
+// Poisson equation's right-hand side, the excess volume per volume of its cell, as float bits).
 // A node is fluid where its deposit fills more than COARSE_FILL of its cell; phi is 0 at the
 // others (the free surface and the air) and stays 0, as no sweep updates them.
 #extension GL_GOOGLE_include_directive : require
@@ -16,8 +16,9 @@ void main() {
   int k = int(thread_index());
   if (k >= NODES_X * NODES_Y * NODES_Z) return;
   float volume = sim.mass / sim.rho0;
-  bool filled = float(sums[2 * k]) / COARSE_UNIT * volume > COARSE_FILL * CELL * CELL * CELL;
-  sums[2 * k + 1] = floatBitsToUint(float(sums[2 * k + 1]) / COARSE_UNIT * volume / CELL);
+  float cell_volume = CELL_X * CELL_Y * CELL_Z;
+  bool filled = float(sums[2 * k]) / COARSE_UNIT * volume > COARSE_FILL * cell_volume;
+  sums[2 * k + 1] = floatBitsToUint(float(sums[2 * k + 1]) / COARSE_UNIT * volume / cell_volume);
   sums[2 * k] = filled ? 1u : 0u;
   if (!filled) phi[k] = 0.0;
 }

@@ -13,14 +13,15 @@ layout(local_size_x_id = 0) in;
 // A small grid is solved in one dispatch: one workgroup, all COARSE_SWEEPS sweeps, a barrier
 // between half sweeps. A large one takes a dispatch per half sweep (COLOURS 1, SWEEPS 1), across
 // as many workgroups as it has nodes of a colour (GpuSolver::coarse_correction says where).
-layout(constant_id = 5) const int FIRST_COLOUR = 0;  // (x + y + z) % 2 of the nodes updated first
-layout(constant_id = 6) const int COLOURS = 2;
-layout(constant_id = 7) const int SWEEPS = 1;
+layout(constant_id = 7) const int FIRST_COLOUR = 0;  // (x + y + z) % 2 of the nodes updated first
+layout(constant_id = 8) const int COLOURS = 2;
+layout(constant_id = 9) const int SWEEPS = 1;
 layout(std430, binding = 5) readonly buffer Sums { uint sums[]; };  // coarse_prepare.comp's
 layout(std430, binding = 6) coherent buffer Phi { float phi[]; };
 
-// phi at the j-th node of a colour moves toward (its neighbours' phi - the right-hand side) /
-// their count; a neighbour past a wall is left out (no flux), one without fluid reads 0. The
+// phi at the j-th node of a colour moves toward the value that zeroes its Laplacian's residual,
+// each neighbour weighed by 1 / (its axis's cell)^2; a neighbour past a wall is left out (no
+// flux), one without fluid reads 0. The
 // j-th node is on row j / per_row, at x = 2 (j % per_row) or one more, as the row's parity
 // makes the colour.
 void relax(int j, int colour, float omega) {
@@ -30,17 +31,18 @@ void relax(int j, int colour, float omega) {
   if (p.x >= NODES_X) return;
   int k = node_index(p);
   if (sums[2 * k] == 0u) return;  // not fluid
-  float sum = 0.0;
-  int sides = 0;
-  for (int a = 0; a < 3; ++a)
+  float sum = 0.0, weights = 0.0;
+  for (int a = 0; a < 3; ++a) {
+    float w = 1.0 / (cell()[a] * cell()[a]);
     for (int dir = -1; dir <= 1; dir += 2) {
       ivec3 q = p;
       q[a] += dir;
       if (q[a] < 0 || q[a] >= nodes()[a]) continue;
-      sum += phi[node_index(q)];
-      ++sides;
+      sum += w * phi[node_index(q)];
+      weights += w;
     }
-  if (sides > 0) phi[k] = mix(phi[k], (sum - uintBitsToFloat(sums[2 * k + 1])) / float(sides), omega);
+  }
+  if (weights > 0.0) phi[k] = mix(phi[k], (sum - uintBitsToFloat(sums[2 * k + 1])) / weights, omega);
 }
 
 void main() {

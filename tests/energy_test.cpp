@@ -86,19 +86,22 @@ INSTANTIATE_TEST_SUITE_P(RealTimeStep, EnergyTest,
                                          Setting{"pbf", 4, 2}, Setting{"ldc", 1, 2}, Setting{"ldc", 2, 2}),
                          name);
 
-// Smoothing lambda is what holds pbf@2 at the real-time step: the same dam break compresses
-// at least twice as much without it (measured 3x on the full-size scenes, docs/physics.md), and
-// with it no energy is made.
-TEST_F(EnergyTestBase, SmoothedLambdaHoldsTheDensityBetter) {
-  const Setting pbf2{"pbf", 2, 2};
-  Scene plain = small_dam_break(pbf2);
+// Smoothing lambda is what keeps pbf@2 sound at finer spacings beside the coarse correction:
+// without it the dam break at 0.0137 m (~49k particles, 60 fps x 2 substeps) gains 3.6 % of
+// its potential energy, with it none (docs/physics.md). The scene at full size: smaller tanks at that
+// spacing gained nothing either way, so the test could not tell.
+TEST_F(EnergyTestBase, SmoothedLambdaKeepsTheFinerDamBreakFromMakingEnergy) {
+  Scene smoothed = load_scene("dam_break", overrides({"pbf", 2, 2}));
+  smoothed.particle_spacing = 0.0137;
+  ASSERT_GT(derive(smoothed).solver.lambda_smoothing, 0);
+  Scene plain = smoothed;
   plain.solver.lambda_smoothing = 0;
-  Outcome without = simulate(plain, 1.5), with = simulate(small_dam_break(pbf2), 1.5);
-  std::printf("  pbf@2 dam break: mean compression %.4f unsmoothed, %.4f smoothed (gain %+.4f)\n",
-              without.mean_compression, with.mean_compression, with.gain);
+  Outcome without = simulate(plain, 1.5), with = simulate(smoothed, 1.5);
+  std::printf("  pbf@2 dam break at 0.0137 m: energy gain %+.4f unsmoothed, %+.4f smoothed (mean compression %.4f, %.4f)\n",
+              without.gain, with.gain, without.mean_compression, with.mean_compression);
   EXPECT_FALSE(with.diverged);
   EXPECT_LE(with.gain, 0.01);
-  EXPECT_LT(with.mean_compression, without.mean_compression / 2);
+  EXPECT_GT(without.gain, 0.01) << "lambda smoothing no longer earns its place: measure removing it";
 }
 
 // Smaller steps are at least as sound: the unrelaxed solver with the tensile term blew

@@ -111,13 +111,14 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
     std::vector<vk::Constant> grid = {{"NODES_X", uint32_t(c.nodes.x)},
                                       {"NODES_Y", uint32_t(c.nodes.y)},
                                       {"NODES_Z", uint32_t(c.nodes.z)},
-                                      {"CELL", std::bit_cast<uint32_t>(float(c.cell))}};
+                                      {"CELL_X", std::bit_cast<uint32_t>(float(c.cell.x))},
+                                      {"CELL_Y", std::bit_cast<uint32_t>(float(c.cell.y))},
+                                      {"CELL_Z", std::bit_cast<uint32_t>(float(c.cell.z))}};
     coarse_deposit_ = vk::Program(ctx, "coarse_deposit", sizeof(SimConstants), 0, grid);
     coarse_prepare_ = vk::Program(ctx, "coarse_prepare", sizeof(SimConstants), 0, grid);
     coarse_gradient_ = vk::Program(ctx, "coarse_gradient", sizeof(SimConstants), 0, grid);
-    const std::vector<vk::Constant> nodes(grid.begin(), grid.begin() + 3);  // the sweep reads no CELL
     auto sweep = [&](uint32_t threads, uint32_t first_colour, uint32_t colours, uint32_t sweeps) {
-      std::vector<vk::Constant> k = nodes;
+      std::vector<vk::Constant> k = grid;
       k.insert(k.end(), {{"FIRST_COLOUR", first_colour}, {"COLOURS", colours}, {"SWEEPS", sweeps}});
       return vk::Program(ctx, "coarse_sweep", sizeof(SimConstants), threads, k);
     };

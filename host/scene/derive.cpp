@@ -64,8 +64,9 @@ Derived derive(const Scene& scene) {
     throw InputError("the domain holds too many grid cells (over 2^26) at this particle_spacing");
   d.grid = glm::ivec3(cells);
   if (d.solver.iterations >= 2) {
-    d.coarse.cell = COARSE_CELL * s;
-    d.coarse.nodes = glm::max(glm::ivec3(1), glm::ivec3(glm::ceil((d.wall_max - d.wall_min) / d.coarse.cell)));
+    const glm::dvec3 span = d.wall_max - d.wall_min;
+    d.coarse.nodes = glm::max(glm::ivec3(1), glm::ivec3(glm::round(span / (COARSE_CELL * s))));
+    for (int a = 0; a < 3; ++a) d.coarse.cell[a] = span[a] > 0 ? span[a] / d.coarse.nodes[a] : COARSE_CELL * s;
     d.coarse.strength = COARSE_STRENGTH;
   }
   return d;

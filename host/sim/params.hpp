@@ -89,12 +89,14 @@ struct Derived {
   // its cells instead.
   uint32_t neighbour_capacity;
   // The coarse correction of the long density modes, before a step's paired passes: the
-  // compression deposited on nodes `cell` apart, a Poisson problem solved there, x_pred
-  // moved by `strength` times its solution's gradient (docs/physics.md says why). strength 0:
-  // not run (a lone pass, which it drove to make energy).
+  // compression deposited on nodes about COARSE_CELL spacings apart, cells sized per axis to
+  // tile the walls' span (a cell straddling a wall held its column low), a Poisson problem
+  // solved there, x_pred moved by `strength` times its solution's gradient (docs/physics.md
+  // says why). strength 0: not run (a lone pass, which it drove to make energy).
   struct Coarse {
     glm::ivec3 nodes{0};
-    double cell = 0, strength = 0;
+    glm::dvec3 cell{0.0};
+    double strength = 0;
     int count() const { return nodes.x * nodes.y * nodes.z; }
     int per_colour() const { return (nodes.x + 1) / 2 * nodes.y * nodes.z; }  // coarse_sweep.comp's threads
     int index(glm::ivec3 p) const { return (p.z * nodes.y + p.y) * nodes.x + p.x; }  // coarse.glsl's node_index

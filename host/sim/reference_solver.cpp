@@ -281,12 +281,12 @@ void ReferenceSolver::coarse_correction() {
   }
   // grad^2 phi = the excess volume per volume, phi = 0 at nodes without fluid, no flux
   // through the walls: x_pred moves along grad phi, away from the compressed fluid.
-  const double volume = d_.mass / d_.rho0;
+  const double volume = d_.mass / d_.rho0, cell_volume = c.cell.x * c.cell.y * c.cell.z;
   std::vector<char> fluid(count);
   std::vector<double>& phi = coarse_phi_;  // from the last step's (coarse_sweep.comp says why)
   phi.resize(count, 0.0);
   for (int k = 0; k < count; ++k) {
-    fluid[k] = filled[k] / COARSE_UNIT * volume > COARSE_FILL * std::pow(c.cell, 3);
+    fluid[k] = filled[k] / COARSE_UNIT * volume > COARSE_FILL * cell_volume;
     if (!fluid[k]) phi[k] = 0.0;
   }
   const glm::ivec3 n = c.nodes;
@@ -298,18 +298,19 @@ void ReferenceSolver::coarse_correction() {
       for (int k = 0; k < count; ++k) {
         const glm::ivec3 p = c.node(k);
         if (!fluid[k] || (p.x + p.y + p.z) % 2 != colour) continue;
-        double sum = 0;
-        int sides = 0;
-        for (int a = 0; a < 3; ++a)
+        double sum = 0, weights = 0;  // each neighbour weighed by 1 / (its axis's cell)^2
+        for (int a = 0; a < 3; ++a) {
+          const double w = 1.0 / (c.cell[a] * c.cell[a]);
           for (int dir = -1; dir <= 1; dir += 2) {
             glm::ivec3 q = p;
             q[a] += dir;
             if (q[a] < 0 || q[a] >= n[a]) continue;
-            sum += value(q);
-            ++sides;
+            sum += w * value(q);
+            weights += w;
           }
-        if (sides > 0) {
-          const double gauss_seidel = (sum - double(float(excess[k] / COARSE_UNIT * volume / c.cell))) / sides;
+        }
+        if (weights > 0) {
+          const double gauss_seidel = (sum - double(float(excess[k] / COARSE_UNIT * volume / cell_volume))) / weights;
           phi[k] += overrelaxation * (gauss_seidel - phi[k]);
         }
       }
@@ -322,7 +323,7 @@ void ReferenceSolver::coarse_correction() {
       lo[a] -= 1;
       hi[a] += 1;
       const double below = lo[a] >= 0 ? value(lo) : phi[k], above = hi[a] < n[a] ? value(hi) : phi[k];
-      grad[k][a] = (above - below) / (2 * c.cell);
+      grad[k][a] = (above - below) / (2 * c.cell[a]);
     }
   }
   for (size_t i = 0; i < state.x.size(); ++i) {
