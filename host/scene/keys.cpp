@@ -80,7 +80,11 @@ const SceneKey kKeys[] = {
      "at most h, else two (the run's first line says which)",
      "", &P::lambda_smoothing},
     // 2 % of the kernel-averaged relative velocity a step damps noise without thickening a dam break.
-    {"solver.xsph", K::Number, "0.02", 0.02, KeyRange{0, 1}, "", "XSPH viscosity c", "", &P::xsph},
+    // The range's upper edge measured (docs/physics.md, "Accepted ranges"): where the fluid is
+    // squeezed several times rho0 (pbf@1's floor), the sum over its many neighbours overshoots.
+    {"solver.xsph", K::Number, "0.02", 0.02, KeyRange{0, 0.3}, "", "XSPH viscosity c",
+     "past 0.3 the smoothing overshoots where the fluid piles up (pbf@1's dam break: 0.4 +10 %, 0.5 and 1 blew up)",
+     &P::xsph},
     // Off unless a scene asks: it adds energy and a pass.
     {"solver.vorticity", K::Number, "0", 0.0, KeyRange{0, 1}, "m/s", "vorticity confinement ε (0: pass not run)",
      "the confinement adds energy: at 2 m/s the dam break blew up (pbf@1)", &P::vorticity},
