@@ -147,14 +147,16 @@ TEST_P(RestTest, TankLosesEnergyAndSettles) {
   // Within 1.5 mm (-0.9 to 0.4 measured); the paired settings' wall columns stood 2.9 (pbf@2)
   // and 5.2 mm (pbf@3) low while the coarse grid's last cell straddled the wall.
   EXPECT_LT(std::abs(dip), 1.5e-3) << "the walls hold the columns beside them lower (or higher) than inside";
-  EXPECT_LT(s.mean_compression, p.mean_compression) << "a single pass holds the column only squeezed";
+  // A single iteration with the coarse correction reads 1.0 % (ldc@1 and pbf@1; 12 % and 35 %
+  // without it), two or three 0.3 %.
+  EXPECT_LT(s.mean_compression, p.mean_compression) << "the column sits squeezed";
   for (const glm::dvec3& x : end.x)
     ASSERT_TRUE(glm::all(glm::greaterThanEqual(x, d.wall_min - 1e-6)) && glm::all(glm::lessThanEqual(x, d.wall_max + 1e-6)))
         << "a particle left the tank";
 }
 
 INSTANTIATE_TEST_SUITE_P(RealStep, RestTest,
-                         ::testing::Values(Setting{"ldc", 1, 0.2}, Setting{"pbf", 1, 0.5}, Setting{"pbf", 2, 0.01},
+                         ::testing::Values(Setting{"ldc", 1, 0.02}, Setting{"pbf", 1, 0.02}, Setting{"pbf", 2, 0.01},
                                            Setting{"pbf", 3, 0.01}),
                          [](const auto& info) {
                            return std::string(info.param.method) + std::to_string(info.param.iterations);
@@ -164,8 +166,10 @@ INSTANTIATE_TEST_SUITE_P(RealStep, RestTest,
 // paired passes churned in both (0.23-0.58 m/s in the tank at 0.0154 m; +2.8 % of PE0 and
 // 3.6 m/s in 0.9 m of water at 0.02 m) until the coarse correction took the column's weight,
 // and the deep column's top particles glided along the walls at 0.1 m/s until its cells
-// tiled the walls' span. A column 0.2 x 0.2 m across, settled, then 2 s: no energy made, the
-// time-averaged mean compression at most 2 %, the last second's max speed under 0.1 m/s.
+// tiled the walls' span. ldc@1 held them still but squeezed (24 % in the deep column) until a
+// single iteration got the coarse correction too. A column 0.2 x 0.2 m across, settled, then
+// 2 s: no energy made, the time-averaged mean compression at most 2 %, the last second's max
+// speed under 0.1 m/s.
 struct Column {
   const char* name;
   double spacing, depth;
@@ -176,7 +180,7 @@ void PrintTo(const Column& c, std::ostream* os) { *os << c.name; }
 
 class DeepOrFineTest : public test::GpuTest, public ::testing::WithParamInterface<Column> {};
 
-TEST_P(DeepOrFineTest, PairedPassesHoldTheColumnStillAndUnsqueezed) {
+TEST_P(DeepOrFineTest, ColumnHeldStillAndUnsqueezed) {
   const Column& c = GetParam();
   const std::string top = std::to_string(c.depth);
   Scene scene = load_scene(
@@ -207,9 +211,10 @@ TEST_P(DeepOrFineTest, PairedPassesHoldTheColumnStillAndUnsqueezed) {
 }
 
 INSTANTIATE_TEST_SUITE_P(
-    PairedPasses, DeepOrFineTest,
+    Columns, DeepOrFineTest,
     ::testing::Values(Column{"fine_pbf2", 0.0154, 0.4, "pbf", 2}, Column{"fine_pbf3", 0.0154, 0.4, "pbf", 3},
-                      Column{"deep_pbf2", 0.02, 1.0, "pbf", 2}, Column{"deep_ldc2", 0.02, 1.0, "ldc", 2}),
+                      Column{"deep_pbf2", 0.02, 1.0, "pbf", 2}, Column{"deep_ldc2", 0.02, 1.0, "ldc", 2},
+                      Column{"fine_ldc1", 0.0154, 0.4, "ldc", 1}, Column{"deep_ldc1", 0.02, 1.0, "ldc", 1}),
     [](const auto& info) { return std::string(info.param.name); });
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "shaders/contract.h"
 #include "sim/stability.hpp"
 #include "support.hpp"
 
@@ -52,20 +53,33 @@ TEST(Stability, SmoothedLambdaKeepsLongModesAndTamesTheWorst) {
     EXPECT_LE(jacobi_gain_max(2.0, 0.01, c, 2) / (1 + kCompressedGain * c), 1.03 * smoothed) << "compression " << c;
 }
 
-// Pairs of passes run smoothed at the smoothed model's relaxation; an odd count's last pass
-// runs alone, unsmoothed, at the plain one's (Derived::constraint_schedule says why).
-TEST(Stability, OnlyPairedPassesAreSmoothed) {
+// Pairs of passes run smoothed at the smoothed model's relaxation; a single iteration runs as
+// a pair's first pass does (smoothed, at 1 / the smoothed model's gain) with the coarse
+// correction at its own strength; an odd count's last pass after pairs runs unsmoothed at the
+// plain model's, and so does a single one where lambda is not smoothed, with no coarse
+// correction (Derived::constraint_schedule says why).
+TEST(Stability, PassesAreSmoothedButAnOddCountsLast) {
   Derived d = derive(load_scene("dam_break"));
   ASSERT_EQ(d.solver.lambda_smoothing, 2);
   for (int passes = 1; passes <= 4; ++passes) {
     auto schedule = d.constraint_schedule(passes);
     ASSERT_EQ(schedule.size(), size_t(passes));
     for (int k = 0; k < passes; ++k) {
-      const bool lone = passes % 2 && k == passes - 1;
-      EXPECT_EQ(schedule[k].smoothed, !lone) << passes << " passes, pass " << k;
-      EXPECT_NEAR(schedule[k].relax, lone ? 1 / d.jacobi_gain_max : 1.5 / d.paired_gain_max, 1e-12);
+      const bool last_of_odd = passes > 1 && passes % 2 && k == passes - 1;
+      const double relax = passes == 1 ? 1 / d.paired_gain_max : last_of_odd ? 1 / d.jacobi_gain_max : 1.5 / d.paired_gain_max;
+      EXPECT_EQ(schedule[k].smoothed, !last_of_odd) << passes << " passes, pass " << k;
+      EXPECT_NEAR(schedule[k].relax, relax, 1e-12) << passes << " passes, pass " << k;
     }
   }
+  const Derived single = derive(load_scene("dam_break", {"solver.iterations=1"}));
+  EXPECT_EQ(single.coarse.strength, COARSE_LONE_STRENGTH);
+  const Derived single_unsmoothed = derive(load_scene("dam_break", {"solver.iterations=1", "solver.lambda_smoothing=0"}));
+  EXPECT_EQ(single_unsmoothed.coarse.strength, 0.0);
+  const auto plain = single_unsmoothed.constraint_schedule(1);
+  ASSERT_EQ(plain.size(), 1u);
+  EXPECT_FALSE(plain[0].smoothed);
+  EXPECT_NEAR(plain[0].relax, 1 / single_unsmoothed.jacobi_gain_max, 1e-12);
+  EXPECT_EQ(derive(load_scene("dam_break")).coarse.strength, COARSE_STRENGTH);
 }
 
 // From three iterations on the pairs get four lambda averages where a step moves at most h,

@@ -63,11 +63,11 @@ Derived derive(const Scene& scene) {
   if (cells.x * cells.y * cells.z > 1 << 26)
     throw InputError("the domain holds too many grid cells (over 2^26) at this particle_spacing");
   d.grid = glm::ivec3(cells);
-  if (d.solver.iterations >= 2) {
+  if (d.solver.iterations >= 2 || d.solver.lambda_smoothing > 0) {
     const glm::dvec3 span = d.wall_max - d.wall_min;
     d.coarse.nodes = glm::max(glm::ivec3(1), glm::ivec3(glm::round(span / (COARSE_CELL * s))));
     for (int a = 0; a < 3; ++a) d.coarse.cell[a] = span[a] > 0 ? span[a] / d.coarse.nodes[a] : COARSE_CELL * s;
-    d.coarse.strength = COARSE_STRENGTH;
+    d.coarse.strength = d.solver.iterations == 1 ? COARSE_LONE_STRENGTH : COARSE_STRENGTH;
   }
   return d;
 }

@@ -71,10 +71,10 @@ struct Derived {
     bool smoothed;
   };
   // A step's `passes` iterations. Pairs run smoothed at paired_gain_max's relaxation
-  // (jacobi_schedule); an odd count's last pass runs alone, unsmoothed, at jacobi_gain_max's:
-  // a lone pass sits at the linear model's edge (its worst mode corrected exactly), and
-  // smoothed there, 2.8x bolder, the squeezed floor of a pbf@1 tank oscillated (0.4-2.9 m/s
-  // at 0.5-1x that boldness, docs/physics.md).
+  // (jacobi_schedule). A single iteration runs as a pair's first pass does, the coarse
+  // correction beside it (without it, smoothed and that bold, the squeezed floor of a pbf@1
+  // tank oscillated at 0.4-2.9 m/s, docs/physics.md); unsmoothed (lambda_smoothing 0), and
+  // as an odd count's last pass, it runs at jacobi_gain_max's.
   std::vector<ConstraintPass> constraint_schedule(int passes) const;
   // LDC: the K the force uses (1/s^2; 0 for pbf) and the K at which the explicit force
   // alone goes unstable at this dt and h / spacing (K dt^2 s = 4).
@@ -88,11 +88,12 @@ struct Derived {
   // the neighbours inside h at kNeighbourHeadroom times rho0; a particle with more walks
   // its cells instead.
   uint32_t neighbour_capacity;
-  // The coarse correction of the long density modes, before a step's paired passes: the
+  // The coarse correction of the long density modes, before a step's smoothed passes: the
   // compression deposited on nodes about COARSE_CELL spacings apart, cells sized per axis to
   // tile the walls' span (a cell straddling a wall held its column low), a Poisson problem
   // solved there, x_pred moved by `strength` times its solution's gradient (docs/physics.md
-  // says why). strength 0: not run (a lone pass, which it drove to make energy).
+  // says why): COARSE_STRENGTH for pairs, COARSE_LONE_STRENGTH for a single iteration. strength 0:
+  // not run (a single unsmoothed pass, which it drove to make energy).
   struct Coarse {
     glm::ivec3 nodes{0};
     glm::dvec3 cell{0.0};
