@@ -46,7 +46,7 @@ const SceneKey kKeys[] = {
     // (bench/results/pareto_*/cheapest.md); one, the seed's setting, reads 8.8 %.
     {"solver.iterations", K::Whole, "2", 2.0, KeyRange{1, 1000}, "",
      "constraint iterations per step (the minimum when adaptive); left out: 2, the fewest that keep the dam break under 1 % "
-     "mean compression at 60 fps x 2 (1 reads 8.8 %; the run's first line says which)",
+     "mean compression at 60 fps x 2 (1 reads 1.5-1.7 %; the run's first line says which)",
      "", &P::iterations},
     // SPlisHSPlasH's PBF stops at an average density error; here the mean compression.
     {"solver.target_compression", K::Number, "0", 0.0, KeyRange{0, 1, false, true}, "",
