@@ -63,6 +63,8 @@ Derived derive(const Scene& scene) {
   if (cells.x * cells.y * cells.z > 1 << 26)
     throw InputError("the domain holds too many grid cells (over 2^26) at this particle_spacing");
   d.grid = glm::ivec3(cells);
+  // Pairs always; a single iteration only where it runs smoothed (constraint_schedule): beside
+  // an unsmoothed one the correction made energy at every strength measured.
   if (d.solver.iterations >= 2 || d.solver.lambda_smoothing > 0) {
     const glm::dvec3 span = d.wall_max - d.wall_min;
     d.coarse.nodes = glm::max(glm::ivec3(1), glm::ivec3(glm::round(span / (COARSE_CELL * s))));

@@ -43,7 +43,7 @@ const SceneKey kKeys[] = {
     {"solver.method", K::Method, "pbf", {}, {}, "", "`pbf` or `ldc` (PBF with the local density correction force)", "",
      {}},
     // The fewest on the accuracy-against-cost front that hold the dam break under 1 % at 60 fps x 2
-    // (bench/results/pareto_*/cheapest.md); one, the seed's setting, reads 8.8 %.
+    // (bench/results/pareto_*/cheapest.md); one, the seed's setting, reads 1.5 %.
     {"solver.iterations", K::Whole, "2", 2.0, KeyRange{1, 1000}, "",
      "constraint iterations per step (the minimum when adaptive); left out: 2, the fewest that keep the dam break under 1 % "
      "mean compression at 60 fps x 2 (1 reads 1.5-1.7 %; the run's first line says which)",

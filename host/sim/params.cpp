@@ -32,14 +32,14 @@ int default_smoothing(int iterations, double travel) {
 }
 
 std::vector<Derived::ConstraintPass> Derived::constraint_schedule(int passes) const {
-  std::vector<ConstraintPass> schedule;
-  for (double w : jacobi_schedule(passes - passes % 2, solver.jacobi_gain, paired_gain_max))
-    schedule.push_back({w, solver.lambda_smoothing > 0});
   // A lone pass runs as a pair's first does, smoothed and as bold, where lambda is smoothed:
   // the coarse correction (at COARSE_LONE_STRENGTH) takes the long modes, which a second pass
   // would otherwise have to (docs/physics.md). Unsmoothed it runs at the single pass's gain.
   if (passes == 1 && solver.lambda_smoothing > 0)
     return {{jacobi_schedule(1, solver.jacobi_gain, paired_gain_max)[0], true}};
+  std::vector<ConstraintPass> schedule;
+  for (double w : jacobi_schedule(passes - passes % 2, solver.jacobi_gain, paired_gain_max))
+    schedule.push_back({w, solver.lambda_smoothing > 0});
   if (passes % 2) schedule.push_back({jacobi_schedule(1, solver.jacobi_gain, jacobi_gain_max)[0], false});
   return schedule;
 }
