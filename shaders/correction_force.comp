@@ -6,11 +6,6 @@
 // Within h of a wall the sum also runs over the neighbours' mirror images behind it (the
 // walls' ghost fluid, common.glsl): without them a particle at a wall got half the force
 // that holds up a compressed column, sank, and drove a jet down every wall.
-// With MEAN_REFERENCE (solver.ldc_mean_reference) rho_i is replaced by the weighted mean
-// of the densities around i (i and the images included; the weight of constraint_smooth):
-// at a free surface rho_i's share, rho_i sum_j h(1 - r/h) d/r, points into the fluid, so
-// the paper's force pulls a particle that reads dense (slipped into a hollow) further in;
-// in ldc@1's tank at rest such particles fell at up to 0.14 m/s (host/params.cpp).
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x_id = 0) in;
 #include "common.glsl"
@@ -20,9 +15,8 @@ layout(binding = 2, r32f) uniform readonly imageBuffer rho;
 layout(std430, binding = 3) buffer V { vec4 v[]; };
 layout(constant_id = 1) const bool CLAMP_DENSITY = true;
 layout(constant_id = 2) const float LDC_ROOM = 1.8;  // Derived::ldc_room
-layout(constant_id = 3) const bool MEAN_REFERENCE = true;
 #define NEIGHBOUR_BINDING 4
-#define NEIGHBOUR_CAPACITY_ID 4
+#define NEIGHBOUR_CAPACITY_ID 3
 #include "neighbours.glsl"
 
 float density_of(uint k) { return imageLoad(rho, int(k)).x; }
@@ -41,25 +35,14 @@ void main() {
   if (!neighbour_pass_particle(i)) return;
   vec3 xi = imageLoad(x, int(i)).xyz;
   WallImages walls = walls_near(xi);
-  // f = sum_j (rho_j - rho_ref) t_ij = sum_j (rho_j - rho_i) t_ij - (rho_ref - rho_i) sum_j t_ij:
-  // one walk gathers both sums and the mean; differences keep the float sums exact at
-  // uniform density.
+  // Differences keep the float sum exact at uniform density.
   float rho_i = ldc_density(i);
-  vec3 by_difference = vec3(0.0), by_geometry = vec3(0.0);
-  float mean_sum = 0.0, mean_weight = 0.0;
+  vec3 f = vec3(0.0);
   int image;
   FOR_EACH_NEIGHBOUR(i, xi, walls, j, image) {  // an image carries its particle's density
-    float difference = ldc_density(j) - rho_i;
     vec3 xj = mirror(walls, image, imageLoad(x, int(j)).xyz);
-    vec3 t = pair_term(xj - xi);
-    float w = smoothing_weight(xi - xj);
-    by_difference += difference * t;
-    by_geometry += t;
-    mean_sum += w * difference;
-    mean_weight += w;
+    f += (ldc_density(j) - rho_i) * pair_term(xj - xi);
   }
-  float shift = MEAN_REFERENCE ? mean_sum / mean_weight : 0.0;  // rho_ref - rho_i
-  vec3 f = by_difference - shift * by_geometry;
   // The force's stiffness grows with the neighbours inside h, by up to (rho/rho0)^2 on a
   // squeezed lattice (host/stability.hpp): K, a fraction of what the step carries at rho0,
   // is capped where that would pass kLdcCap of the limit. Uncapped, ldc@1 at 0.5 passed the

@@ -25,9 +25,9 @@ void PrintTo(const Setting& s, std::ostream* os) { *os << s.method << "@" << s.i
 // fluid at 0.8 m/s), before the walls were mirrors (ldc@1: a 0.3 m/s jet down every wall),
 // before the settle (the column breathing at 0.1-0.2 m/s) and before the relaxation
 // (7-9 m/s). The 99th percentile is asserted too: the max is one particle. So is the max
-// over every frame of the last second, under 0.08 m/s: ldc@1 against each particle's own
-// density (the paper's force, solver.ldc_mean_reference=false) read 0.099-0.138 there, as
-// surface particles lost their support and dived; against the neighbourhood's mean 0.02-0.03.
+// over every frame of the last second, under 0.08 m/s: ldc@1 read 0.099-0.138 there before a
+// single iteration had the coarse correction, as surface particles that read dense were pulled
+// into the fluid by LDC and dived (docs/physics.md).
 constexpr double kP99Speed = 0.05, kMaxSpeed = 0.1, kLastSecondMaxSpeed = 0.08;
 
 // docs/design.md: walls neither push fluid away nor let it pile up. Under its own weight the

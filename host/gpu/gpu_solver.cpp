@@ -69,8 +69,7 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
       // neighbour pass is two pipelines, ~5 ms each to create on lavapipe).
       correction_(correction_pass_ ? neighbour_pass("correction_force",
                                                     {{"CLAMP_DENSITY", d.solver.ldc_clamp ? 1u : 0u},
-                                                     {"LDC_ROOM", std::bit_cast<uint32_t>(float(d.ldc_room))},
-                                                     {"MEAN_REFERENCE", d.solver.ldc_mean_reference ? 1u : 0u}})
+                                                     {"LDC_ROOM", std::bit_cast<uint32_t>(float(d.ldc_room))}})
                                    : NeighbourPass{}),
       lambda_(neighbour_pass("constraint_lambda", {})),
       smooth_(d.solver.lambda_smoothing > 0 ? neighbour_pass("constraint_smooth", {}) : NeighbourPass{}),

@@ -102,10 +102,6 @@ const SceneKey kKeys[] = {
     // The seed's force reads a free surface's missing neighbours as low density and lifts a tank at rest.
     {"solver.ldc_clamp", K::Boolean, "true", 1.0, {}, "",
      "LDC reads densities below ρ0 as ρ0 (false: the seed's force)", "", &P::ldc_clamp},
-    // Against ρ_i a surface particle that reads dense is pulled into the fluid; the mean barely counts it.
-    {"solver.ldc_mean_reference", K::Boolean, "true", 1.0, {}, "",
-     "LDC compares each ρ_j with the weighted mean density around i (false: the paper's ρ_i)", "",
-     &P::ldc_mean_reference},
     {"camera.eye", K::Vector, "framing the domain", {}, {}, "m",
      "where the renderer looks from; left out: from the front, 30° up, as close as the domain fits a 16:9 image", "",
      {}},

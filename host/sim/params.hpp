@@ -33,7 +33,6 @@ struct SolverParams {
   double ldc_strength;     // LDC's K as a fraction of the largest K the step carries (ldc_k_limit)
   double ldc_k;            // LDC strength K, 1/s^2, when a scene states it; < 0: from ldc_strength
   bool ldc_clamp;          // LDC reads densities below rho0 as rho0 (only compression pushes)
-  bool ldc_mean_reference; // LDC compares rho_j with the neighbourhood's mean, not with rho_i
 
   static constexpr int kChosenSmoothing = -1, kChosenSubsteps = -1;
   // XSPH, vorticity and the damping share one neighbour pass (viscosity_vorticity).

@@ -150,21 +150,10 @@ void ReferenceSolver::density() {
 dvec3 ReferenceSolver::correction_force(size_t i) const {
   auto rho = [&](size_t k) { return d_.solver.ldc_clamp ? std::max(state.rho[k], d_.rho0) : state.rho[k]; };
   const dvec3 xi = state.x[i];
-  // f = sum_j (rho_j - rho_ref) h (1 - r/h) d/r, rho_ref the particle's own density or the
-  // neighbourhood's weighted mean (solver.ldc_mean_reference; correction_force.comp says why).
-  auto neighbourhood_mean = [&] {
-    double sum = 0, total = 0;
-    for_each_neighbour(i, xi, [&](size_t j, const WallImage& m) {
-      const double w = kernels::smoothing_weight(xi - m.of(state.x[j]), d_.h);
-      sum += w * rho(j);
-      total += w;
-    });
-    return sum / total;
-  };
-  const double reference = d_.solver.ldc_mean_reference ? neighbourhood_mean() : rho(i);
+  // f = sum_j (rho_j - rho_i) h (1 - r/h) d/r
   dvec3 f(0.0);
   for_each_neighbour(i, xi, [&](size_t j, const WallImage& m) {
-    const double difference = (rho(j) - reference) / d_.rho0;
+    const double difference = (rho(j) - rho(i)) / d_.rho0;
     dvec3 d = m.of(state.x[j]) - xi;
     double r = glm::length(d);
     if (r > 0 && r < d_.h) f += difference * d_.h * (1 - r / d_.h) * (d / r);
