@@ -14,6 +14,9 @@ void upload_frame(GLuint buffer, const ParticleFrame& f) {
   glNamedBufferSubData(buffer, GLintptr(to.rho), floats, f.rho.data());
   // Without smoothed positions, x stands in (as GpuSolver::copy_frame).
   glNamedBufferSubData(buffer, GLintptr(to.x_smooth), vec4s, (f.x_smooth.empty() ? f.x : f.x_smooth).data());
+  // Without shapes, zeros draw spheres (shaders/contract.h).
+  const std::vector<glm::vec4> spheres(f.shape.empty() ? 2 * f.x.size() : 0, glm::vec4(0.0f));
+  glNamedBufferSubData(buffer, GLintptr(to.shape), 2 * vec4s, (f.shape.empty() ? spheres : f.shape).data());
 }
 
 namespace {

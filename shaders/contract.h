@@ -36,4 +36,17 @@
 // (Yu & Turk 2013's lambda).
 #define POSITION_SMOOTHING 0.9
 
+// The drawn particle's shape (Yu & Turk 2013's anisotropy; smoothed_positions.comp, the
+// reference's surface_shape): an ellipsoid of the sphere's volume, its axes along the
+// eigenvectors of the neighbourhood's weighted covariance and proportional to its eigenvalues,
+// each at least 1/SHAPE_MAX_STRETCH of the largest; a sphere where fewer than
+// SHAPE_MIN_NEIGHBOURS particles (itself and wall images included) lie within h.
+// SHAPE_SWEEPS Jacobi sweeps diagonalise the covariance. In the frame a shape is two vec4s,
+// (T_xx - 1, T_yy - 1, T_zz - 1, a_max - 1) and (T_xy, T_xz, T_yz, 0): T = R diag(a^2) R^T the
+// ellipsoid's matrix and a_max its longest semi-axis, both in particle radii, so that zeros
+// draw the sphere.
+#define SHAPE_MAX_STRETCH 4.0
+#define SHAPE_MIN_NEIGHBOURS 6
+#define SHAPE_SWEEPS 4
+
 #endif

@@ -117,9 +117,21 @@ TEST_P(PassTest, SmoothedPositions) {
   std::vector<glm::dvec3> g(input.x.size());
   for (size_t k = 0; k < f.id.size(); ++k) g[f.id[k]] = glm::dvec3(glm::vec3(f.x_smooth[k]));
   ref.build_grid(ref.state.x);
-  expect_close(test::compare(test::difference(g, input.x), test::difference(ref.smoothed_positions(), input.x),
+  const ReferenceSolver::DrawnParticles drawn = ref.smoothed_positions();
+  expect_close(test::compare(test::difference(g, input.x), test::difference(drawn.x, input.x),
                              "smoothed positions x_smooth - x"),
                1e-3);
+  // The drawn shapes, compared as the ellipsoids' matrices (an eigenvector's sign and the
+  // order of equal axes are arbitrary), each as its three columns.
+  ASSERT_EQ(f.shape.size(), 2 * input.x.size());
+  std::vector<glm::dvec3> shape_gpu(3 * input.x.size()), shape_ref;
+  for (size_t k = 0; k < f.id.size(); ++k) {
+    const glm::dmat3 t = decode_shape(f.shape[2 * k], f.shape[2 * k + 1]);
+    for (int c = 0; c < 3; ++c) shape_gpu[3 * f.id[k] + c] = t[c];
+  }
+  for (const glm::dmat3& t : drawn.shape)
+    for (int c = 0; c < 3; ++c) shape_ref.push_back(t[c]);
+  expect_close(test::compare(shape_gpu, shape_ref, "drawn shapes T (particle radii)"), 1e-3);
 }
 
 TEST_P(PassTest, CorrectionForce) {

@@ -194,18 +194,23 @@ ParticleState GpuSolver::download() const {
 ParticleFrame GpuSolver::read_frame() const {
   return {at(X).download<glm::vec4>(n_), at(V).download<glm::vec4>(n_), rho_.download<float>(n_),
           id_[id_current_].download<uint32_t>(n_),
-          smoothed_current_ ? at(Spare0).download<glm::vec4>(n_) : std::vector<glm::vec4>{}};
+          smoothed_current_ ? at(Spare0).download<glm::vec4>(n_) : std::vector<glm::vec4>{},
+          smoothed_current_ ? shape_.download<glm::vec4>(2 * n_) : std::vector<glm::vec4>{}};
 }
 
 void GpuSolver::set_smoothed_positions(bool on) {
   Solver::set_smoothed_positions(on);
-  if (on && positions_.lists.pipeline() == VK_NULL_HANDLE) positions_ = neighbour_pass("smoothed_positions", {});
+  if (on && positions_.lists.pipeline() == VK_NULL_HANDLE) {
+    positions_ = neighbour_pass("smoothed_positions", {});
+    shape_ = vk::Buffer(ctx_, 2 * n_ * sizeof(glm::vec4));
+  }
 }
 
 void GpuSolver::smoothed_positions() {
   run_neighbour_pass(positions_, nullptr, [&] {
     cmd_.bind("x", at(X));
     cmd_.bind("x_smooth", at(Spare0));
+    cmd_.bind("shape", shape_);
   });
   smoothed_current_ = true;
 }
@@ -216,12 +221,18 @@ void GpuSolver::copy_frame(const vk::Buffer& dst) const {
   const VkDeviceSize vec4s = n_ * sizeof(glm::vec4), floats = n_ * sizeof(float);
   ctx_.submit_and_wait([&](VkCommandBuffer cb) {
     vk::memory_barrier(cb);  // the frame's shader writes are visible to the copies
-    VkBufferCopy x{0, to.x, vec4s}, v{0, to.v, vec4s}, rho{0, to.rho, floats}, smooth{0, to.x_smooth, vec4s};
+    VkBufferCopy x{0, to.x, vec4s}, v{0, to.v, vec4s}, rho{0, to.rho, floats}, smooth{0, to.x_smooth, vec4s},
+        shape{0, to.shape, 2 * vec4s};
     vkCmdCopyBuffer(cb, at(X).handle(), dst.handle(), 1, &x);
     vkCmdCopyBuffer(cb, at(V).handle(), dst.handle(), 1, &v);
     vkCmdCopyBuffer(cb, rho_.handle(), dst.handle(), 1, &rho);
-    // Without smoothed positions (not asked for, or before the first frame), x stands in.
+    // Without smoothed positions (not asked for, or before the first frame), x stands in, and
+    // zeros draw spheres.
     vkCmdCopyBuffer(cb, (smoothed_current_ ? at(Spare0) : at(X)).handle(), dst.handle(), 1, &smooth);
+    if (smoothed_current_)
+      vkCmdCopyBuffer(cb, shape_.handle(), dst.handle(), 1, &shape);
+    else
+      vkCmdFillBuffer(cb, dst.handle(), to.shape, 2 * vec4s, 0);
     vk::memory_barrier(cb);
   });
 }

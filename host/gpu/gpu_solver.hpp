@@ -25,7 +25,7 @@ class GpuSolver : public Solver {
 
   FrameStats advance(int steps) override;
   ParticleFrame read_frame() const override;
-  // Copies x, v, rho and the smoothed positions where asked for (frame_bytes layout) into
+  // Copies x, v, rho and the smoothed positions and shapes where asked for (frame_bytes layout) into
   // `dst` on the device: no host round trip.
   void copy_frame(const vk::Buffer& dst) const;
   void set_smoothed_positions(bool on) override;  // builds the pass's programs when first asked
@@ -51,7 +51,8 @@ class GpuSolver : public Solver {
   void vorticity_force();
   void watch();  // flags non-finite, runaway and escaped particles of this step
   // The fluid surface's positions at x, from the last lists (smoothed_positions.comp), into a
-  // spare slot, which no pass writes again before the next frame's first grid build.
+  // spare slot, which no pass writes again before the next frame's first grid build, and
+  // the particles' drawn shapes.
   void smoothed_positions();
   void record_step();  // one step, then the divergence watch
   void record_measures();  // grid and density at x, then the reductions
@@ -117,6 +118,7 @@ class GpuSolver : public Solver {
   vk::Buffer rho_, neighbour_count_, neighbour_list_;
   vk::Buffer x_lambda_, x_lambda_spare_;  // (x_pred, lambda) and its smoothing spare (constraint_lambda.comp)
   vk::Buffer omega_, partials_, result_, obstacles_;
+  vk::Buffer shape_;  // the drawn shapes, two vec4s a particle, where smoothed positions are asked for
   vk::Buffer check_, indirect_;
   // The cell walkers' dispatch (neighbour_lists.comp), and its copy for an adaptive
   // iteration pair: zero where the pair does not run (check_converged.comp).

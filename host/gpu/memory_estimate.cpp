@@ -19,6 +19,9 @@ namespace {
 // Host bytes per particle of a GPU run: the initial lattice (dvec3), the state uploaded once
 // (x, v, x_pred) and a frame read back for rendering or export (x, v, rho, id).
 constexpr double kHostPerParticleGpuRun = 24 + 72 + 48 + 40;
+// A drawn run's particles also carry the drawn shape on the device (two vec4s), and a frame
+// read back carries it and the smoothed positions.
+constexpr double kDevicePerParticleDrawn = 32, kHostPerParticleDrawn = 48;
 // The reference solver: x, v, x_pred, omega (dvec3), rho, lambda, its cell lists, two scratch
 // dvec3 arrays, the initial lattice and a frame read back; its neighbour lists are as the
 // GPU's (8 bytes an entry, a count), bounded by the capacity.
@@ -78,8 +81,8 @@ MemoryNeed memory_need(const Derived& d, double particles, const vk::DeviceInfo*
     on_device.neighbour_capacity = neighbour_capacity_on(d, particles, *device);
     // Capped where the count is past any machine, so that the conversion stays defined.
     const SolverBuffers plan = plan_buffers(on_device, uint64_t(std::ceil(std::min(particles, 1e15))));
-    gpu = double(plan.total());
-    host += kHostPerParticleGpuRun * particles + kDriverBytes;
+    gpu = double(plan.total()) + (pixels > 0 ? kDevicePerParticleDrawn * particles : 0.0);
+    host += (kHostPerParticleGpuRun + (pixels > 0 ? kHostPerParticleDrawn : 0.0)) * particles + kDriverBytes;
     largest = double(plan.largest());
   } else {
     const double list_bytes = 8.0 * d.neighbour_capacity + 4;  // ReferenceSolver's lists, as the GPU's

@@ -34,7 +34,7 @@ void ReferenceSolver::upload(const ParticleState& s) {
   std::copy_n(s.rho.begin(), std::min(s.rho.size(), state.rho.size()), state.rho.begin());
   neighbours_built_ = false;
   coarse_phi_.clear();
-  x_smooth.clear();
+  drawn = {};
 }
 
 glm::ivec3 ReferenceSolver::cell_of(const dvec3& x) const {
@@ -444,20 +444,80 @@ FrameStats ReferenceSolver::measure() {
   return s;
 }
 
-std::vector<dvec3> ReferenceSolver::smoothed_positions() {
+namespace {
+
+// One Jacobi rotation in the (p, q) plane of a symmetric 3 x 3 matrix, r its third index
+// (smoothed_positions.comp's jacobi_rotate, in double).
+void jacobi_rotate(double& app, double& aqq, double& apq, double& arp, double& arq, dvec3& vp, dvec3& vq) {
+  if (apq == 0.0) return;
+  const double theta = 0.5 * (aqq - app) / apq;
+  const double t = (theta >= 0.0 ? 1.0 : -1.0) / (std::abs(theta) + std::sqrt(theta * theta + 1.0));
+  const double c = 1.0 / std::sqrt(t * t + 1.0), s = t * c, tau = s / (1.0 + c);
+  app -= t * apq;
+  aqq += t * apq;
+  apq = 0.0;
+  const double g = arp;
+  arp -= s * (arq + tau * arp);
+  arq += s * (g - tau * arq);
+  const dvec3 w = vp;
+  vp -= s * (vq + tau * vp);
+  vq += s * (w - tau * vq);
+}
+
+// Jacobi sweeps diagonalise the symmetric c: c = v diag(l) v^T, v's columns unit eigenvectors.
+void symmetric_eigen(const glm::dmat3& c, dvec3& l, glm::dmat3& v) {
+  double d0 = c[0][0], d1 = c[1][1], d2 = c[2][2], o01 = c[1][0], o02 = c[2][0], o12 = c[2][1];
+  dvec3 v0(1, 0, 0), v1(0, 1, 0), v2(0, 0, 1);
+  for (int sweep = 0; sweep < SHAPE_SWEEPS; ++sweep) {
+    jacobi_rotate(d0, d1, o01, o02, o12, v0, v1);
+    jacobi_rotate(d0, d2, o02, o01, o12, v0, v2);
+    jacobi_rotate(d1, d2, o12, o01, o02, v1, v2);
+  }
+  l = dvec3(d0, d1, d2);
+  v = glm::dmat3(v0, v1, v2);
+}
+
+}  // namespace
+
+ReferenceSolver::DrawnParticles ReferenceSolver::smoothed_positions() {
   if (!neighbours_current_) build_neighbours(state.x);  // else the last step's, as density()
-  std::vector<dvec3> out(state.x.size());
+  DrawnParticles out;
   for (size_t i = 0; i < state.x.size(); ++i) {
     const dvec3 xi = state.x[i];
-    dvec3 sum(0.0);
-    double weights = 0;
+    // The position's mean and the shape's covariance weigh the neighbours differently
+    // (smoothed_positions.comp says why).
+    dvec3 towards(0.0), first(0.0);
+    glm::dmat3 second(0.0);
+    double position_weights = 0, weights = 0;
+    int count = 0;
     for_each_neighbour(i, xi, [&](size_t j, const WallImage& m) {
-      const dvec3 xj = m.of(state.x[j]);
-      const double w = kernels::position_weight(xi - xj, d_.h);
-      sum += w * xj;
+      dvec3 d = m.of(state.x[j]) - xi;
+      const double w = kernels::smoothing_weight(d, d_.h);
+      if (w <= 0) return;
+      const double wp = kernels::position_weight(d, d_.h);
+      d /= d_.h;
+      towards += wp * d;
+      position_weights += wp;
+      first += w * d;
+      second += w * glm::outerProduct(d, d);
       weights += w;
+      ++count;
     });
-    out[i] = glm::mix(xi, sum / weights, POSITION_SMOOTHING);
+    out.x.push_back(xi + POSITION_SMOOTHING * d_.h * towards / position_weights);
+    const dvec3 mean = first / weights;
+    dvec3 l;
+    glm::dmat3 axes;
+    symmetric_eigen(second / weights - glm::outerProduct(mean, mean), l, axes);
+    const double largest = std::max({l.x, l.y, l.z});
+    if (count < SHAPE_MIN_NEIGHBOURS || !(largest > 0)) {
+      out.shape.emplace_back(1.0);
+      out.longest_axis.push_back(1.0);
+      continue;
+    }
+    dvec3 a = glm::max(l, dvec3(largest / SHAPE_MAX_STRETCH));
+    a /= std::cbrt(a.x * a.y * a.z);
+    out.shape.push_back(axes * glm::dmat3(a.x * a.x, 0, 0, 0, a.y * a.y, 0, 0, 0, a.z * a.z) * glm::transpose(axes));
+    out.longest_axis.push_back(std::max({a.x, a.y, a.z}));
   }
   return out;
 }
@@ -475,7 +535,10 @@ ParticleFrame ReferenceSolver::read_frame() const {
     f.rho.push_back(float(state.rho[i]));
     f.id.push_back(uint32_t(i));
   }
-  for (const dvec3& xs : x_smooth) f.x_smooth.emplace_back(glm::vec3(xs), 0.0f);
+  for (size_t i = 0; i < drawn.x.size(); ++i) {
+    f.x_smooth.emplace_back(glm::vec3(drawn.x[i]), 0.0f);
+    for (const glm::vec4& half : encode_shape(drawn.shape[i], drawn.longest_axis[i])) f.shape.push_back(half);
+  }
   return f;
 }
 
@@ -489,7 +552,7 @@ FrameStats ReferenceSolver::advance(int steps) {
   }
   double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   FrameStats s = measure();
-  x_smooth = smoothed_positions_ ? smoothed_positions() : std::vector<dvec3>{};
+  drawn = smoothed_positions_ ? smoothed_positions() : DrawnParticles{};
   s.step_ms = steps > 0 ? ms / steps : 0.0;
   s.iterations = steps > 0 ? double(iterations_run_) / steps : 0.0;
   s.divergence = watch;

@@ -36,9 +36,15 @@ class ReferenceSolver : public Solver {
   void velocity_update();                              // v from x_pred - x; x = x_pred
   void viscosity_vorticity();                          // XSPH, omega
   void vorticity_force();                              // v += f_vort dt
-  // The positions drawn for the fluid's surface (smoothed_positions.comp), from the lists of
-  // the last build (at x after build_grid), as density().
-  std::vector<glm::dvec3> smoothed_positions();
+  // The positions and shapes drawn for the fluid's surface (smoothed_positions.comp), from the
+  // lists of the last build (at x after build_grid), as density(). A shape is the ellipsoid's
+  // matrix in particle radii and its longest semi-axis (shaders/contract.h).
+  struct DrawnParticles {
+    std::vector<glm::dvec3> x;
+    std::vector<glm::dmat3> shape;
+    std::vector<double> longest_axis;
+  };
+  DrawnParticles smoothed_positions();
 
   // The LDC acceleration on particle i (from rho and x); correction() applies it.
   glm::dvec3 correction_force(size_t i) const;
@@ -65,7 +71,7 @@ class ReferenceSolver : public Solver {
 
   const Derived& derived() const { return d_; }
   ParticleState state;
-  std::vector<glm::dvec3> x_smooth;  // the last frame's smoothed positions, where asked for
+  DrawnParticles drawn;  // the last frame's smoothed positions and shapes, where asked for
 
  private:
   // The step's neighbour sets, as the GPU's lists (shaders/neighbour_lists.comp): built

@@ -74,25 +74,36 @@ struct ParticleState {
 // What capture and export read after a frame, in float: positions (xyz, w unused),
 // velocities (xyz, w unused), densities, particle ids and, where the solver was asked for
 // them (Solver::set_smoothed_positions), the smoothed positions the fluid's surface is drawn
-// from (xyz, w unused; empty otherwise), in the solver's own order (id[k] is the id of entry
-// k). On the GPU x, v, rho and x_smooth lie back to back in one buffer (frame_bytes); ids are
-// read only for export.
+// from (xyz, w unused) and each one's drawn shape (two vec4s a particle, shaders/contract.h),
+// both empty otherwise, in the solver's own order (id[k] is the id of entry k). On the GPU x,
+// v, rho, x_smooth and shape lie back to back in one buffer (frame_bytes); ids are read only
+// for export.
 struct ParticleFrame {
   std::vector<glm::vec4> x, v;
   std::vector<float> rho;
   std::vector<uint32_t> id;
   std::vector<glm::vec4> x_smooth;
+  std::vector<glm::vec4> shape;
 };
 // Where each array of the frame buffer starts, in bytes, for n particles (render_common.glsl
 // reads the same layout in floats).
 struct FrameOffsets {
-  size_t x, v, rho, x_smooth, end;
+  size_t x, v, rho, x_smooth, shape, end;
 };
 inline FrameOffsets frame_offsets(size_t n) {
-  const size_t vec4s = n * sizeof(glm::vec4);
-  return {0, vec4s, 2 * vec4s, 2 * vec4s + n * sizeof(float), 3 * vec4s + n * sizeof(float)};
+  const size_t vec4s = n * sizeof(glm::vec4), floats = n * sizeof(float);
+  return {0, vec4s, 2 * vec4s, 2 * vec4s + floats, 3 * vec4s + floats, 5 * vec4s + floats};
 }
 inline size_t frame_bytes(size_t n) { return frame_offsets(n).end; }
+
+// A drawn shape's two vec4s (shaders/contract.h): the ellipsoid's matrix T, in particle radii
+// (the identity draws the sphere), and its longest semi-axis.
+inline std::array<glm::vec4, 2> encode_shape(const glm::dmat3& t, double longest_axis) {
+  return {glm::vec4(t[0][0] - 1, t[1][1] - 1, t[2][2] - 1, longest_axis - 1), glm::vec4(t[1][0], t[2][0], t[2][1], 0)};
+}
+inline glm::dmat3 decode_shape(const glm::vec4& a, const glm::vec4& b) {
+  return glm::dmat3(a.x + 1, b.x, b.y, b.x, a.y + 1, b.z, b.y, b.z, a.z + 1);
+}
 
 class Solver {
  public:
