@@ -8,15 +8,16 @@ namespace pbflow::capture {
 
 void upload_frame(GLuint buffer, const ParticleFrame& f) {
   const FrameOffsets to = frame_offsets(f.x.size());
-  const GLsizeiptr vec4s = GLsizeiptr(f.x.size() * sizeof(glm::vec4)), floats = GLsizeiptr(f.rho.size() * sizeof(float));
-  glNamedBufferSubData(buffer, GLintptr(to.x), vec4s, f.x.data());
-  glNamedBufferSubData(buffer, GLintptr(to.v), vec4s, f.v.data());
-  glNamedBufferSubData(buffer, GLintptr(to.rho), floats, f.rho.data());
-  // Without smoothed positions, x stands in (as GpuSolver::copy_frame).
-  glNamedBufferSubData(buffer, GLintptr(to.x_smooth), vec4s, (f.x_smooth.empty() ? f.x : f.x_smooth).data());
-  // Without shapes, zeros draw spheres (shaders/contract.h).
+  auto put = [&](size_t offset, size_t next, const void* data) {
+    glNamedBufferSubData(buffer, GLintptr(offset), GLsizeiptr(next - offset), data);
+  };
+  put(to.x, to.v, f.x.data());
+  put(to.v, to.rho, f.v.data());
+  put(to.rho, to.x_smooth, f.rho.data());
+  // Without smoothed positions, x stands in (as GpuSolver::copy_frame), and zeros draw spheres.
+  put(to.x_smooth, to.shape, (f.x_smooth.empty() ? f.x : f.x_smooth).data());
   const std::vector<glm::vec4> spheres(f.shape.empty() ? 2 * f.x.size() : 0, glm::vec4(0.0f));
-  glNamedBufferSubData(buffer, GLintptr(to.shape), 2 * vec4s, (f.shape.empty() ? spheres : f.shape).data());
+  put(to.shape, to.end, (f.shape.empty() ? spheres : f.shape).data());
 }
 
 namespace {

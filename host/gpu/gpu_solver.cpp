@@ -218,21 +218,22 @@ void GpuSolver::smoothed_positions() {
 void GpuSolver::copy_frame(const vk::Buffer& dst) const {
   if (dst.bytes() < frame_bytes(n_)) throw vk::Error("copy_frame: destination buffer too small");
   const FrameOffsets to = frame_offsets(n_);
-  const VkDeviceSize vec4s = n_ * sizeof(glm::vec4), floats = n_ * sizeof(float);
   ctx_.submit_and_wait([&](VkCommandBuffer cb) {
+    auto copy = [&](const vk::Buffer& from, size_t offset, size_t next) {
+      const VkBufferCopy region{0, offset, next - offset};
+      vkCmdCopyBuffer(cb, from.handle(), dst.handle(), 1, &region);
+    };
     vk::memory_barrier(cb);  // the frame's shader writes are visible to the copies
-    VkBufferCopy x{0, to.x, vec4s}, v{0, to.v, vec4s}, rho{0, to.rho, floats}, smooth{0, to.x_smooth, vec4s},
-        shape{0, to.shape, 2 * vec4s};
-    vkCmdCopyBuffer(cb, at(X).handle(), dst.handle(), 1, &x);
-    vkCmdCopyBuffer(cb, at(V).handle(), dst.handle(), 1, &v);
-    vkCmdCopyBuffer(cb, rho_.handle(), dst.handle(), 1, &rho);
+    copy(at(X), to.x, to.v);
+    copy(at(V), to.v, to.rho);
+    copy(rho_, to.rho, to.x_smooth);
     // Without smoothed positions (not asked for, or before the first frame), x stands in, and
     // zeros draw spheres.
-    vkCmdCopyBuffer(cb, (smoothed_current_ ? at(Spare0) : at(X)).handle(), dst.handle(), 1, &smooth);
+    copy(smoothed_current_ ? at(Spare0) : at(X), to.x_smooth, to.shape);
     if (smoothed_current_)
-      vkCmdCopyBuffer(cb, shape_.handle(), dst.handle(), 1, &shape);
+      copy(shape_, to.shape, to.end);
     else
-      vkCmdFillBuffer(cb, dst.handle(), to.shape, 2 * vec4s, 0);
+      vkCmdFillBuffer(cb, dst.handle(), to.shape, to.end - to.shape, 0);
     vk::memory_barrier(cb);
   });
 }

@@ -35,7 +35,7 @@ std::vector<Derived::ConstraintPass> Derived::constraint_schedule(int passes) co
   // A lone pass runs as a pair's first does, smoothed and as bold, where lambda is smoothed:
   // the coarse correction (at COARSE_LONE_STRENGTH) takes the long modes, which a second pass
   // would otherwise have to (docs/physics.md). Unsmoothed it runs at the single pass's gain.
-  if (passes == 1 && solver.lambda_smoothing > 0)
+  if (passes == 1 && lone_pass_smoothed())
     return {{jacobi_schedule(1, solver.jacobi_gain, paired_gain_max)[0], true}};
   std::vector<ConstraintPass> schedule;
   for (double w : jacobi_schedule(passes - passes % 2, solver.jacobi_gain, paired_gain_max))
