@@ -54,6 +54,25 @@ void symmetric_eigen(mat3 c, out vec3 l, out mat3 v) {
   v = mat3(v0, v1, v2);
 }
 
+// Particle i's drawn shape from its neighbourhood's covariance (in h^2) and its count
+// (shaders/contract.h); zeros draw the sphere.
+void write_shape(uint i, mat3 covariance, int count) {
+  vec3 l;
+  mat3 axes;
+  symmetric_eigen(covariance, l, axes);
+  float largest = max(l.x, max(l.y, l.z));
+  if (count < SHAPE_MIN_NEIGHBOURS || !(largest > 0.0)) {
+    shape[2 * i] = vec4(0.0);
+    shape[2 * i + 1] = vec4(0.0);
+    return;
+  }
+  vec3 a = max(l, vec3(largest / SHAPE_MAX_STRETCH));
+  a /= pow(a.x * a.y * a.z, 1.0 / 3.0);  // the sphere's volume
+  mat3 t = axes * mat3(a.x * a.x, 0, 0, 0, a.y * a.y, 0, 0, 0, a.z * a.z) * transpose(axes);
+  shape[2 * i] = vec4(t[0][0] - 1.0, t[1][1] - 1.0, t[2][2] - 1.0, max(a.x, max(a.y, a.z)) - 1.0);
+  shape[2 * i + 1] = vec4(t[1][0], t[2][0], t[2][1], 0.0);
+}
+
 void main() {
   uint i;
   if (!neighbour_pass_particle(i)) return;
@@ -80,19 +99,7 @@ void main() {
     ++count;
   }
   x_smooth[i] = vec4(xi + float(POSITION_SMOOTHING) * sim.h * towards / position_weights, 0.0);
-  vec3 mean = first / weights, l;
-  mat3 axes;
+  vec3 mean = first / weights;
   mat3 second = mat3(square.x, cross.x, cross.y, cross.x, square.y, cross.z, cross.y, cross.z, square.z);
-  symmetric_eigen(second / weights - outerProduct(mean, mean), l, axes);
-  float largest = max(l.x, max(l.y, l.z));
-  if (count < SHAPE_MIN_NEIGHBOURS || !(largest > 0.0)) {
-    shape[2 * i] = vec4(0.0);
-    shape[2 * i + 1] = vec4(0.0);
-    return;
-  }
-  vec3 a = max(l, vec3(largest / SHAPE_MAX_STRETCH));
-  a /= pow(a.x * a.y * a.z, 1.0 / 3.0);
-  mat3 t = axes * mat3(a.x * a.x, 0, 0, 0, a.y * a.y, 0, 0, 0, a.z * a.z) * transpose(axes);
-  shape[2 * i] = vec4(t[0][0] - 1.0, t[1][1] - 1.0, t[2][2] - 1.0, max(a.x, max(a.y, a.z)) - 1.0);
-  shape[2 * i + 1] = vec4(t[1][0], t[2][0], t[2][1], 0.0);
+  write_shape(i, second / weights - outerProduct(mean, mean), count);
 }

@@ -477,6 +477,20 @@ void symmetric_eigen(const glm::dmat3& c, dvec3& l, glm::dmat3& v) {
   v = glm::dmat3(v0, v1, v2);
 }
 
+// A particle's drawn shape (the ellipsoid's matrix in radii, its longest semi-axis) from its
+// neighbourhood's covariance and count (smoothed_positions.comp's write_shape).
+std::pair<glm::dmat3, double> drawn_shape(const glm::dmat3& covariance, int count) {
+  dvec3 l;
+  glm::dmat3 axes;
+  symmetric_eigen(covariance, l, axes);
+  const double largest = std::max({l.x, l.y, l.z});
+  if (count < SHAPE_MIN_NEIGHBOURS || !(largest > 0)) return {glm::dmat3(1.0), 1.0};
+  dvec3 a = glm::max(l, dvec3(largest / SHAPE_MAX_STRETCH));
+  a /= std::cbrt(a.x * a.y * a.z);  // the sphere's volume
+  return {axes * glm::dmat3(a.x * a.x, 0, 0, 0, a.y * a.y, 0, 0, 0, a.z * a.z) * glm::transpose(axes),
+          std::max({a.x, a.y, a.z})};
+}
+
 }  // namespace
 
 ReferenceSolver::DrawnParticles ReferenceSolver::smoothed_positions() {
@@ -505,19 +519,9 @@ ReferenceSolver::DrawnParticles ReferenceSolver::smoothed_positions() {
     });
     out.x.push_back(xi + POSITION_SMOOTHING * d_.h * towards / position_weights);
     const dvec3 mean = first / weights;
-    dvec3 l;
-    glm::dmat3 axes;
-    symmetric_eigen(second / weights - glm::outerProduct(mean, mean), l, axes);
-    const double largest = std::max({l.x, l.y, l.z});
-    if (count < SHAPE_MIN_NEIGHBOURS || !(largest > 0)) {
-      out.shape.emplace_back(1.0);
-      out.longest_axis.push_back(1.0);
-      continue;
-    }
-    dvec3 a = glm::max(l, dvec3(largest / SHAPE_MAX_STRETCH));
-    a /= std::cbrt(a.x * a.y * a.z);
-    out.shape.push_back(axes * glm::dmat3(a.x * a.x, 0, 0, 0, a.y * a.y, 0, 0, 0, a.z * a.z) * glm::transpose(axes));
-    out.longest_axis.push_back(std::max({a.x, a.y, a.z}));
+    const auto [shape, longest_axis] = drawn_shape(second / weights - glm::outerProduct(mean, mean), count);
+    out.shape.push_back(shape);
+    out.longest_axis.push_back(longest_axis);
   }
   return out;
 }
