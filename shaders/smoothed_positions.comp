@@ -80,15 +80,16 @@ void main() {
   WallImages walls = walls_near(xi);
   // The position's mean weighs the nearest most (position_weight); the covariance weighs the
   // neighbourhood nearly flat to h (smoothing_weight), so that it sees a sheet's rows pulled
-  // 1.75 spacings apart. Offsets in units of h keep the second moments near 1 in float.
+  // 1.75 spacings apart. Offsets in units of h keep the second moments near 1 in float. No
+  // branch in the loop: llvmpipe runs both sides for every lane, and a `continue` past the
+  // zero weights took the pass from 1.7 to 2.5 ms at 16 000 particles.
   vec3 towards = vec3(0.0), first = vec3(0.0), square = vec3(0.0), cross = vec3(0.0);  // second moments
   float position_weights = 0.0, weights = 0.0;
   int count = 0, image;
   FOR_EACH_NEIGHBOUR(i, xi, walls, j, image) {
     vec3 d = mirror(walls, image, imageLoad(x, int(j)).xyz) - xi;
-    float w = smoothing_weight(d);
-    if (w <= 0.0) continue;
-    float wp = position_weight(d);
+    float w = smoothing_weight(d), wp = position_weight(d);
+    count += int(w > 0.0);
     d /= sim.h;
     towards += wp * d;
     position_weights += wp;
@@ -96,7 +97,6 @@ void main() {
     square += w * d * d;
     cross += w * d.xxy * d.yzz;
     weights += w;
-    ++count;
   }
   x_smooth[i] = vec4(xi + float(POSITION_SMOOTHING) * sim.h * towards / position_weights, 0.0);
   vec3 mean = first / weights;
