@@ -75,9 +75,11 @@ TEST(WatchCli, ABlownUpRunExitsWith3AndKeepsCompleteFrames) {
   // Accepted input holds a fluid at the step the time-step check asks for; past it the run
   // is warned about up front, and there vorticity confinement (the one force that adds
   // energy, at the most its range accepts) blows the dam break up within a few steps: one
-  // step a frame at 20 fps moves a falling particle ~3 kernel radii.
+  // step a frame at 10 fps moves a falling particle ~5.5 kernel radii. At 20 fps (~3 radii)
+  // one run in CI's two-job suite gained 700 % of its energy without a particle passing the
+  // speed limit: the path is chaotic and the GPU's atomics order it differently under load.
   std::string cmd = std::string(PBFLOW_BINARY) +
-                    " run --param solver.vorticity=1 --param fps=20 --param solver.substeps=1"
+                    " run --param solver.vorticity=1 --param fps=10 --param solver.substeps=1"
                     " --param particle_spacing=0.04 --frames 60 --style particles"
                     " --width 64 --height 32 --export ply --out " + dir.string() + " > " + log.string() + " 2>&1";
   int raw = std::system(cmd.c_str());
