@@ -37,7 +37,7 @@
 #define POSITION_SMOOTHING 0.9
 
 // The drawn particle's shape (Yu & Turk 2013's anisotropy; smoothed_positions.comp, the
-// reference's surface_shape): an ellipsoid of the sphere's volume, its axes along the
+// reference's drawn_shape): an ellipsoid of the sphere's volume, its axes along the
 // eigenvectors of the neighbourhood's weighted covariance and proportional to its eigenvalues,
 // each at least 1/SHAPE_MAX_STRETCH of the largest; a sphere where fewer than
 // SHAPE_MIN_NEIGHBOURS particles (itself and wall images included) lie within h.
