@@ -16,18 +16,20 @@ namespace pbflow {
 
 namespace {
 
-// coarse_sweep.comp in one workgroup of this many threads for a grid of this many nodes of a
-// colour, or 0: a dispatch a half sweep. One workgroup saves the dispatches' barriers (on an
-// H200 at 16k particles the solve took 0.12 ms so, 0.28 ms in 40 dispatches) until its threads
-// have too many nodes each: on the H200 past four (at 159k particles, six a thread, 0.47 ms
-// against 0.33-0.34 by dispatches; at 79k, three a thread, 0.30 against 0.31-0.32; at 1M 2.0
-// against 0.48). A CPU device (lavapipe) takes every invocation through every barrier and
-// dispatches dearly: there a thread for eight nodes, and one workgroup up to eight a thread
-// (at 16k 1024 threads cost a pbf@2 step 4.5 ms, 64 threads 2.5 ms).
-uint32_t coarse_sweep_group(const vk::Context& ctx, uint32_t per_colour) {
+// coarse_sweep.comp in one workgroup of this many threads, phi in its shared memory, for a grid
+// of this many nodes (this many of a colour), or 0: a dispatch a half sweep. One workgroup saves
+// the dispatches' barriers (on an H200 at 16k particles the solve took 0.12 ms so, 0.28 ms in 40
+// dispatches) until its threads have too many nodes each: on the H200 past four (at 159k
+// particles, six a thread, 0.47 ms against 0.33-0.34 by dispatches; at 79k, three a thread, 0.30
+// against 0.31-0.32; at 1M 2.0 against 0.48), or its phi outgrows shared memory. A CPU device
+// (lavapipe) takes every invocation through every barrier and dispatches dearly: there a thread
+// for eight nodes, and one workgroup up to eight a thread (at 16k 1024 threads cost a pbf@2 step
+// 4.5 ms, 64 threads 2.5 ms).
+uint32_t coarse_sweep_group(const vk::Context& ctx, uint32_t nodes, uint32_t per_colour) {
   const bool cpu = ctx.info().kind == "cpu";
   const uint32_t most = std::min(1024u, ctx.limits().maxComputeWorkGroupInvocations) / 64 * 64;
   if (per_colour > (cpu ? 8u : 4u) * most) return 0;
+  if (nodes * sizeof(float) > ctx.limits().maxComputeSharedMemorySize) return 0;
   const uint32_t wanted = cpu ? per_colour / 8 : per_colour;
   return std::clamp((wanted + 63) / 64 * 64, 64u, most);
 }
@@ -116,17 +118,17 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
     coarse_deposit_ = vk::Program(ctx, "coarse_deposit", sizeof(SimConstants), 0, grid);
     coarse_prepare_ = vk::Program(ctx, "coarse_prepare", sizeof(SimConstants), 0, grid);
     coarse_gradient_ = vk::Program(ctx, "coarse_gradient", sizeof(SimConstants), 0, grid);
-    auto sweep = [&](uint32_t threads, uint32_t first_colour, uint32_t colours, uint32_t sweeps) {
+    auto sweep = [&](uint32_t threads, uint32_t first_colour, uint32_t shared_nodes) {
       std::vector<vk::Constant> k = grid;
-      k.insert(k.end(), {{"FIRST_COLOUR", first_colour}, {"COLOURS", colours}, {"SWEEPS", sweeps}});
+      k.insert(k.end(), {{"FIRST_COLOUR", first_colour}, {"SHARED_NODES", shared_nodes}});
       return vk::Program(ctx, "coarse_sweep", sizeof(SimConstants), threads, k);
     };
-    coarse_sweep_threads_ = coarse_sweep_group(ctx, uint32_t(c.per_colour()));
+    coarse_sweep_threads_ = coarse_sweep_group(ctx, uint32_t(c.count()), uint32_t(c.per_colour()));
     if (coarse_sweep_threads_) {
-      coarse_sweeps_.push_back(sweep(coarse_sweep_threads_, 0, 2, COARSE_SWEEPS));
+      coarse_sweeps_.push_back(sweep(coarse_sweep_threads_, 0, uint32_t(c.count())));
     } else {
-      coarse_sweeps_.push_back(sweep(0, 0, 1, 1));
-      coarse_sweeps_.push_back(sweep(0, 1, 1, 1));
+      coarse_sweeps_.push_back(sweep(0, 0, 0));
+      coarse_sweeps_.push_back(sweep(0, 1, 0));
     }
     grid.push_back({"STRENGTH", std::bit_cast<uint32_t>(float(c.strength))});
     coarse_apply_ = vk::Program(ctx, "coarse_apply", sizeof(SimConstants), 0, grid);
