@@ -35,7 +35,7 @@ SolverBuffers plan_buffers(const Derived& d, uint64_t particles) {
   b.id = b.rho = word;
   b.neighbour_count = (2 * particles + 1) * sizeof(uint32_t);
   b.neighbour_list = word * list_words(d.neighbour_capacity);
-  b.x_lambda_spare = d.solver.lambda_smoothing > 0 ? vec4 : 0;
+  b.x_lambda_spare = d.smooths_lambda() ? vec4 : 0;
   b.omega = d.solver.vorticity > 0 ? vec4 : 0;
   b.partials = 2 * partial_count(particles) * sizeof(glm::vec4);
   b.obstacles = pack_obstacles(d.obstacles).size() * sizeof(glm::vec4);

@@ -74,7 +74,7 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
                                                      {"LDC_ROOM", std::bit_cast<uint32_t>(float(d.ldc_room))}})
                                    : NeighbourPass{}),
       lambda_(neighbour_pass("constraint_lambda", {})),
-      smooth_(d.solver.lambda_smoothing > 0 ? neighbour_pass("constraint_smooth", {}) : NeighbourPass{}),
+      smooth_(d.smooths_lambda() ? neighbour_pass("constraint_smooth", {}) : NeighbourPass{}),
       apply_(neighbour_pass("constraint_apply", {})),
       viscosity_(viscosity_pass_ ? neighbour_pass("viscosity_vorticity",
                                                   {{"DAMPING", std::bit_cast<uint32_t>(float(d.solver.damping))},

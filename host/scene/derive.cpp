@@ -65,7 +65,7 @@ Derived derive(const Scene& scene) {
   d.grid = glm::ivec3(cells);
   // Pairs always; a single iteration only where it runs smoothed (constraint_schedule): beside
   // an unsmoothed one the correction made energy at every strength measured.
-  if (d.solver.iterations >= 2 || d.lone_pass_smoothed()) {
+  if (d.solver.iterations >= 2 || d.smooths_lambda()) {
     const glm::dvec3 span = d.wall_max - d.wall_min;
     d.coarse.nodes = glm::max(glm::ivec3(1), glm::ivec3(glm::round(span / (COARSE_CELL * s))));
     for (int a = 0; a < 3; ++a) d.coarse.cell[a] = span[a] > 0 ? span[a] / d.coarse.nodes[a] : COARSE_CELL * s;

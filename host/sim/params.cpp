@@ -35,11 +35,11 @@ std::vector<Derived::ConstraintPass> Derived::constraint_schedule(int passes) co
   // A lone pass runs as a pair's first does, smoothed and as bold, where lambda is smoothed:
   // the coarse correction (at COARSE_LONE_STRENGTH) takes the long modes, which a second pass
   // would otherwise have to (docs/physics.md). Unsmoothed it runs at the single pass's gain.
-  if (passes == 1 && lone_pass_smoothed())
+  if (passes == 1 && smooths_lambda())
     return {{jacobi_schedule(1, solver.jacobi_gain, paired_gain_max)[0], true}};
   std::vector<ConstraintPass> schedule;
   for (double w : jacobi_schedule(passes - passes % 2, solver.jacobi_gain, paired_gain_max))
-    schedule.push_back({w, solver.lambda_smoothing > 0});
+    schedule.push_back({w, smooths_lambda()});
   if (passes % 2) schedule.push_back({jacobi_schedule(1, solver.jacobi_gain, jacobi_gain_max)[0], false});
   return schedule;
 }

@@ -75,9 +75,9 @@ struct Derived {
   // tank oscillated at 0.4-2.9 m/s, docs/physics.md); unsmoothed (lambda_smoothing 0), and
   // as an odd count's last pass, it runs at jacobi_gain_max's.
   std::vector<ConstraintPass> constraint_schedule(int passes) const;
-  // Whether a single iteration runs smoothed, with the coarse correction beside it: wherever
-  // lambda is smoothed at all.
-  bool lone_pass_smoothed() const { return solver.lambda_smoothing > 0; }
+  // Whether the constraint passes average lambda (solver.lambda_smoothing > 0): pairs, and a
+  // single iteration with the coarse correction beside it.
+  bool smooths_lambda() const { return solver.lambda_smoothing > 0; }
   // LDC: the K the force uses (1/s^2; 0 for pbf) and the K at which the explicit force
   // alone goes unstable at this dt and h / spacing (K dt^2 s = 4).
   double ldc_k, ldc_k_limit;
