@@ -89,9 +89,11 @@ void require_status(GLuint object, GLenum status, PFNGLGETSHADERIVPROC get_iv, P
 
 Object compile(GLenum stage, const std::string& name) {
   Object shader(glCreateShader(stage), [](GLuint s) { glDeleteShader(s); });
-  // GLSL has no #include: every stage gets the shared declarations after its #version, and
+  // GLSL has no #include: every stage gets the shared declarations after its #version (the
+  // frame's shape layout, which the solver's shaders include, then the render passes'), and
   // the compute passes, the fluid surface's, its tiles.
-  std::string text = "#version 450 core\n" + std::string(source("render_common.glsl")) +
+  std::string text = "#version 450 core\n" + std::string(source("shape_layout.glsl")) +
+                     std::string(source("render_common.glsl")) +
                      (stage == GL_COMPUTE_SHADER ? std::string(source("surface_tiles.glsl")) : "") + "#line 1\n" +
                      std::string(source(name));
   const GLchar* ptr = text.c_str();

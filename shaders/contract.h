@@ -41,10 +41,9 @@
 // eigenvectors of the neighbourhood's weighted covariance and proportional to its eigenvalues,
 // each at least 1/SHAPE_MAX_STRETCH of the largest; a sphere where fewer than
 // SHAPE_MIN_NEIGHBOURS particles (itself and wall images included) lie within h.
-// SHAPE_SWEEPS Jacobi sweeps diagonalise the covariance. In the frame a shape is two vec4s,
-// (T_xx - 1, T_yy - 1, T_zz - 1, a_max - 1) and (T_xy, T_xz, T_yz, 0): T = R diag(a^2) R^T the
-// ellipsoid's matrix and a_max its longest semi-axis, both in particle radii, so that zeros
-// draw the sphere.
+// SHAPE_SWEEPS Jacobi sweeps diagonalise the covariance. The frame holds T = R diag(a^2) R^T,
+// the ellipsoid's matrix, and its longest semi-axis, both in particle radii
+// (shape_layout.glsl).
 #define SHAPE_MAX_STRETCH 4.0
 #define SHAPE_MIN_NEIGHBOURS 6
 #define SHAPE_SWEEPS 4

@@ -14,6 +14,7 @@
 layout(local_size_x_id = 0) in;
 #include "common.glsl"
 #include "contract.h"
+#include "shape_layout.glsl"
 
 layout(binding = 1, rgba32f) uniform readonly imageBuffer x;
 layout(std430, binding = 2) writeonly buffer XSmooth { vec4 x_smooth[]; };
@@ -62,15 +63,13 @@ void write_shape(uint i, mat3 covariance, int count) {
   symmetric_eigen(covariance, l, axes);
   float largest = max(l.x, max(l.y, l.z));
   if (count < SHAPE_MIN_NEIGHBOURS || !(largest > 0.0)) {
-    shape[2 * i] = vec4(0.0);
-    shape[2 * i + 1] = vec4(0.0);
+    encode_shape(mat3(1.0), 1.0, shape[2 * i], shape[2 * i + 1]);
     return;
   }
   vec3 a = max(l, vec3(largest / SHAPE_MAX_STRETCH));
   a /= pow(a.x * a.y * a.z, 1.0 / 3.0);  // the sphere's volume
   mat3 t = axes * mat3(a.x * a.x, 0, 0, 0, a.y * a.y, 0, 0, 0, a.z * a.z) * transpose(axes);
-  shape[2 * i] = vec4(t[0][0] - 1.0, t[1][1] - 1.0, t[2][2] - 1.0, max(a.x, max(a.y, a.z)) - 1.0);
-  shape[2 * i + 1] = vec4(t[1][0], t[2][0], t[2][1], 0.0);
+  encode_shape(t, max(a.x, max(a.y, a.z)), shape[2 * i], shape[2 * i + 1]);
 }
 
 void main() {

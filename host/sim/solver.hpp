@@ -96,8 +96,8 @@ inline FrameOffsets frame_offsets(size_t n) {
 }
 inline size_t frame_bytes(size_t n) { return frame_offsets(n).end; }
 
-// A drawn shape's two vec4s (shaders/contract.h): the ellipsoid's matrix T, in particle radii
-// (the identity draws the sphere), and its longest semi-axis.
+// A drawn shape's two vec4s, as shaders/shape_layout.glsl lays them out: the ellipsoid's
+// matrix T, in particle radii (the identity draws the sphere), and its longest semi-axis.
 inline std::array<glm::vec4, 2> encode_shape(const glm::dmat3& t, double longest_axis) {
   return {glm::vec4(t[0][0] - 1, t[1][1] - 1, t[2][2] - 1, longest_axis - 1), glm::vec4(t[1][0], t[2][0], t[2][1], 0)};
 }

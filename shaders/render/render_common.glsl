@@ -1,4 +1,5 @@
-// Shared by the render shaders (prepended after #version by capture/gl_objects.cpp):
+// Shared by the render shaders (prepended after #version and shape_layout.glsl by
+// capture/gl_objects.cpp):
 // the per-frame uniforms and the particle buffer in the solver's frame layout
 // (vec4 x[n], vec4 v[n], float rho[n], vec4 x_smooth[n], vec4 shape[2n]: frame_offsets in
 // solver.hpp).
@@ -39,14 +40,14 @@ vec3 particle_x_smooth(int i) {
   int o = 9 * count + 4 * i;
   return vec3(particle_data[o], particle_data[o + 1], particle_data[o + 2]);
 }
-// The shape the fluid's surface draws the particle with (shaders/contract.h): the ellipsoid
-// {p : (p - c)^T inverse(T) (p - c) <= radius^2}, T in particle radii (the identity: the
-// sphere), and its longest semi-axis in radii.
+// The shape the fluid's surface draws the particle with (shape_layout.glsl): the ellipsoid
+// {p : (p - c)^T inverse(T) (p - c) <= radius^2} (the identity: the sphere), and its longest
+// semi-axis in radii.
 mat3 particle_shape(int i, out float longest_axis) {
   int o = 13 * count + 8 * i;
-  longest_axis = particle_data[o + 3] + 1.0;
-  float xy = particle_data[o + 4], xz = particle_data[o + 5], yz = particle_data[o + 6];
-  return mat3(particle_data[o] + 1.0, xy, xz, xy, particle_data[o + 1] + 1.0, yz, xz, yz, particle_data[o + 2] + 1.0);
+  return decode_shape(vec4(particle_data[o], particle_data[o + 1], particle_data[o + 2], particle_data[o + 3]),
+                      vec4(particle_data[o + 4], particle_data[o + 5], particle_data[o + 6], particle_data[o + 7]),
+                      longest_axis);
 }
 
 // The view-space ray through a point of the viewport (pixels): the point at linear eye
