@@ -16,20 +16,17 @@ namespace pbflow {
 
 namespace {
 
-// coarse_sweep.comp in one workgroup of this many threads, phi in its shared memory, for a grid
-// of this many nodes (this many of a colour), or 0: a dispatch a half sweep. One workgroup saves
-// the dispatches' barriers (on an H200 at 16k particles the solve took 0.12 ms so, 0.28 ms in 40
-// dispatches) until its threads have too many nodes each: on the H200 past four (at 159k
-// particles, six a thread, 0.47 ms against 0.33-0.34 by dispatches; at 79k, three a thread, 0.30
-// against 0.31-0.32; at 1M 2.0 against 0.48), or its phi outgrows shared memory. A CPU device
-// (lavapipe) takes every invocation through every barrier and dispatches dearly: there a thread
-// for eight nodes, and one workgroup up to eight a thread (at 16k 1024 threads cost a pbf@2 step
-// 4.5 ms, 64 threads 2.5 ms).
+// coarse_sweep.comp in one workgroup of this many threads, phi in its shared memory, while the
+// grid's phi (this many nodes, this many of a colour) fits there, or 0: a dispatch a half sweep.
+// One workgroup saves the dispatches' barriers: on an H200 the coarse passes took 0.068 ms a step
+// at 16k particles so (0.128 with phi in the buffer), and 0.165 ms at 128k (10 000 nodes, five
+// of a colour a thread) where 40 dispatches took 0.300. A CPU device (lavapipe) takes every
+// invocation through every barrier: there a thread for eight nodes (at 16k 1024 threads cost a
+// pbf@2 step 4.5 ms, 64 threads 2.5 ms).
 uint32_t coarse_sweep_group(const vk::Context& ctx, uint32_t nodes, uint32_t per_colour) {
+  if (nodes * sizeof(float) > ctx.limits().maxComputeSharedMemorySize) return 0;
   const bool cpu = ctx.info().kind == "cpu";
   const uint32_t most = std::min(1024u, ctx.limits().maxComputeWorkGroupInvocations) / 64 * 64;
-  if (per_colour > (cpu ? 8u : 4u) * most) return 0;
-  if (nodes * sizeof(float) > ctx.limits().maxComputeSharedMemorySize) return 0;
   const uint32_t wanted = cpu ? per_colour / 8 : per_colour;
   return std::clamp((wanted + 63) / 64 * 64, 64u, most);
 }
