@@ -11,11 +11,10 @@ layout(local_size_x_id = 0) in;
 #include "coarse.glsl"
 
 // A small grid is solved in one dispatch: one workgroup holds the whole of phi in shared memory
-// (SHARED_NODES, the grid's node count) through all COARSE_SWEEPS sweeps, a barrier between half
-// sweeps (on an H200 the coarse passes took 0.068 ms a step at 16k particles so, 0.128 with phi
-// in the buffer and a buffer barrier between half sweeps; 0.105 against 0.203 at 49k). A large
-// grid (SHARED_NODES 0) takes a dispatch per half sweep, phi in the buffer, across as many
-// workgroups as it has nodes of a colour (GpuSolver's coarse_sweep_group says which).
+// (SHARED_NODES, the grid's node count) through all COARSE_SWEEPS sweeps, a workgroup barrier
+// between half sweeps. A large grid (SHARED_NODES 0) takes a dispatch per half sweep, phi in
+// the buffer, across as many workgroups as it has nodes of a colour (GpuSolver's
+// coarse_sweep_group says which, and what one workgroup saves).
 layout(constant_id = 7) const int FIRST_COLOUR = 0;  // (x + y + z) % 2 of the nodes updated first
 layout(constant_id = 8) const int SHARED_NODES = 0;
 const bool WHOLE = SHARED_NODES > 0;

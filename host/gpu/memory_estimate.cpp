@@ -20,8 +20,9 @@ namespace {
 // (x, v, x_pred) and a frame read back for rendering or export (x, v, rho, id).
 constexpr double kHostPerParticleGpuRun = 24 + 72 + 48 + 40;
 // A drawn run's particles also carry the drawn shape on the device (two vec4s), and a frame
-// read back carries it and the smoothed positions.
-constexpr double kDevicePerParticleDrawn = 32, kHostPerParticleDrawn = 48;
+// read back carries it and the smoothed positions (frame_offsets).
+constexpr double kDevicePerParticleDrawn = 2 * sizeof(glm::vec4);
+constexpr double kHostPerParticleDrawn = 3 * sizeof(glm::vec4);
 // The reference solver: x, v, x_pred, omega (dvec3), rho, lambda, its cell lists, two scratch
 // dvec3 arrays, the initial lattice and a frame read back; its neighbour lists are as the
 // GPU's (8 bytes an entry, a count), bounded by the capacity.
