@@ -71,3 +71,6 @@ vec3 project_out_of_solids(vec3 x) {
   }
   return project_to_walls(x);
 }
+
+// The prediction x* = x + v dt, stopped at the first solid it meets and kept out of them all.
+vec3 predicted_position(vec3 x, vec3 v) { return project_out_of_solids(stop_at_solids(x, x + v * sim.dt)); }

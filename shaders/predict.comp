@@ -1,5 +1,6 @@
 #version 450
-// v_i += g dt; x*_i = x_i + v_i dt, kept inside the walls and out of the obstacles.
+// v_i += g dt; x*_i = x_i + v_i dt, kept inside the walls and out of the obstacles. With LDC
+// the correction pass predicts instead (correction_force.comp), in the same order.
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x_id = 0) in;
 #include "common.glsl"
@@ -15,5 +16,5 @@ void main() {
   if (i >= sim.count) return;
   vec3 vi = v[i].xyz + sim.gravity * sim.dt;
   v[i].xyz = vi;
-  x_pred[i] = vec4(project_out_of_solids(stop_at_solids(x[i].xyz, x[i].xyz + vi * sim.dt)), 0.0);
+  x_pred[i] = vec4(predicted_position(x[i].xyz, vi), 0.0);
 }

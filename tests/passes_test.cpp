@@ -134,19 +134,21 @@ TEST_P(PassTest, SmoothedPositions) {
   expect_close(test::compare(shape_gpu, shape_ref, "drawn shapes T (particle radii)"), 1e-3);
 }
 
-TEST_P(PassTest, CorrectionForce) {
+TEST_P(PassTest, CorrectionForceAndPredict) {
   ParticleState g = run_gpu([&] {
     gpu.grid_at_positions();
     gpu.density();
-    gpu.correction();
+    gpu.correction_and_predict();
   });
   ref.build_grid(ref.state.x);
   ref.density();
   ref.correction();
-  // Compare the velocity change f dt: it is small next to v itself.
+  ref.predict();
+  // Compare the velocity change (f + g) dt: it is small next to v itself.
   expect_close(test::compare(test::difference(g.v, input.v), test::difference(ref.state.v, input.v),
-                             "correction force dv = f dt"),
+                             "correction force and gravity dv = (f + g) dt"),
                1e-3);
+  expect_close(test::compare(g.x_pred, ref.state.x_pred, "correction and predict x_pred"));
 }
 
 TEST_P(PassTest, Predict) {

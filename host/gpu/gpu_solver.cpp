@@ -312,11 +312,13 @@ void GpuSolver::density() {
   });
 }
 
-void GpuSolver::correction() {
+void GpuSolver::correction_and_predict() {
   run_neighbour_pass(correction_, nullptr, [&] {
     cmd_.bind("x", at(X));
     cmd_.bind("rho", rho_);
     cmd_.bind("v", at(V));
+    cmd_.bind("x_pred", at(XPred));
+    cmd_.bind("obstacles", obstacles_);
   });
 }
 
@@ -481,11 +483,12 @@ void GpuSolver::record_step() {
       density_at_positions();
       end_of(PassGroup::Density);
     }
-    correction();
+    correction_and_predict();
     end_of(PassGroup::Correction);
+  } else {
+    predict();
+    end_of(PassGroup::Predict);
   }
-  predict();
-  end_of(PassGroup::Predict);
   grid_at_predictions();
   bool first = true;
   for (const Derived::ConstraintPass& pass : d_.constraint_schedule(d_.solver.iterations)) {

@@ -39,7 +39,7 @@ class GpuSolver : public Solver {
   void grid_at_positions();    // sorts x, v, id by the cells of x
   void grid_at_predictions();  // sorts x, x_pred, id by the cells of x_pred
   void density();
-  void correction();
+  void correction_and_predict();  // LDC's v += f dt, then predict()'s work in the same pass
   void predict();
   // With `indirect`, group counts come from that buffer (adaptive iterations).
   void constraint_lambda(const vk::Buffer* indirect = nullptr);
