@@ -19,6 +19,7 @@
 #include "scene/parse.hpp"
 #include "scene/scene.hpp"
 #include "scene/seeding.hpp"
+#include "sim/settle.hpp"
 #include "vk/context.hpp"
 
 namespace pbflow::bench {
@@ -70,6 +71,7 @@ Measured measure(const ScalingOptions& o, const Scene& base, const vk::Context* 
   check_memory(need, ctx ? &ctx->info() : nullptr);  // InputError: this count does not fit
 
   std::unique_ptr<Solver> solver = make_solver(ctx, d, x0);
+  relax_seed(*solver);  // as `pbflow run` starts
   if (auto* gpu = dynamic_cast<GpuSolver*>(solver.get())) gpu->set_profiling(true);
   const int substeps = scene.solver.substeps;
   const int frames = std::max(1, int(std::lround(o.seconds * scene.fps)));

@@ -38,7 +38,7 @@ class DrawnShapeTest : public test::GpuTest {
 // The tank's lattice: inside and against the walls (their images complete the neighbourhood)
 // a sphere; the top layer a disc, thin along y, of the sphere's volume.
 TEST_F(DrawnShapeTest, ALatticeIsSpheresInsideAndDiscsAtItsTop) {
-  const std::vector<glm::dvec3> x = initial_particles(scene);
+  const std::vector<glm::dvec3> x = lattice_particles(scene);
   const std::vector<glm::dmat3> t = shapes(x);
   double top = 0, inside_worst = 0;
   for (const glm::dvec3& p : x) top = std::max(top, p.y);

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "gpu/gpu_solver.hpp"
+#include "sim/settle.hpp"
 #include "support.hpp"
 
 namespace pbflow {
@@ -16,6 +17,7 @@ struct Outcome {
 
 Outcome simulate(const Scene& scene, double seconds) {
   GpuSolver solver(test::gpu(), derive(scene), initial_particles(scene));
+  relax_seed(solver);  // as a run starts
   FrameStats s = solver.advance(0);
   EnergyGain energy;
   energy.add(s);
@@ -86,11 +88,12 @@ INSTANTIATE_TEST_SUITE_P(RealTimeStep, EnergyTest,
                                          Setting{"pbf", 4, 2}, Setting{"ldc", 1, 2}, Setting{"ldc", 2, 2}),
                          name);
 
-// Smoothing lambda is what keeps pbf@2 sound at finer spacings beside the coarse correction:
-// without it the dam break at 0.0137 m (~49k particles, 60 fps x 2 substeps) gains 3.6 % of
-// its potential energy, with it none (docs/physics.md). The scene at full size: smaller tanks at that
-// spacing gained nothing either way, so the test could not tell.
-TEST_F(EnergyTestBase, SmoothedLambdaKeepsTheFinerDamBreakFromMakingEnergy) {
+// What smoothing lambda earns a pair of passes: it lets them run 2.8x bolder (docs/physics.md),
+// and the dam break at 0.0137 m (~49k particles, 60 fps x 2 substeps) compresses 0.48 % with it
+// against 0.55 % without, neither making energy. From a lattice seed the unsmoothed run also
+// gained 3.6 % of its potential energy; from the jittered seed it gains none. The scene at
+// full size: smaller tanks at that spacing read alike either way.
+TEST_F(EnergyTestBase, SmoothedLambdaHoldsTheFinerDamBreakDenser) {
   Scene smoothed = load_scene("dam_break", overrides({"pbf", 2, 2}));
   smoothed.particle_spacing = 0.0137;
   ASSERT_GT(derive(smoothed).solver.lambda_smoothing, 0);
@@ -101,7 +104,8 @@ TEST_F(EnergyTestBase, SmoothedLambdaKeepsTheFinerDamBreakFromMakingEnergy) {
               without.gain, with.gain, without.mean_compression, with.mean_compression);
   EXPECT_FALSE(with.diverged);
   EXPECT_LE(with.gain, 0.01);
-  EXPECT_GT(without.gain, 0.01) << "lambda smoothing no longer earns its place: measure removing it";
+  EXPECT_LT(with.mean_compression, 0.95 * without.mean_compression)
+      << "lambda smoothing no longer earns its place: measure removing it";
 }
 
 // Smaller steps are at least as sound: the unrelaxed solver with the tensile term blew

@@ -15,6 +15,8 @@
 #include "scene/parse.hpp"
 #include "scene/scene.hpp"
 #include "scene/seeding.hpp"
+#include "sim/reference_solver.hpp"
+#include "sim/settle.hpp"
 #include "support.hpp"
 
 namespace pbflow {
@@ -176,7 +178,9 @@ TEST(Export, RunWritesOneFilePerFrameStartingFromTheInitialLattice) {
     ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   }
   Scene scene = load_scene("dam_break", {"particle_spacing=0.04"});
-  std::vector<glm::dvec3> x0 = initial_particles(scene);
+  ReferenceSolver start(derive(scene), initial_particles(scene));  // the seed relaxed, as the run starts
+  relax_seed(start);
+  const std::vector<glm::dvec3> x0 = start.download().x;
   for (int frame = 0; frame < 3; ++frame) {
     Rows ply = read_ply(capture::frame_file(dir / "ply" / "particles", frame, 3, "ply"));
     Rows vtp = read_vtp(capture::frame_file(dir / "vtk" / "particles", frame, 3, "vtp"));
@@ -188,7 +192,7 @@ TEST(Export, RunWritesOneFilePerFrameStartingFromTheInitialLattice) {
         ASSERT_NEAR(ply[i][c], vtp[i][c], 1e-4 * (1 + std::abs(ply[i][c]))) << "frame " << frame << " particle " << i;
     if (frame > 0) continue;
     for (size_t i = 0; i < x0.size(); ++i)
-      ASSERT_NEAR(glm::length(glm::dvec3(ply[i][0], ply[i][1], ply[i][2]) - x0[i]), 0.0, 1e-6) << "particle " << i;
+      ASSERT_NEAR(glm::length(glm::dvec3(ply[i][0], ply[i][1], ply[i][2]) - x0[i]), 0.0, 1e-5) << "particle " << i;
   }
 }
 

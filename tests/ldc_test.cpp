@@ -106,7 +106,7 @@ TEST(LdcForce, ZeroForPbf) {
 TEST(LdcForce, AWallParticleFeelsTheInteriorsForce) {
   Scene scene = slab_scene("ldc", 2000);
   Derived d = derive(scene);
-  auto x = initial_particles(scene);
+  auto x = lattice_particles(scene);
   ReferenceSolver ref(d, x);
   ref.build_grid(ref.state.x);
   ref.density();  // lists the neighbours; the densities are then set by hand

@@ -106,7 +106,12 @@ TEST_P(RestTest, TankLosesEnergyAndSettles) {
   ASSERT_EQ(scene.particle_spacing, 0.02);
   ASSERT_EQ(scene.gravity, glm::dvec3(0, -9.81, 0));
   Derived d = derive(scene);
-  GpuSolver solver(test::gpu(), d, initial_particles(scene));
+  // From the lattice, not the jittered seed a run starts from: on the lattice the walls' images
+  // continue the fluid exactly, and the wall layer must read what the inside does. From the
+  // jittered seed pbf@3 settles with its wall layer at 0.42 % against 0.48 % inside (four λ
+  // averages; two read 0.52 / 0.51 %), pbf@4 at 0.29 against 0.40 %: a known problem
+  // (docs/physics.md, "The seed").
+  GpuSolver solver(test::gpu(), d, lattice_particles(scene));
   SettleReport settled = settle(solver, d);
   ASSERT_TRUE(settled.converged) << settled.steps << " steps";
   EXPECT_GT(settled.potential_drop, 0.0);
@@ -189,6 +194,7 @@ TEST_P(DeepOrFineTest, ColumnHeldStillAndUnsqueezed) {
                       std::string("solver.method=\"") + c.method + "\"", "solver.iterations=" + std::to_string(c.iterations)});
   Derived d = derive(scene);
   GpuSolver solver(test::gpu(), d, initial_particles(scene));
+  relax_seed(solver);  // as a run starts
   // The settle may stop at its step limit still moving (fine_pbf2 does): what follows is judged.
   const SettleReport settled = settle(solver, d);
   std::printf("  settle: %d steps, %s\n", settled.steps, settled.converged ? "converged" : "at its step limit");

@@ -25,7 +25,7 @@ TEST_P(WallTest, ALatticeAtRestReadsRho0AtTheWalls) {
   const double spacing = GetParam();
   Scene scene = load_scene("hydrostatic", {"particle_spacing=" + std::to_string(spacing)});
   Derived d = derive(scene);
-  GpuSolver solver(test::gpu(), d, initial_particles(scene));
+  GpuSolver solver(test::gpu(), d, lattice_particles(scene));
   solver.advance(0);
   ParticleState s = solver.download();
   const double top = 0.4 - 0.5 * spacing;  // the lattice's top layer
@@ -60,7 +60,7 @@ TEST_P(WallTest, SmoothedPositionsMoveOnlyTheFreeSurface) {
   const double spacing = GetParam();
   Scene scene = load_scene("hydrostatic", {"particle_spacing=" + std::to_string(spacing)});
   Derived d = derive(scene);
-  GpuSolver solver(test::gpu(), d, initial_particles(scene));
+  GpuSolver solver(test::gpu(), d, lattice_particles(scene));
   solver.set_smoothed_positions(true);
   solver.advance(0);
   const ParticleFrame f = solver.read_frame();

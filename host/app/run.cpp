@@ -157,6 +157,7 @@ int run(const RunOptions& o) {
     }
 
     Progress progress(scene.frames, !o.quiet);
+    relax_seed(*solver);
     if (scene.settle) {
       SettleReport r = settle(*solver, d, [&](int step) {
         progress.settling(step);

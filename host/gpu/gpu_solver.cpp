@@ -490,18 +490,7 @@ void GpuSolver::record_step() {
     end_of(PassGroup::Predict);
   }
   grid_at_predictions();
-  bool first = true;
-  for (const Derived::ConstraintPass& pass : d_.constraint_schedule(d_.solver.iterations)) {
-    constraint_lambda();
-    if (first && d_.coarse.strength > 0) {  // from the first pass's rho
-      end_of(PassGroup::Constraints);
-      coarse_correction();
-      end_of(PassGroup::Coarse);
-    }
-    first = false;
-    if (pass.smoothed) constraint_smooth();
-    constraint_apply(pass.relax);
-  }
+  constraint_passes();
   if (d_.solver.target_compression > 0) adaptive_iterations();
   end_of(PassGroup::Constraints);
   velocity_update();
@@ -516,6 +505,38 @@ void GpuSolver::record_step() {
   watch();
   // The watch counts with the step's last group, so that the groups cover the whole step.
   end_of(viscosity ? PassGroup::Viscosity : PassGroup::Velocity);
+}
+
+void GpuSolver::constraint_passes() {
+  bool first = true;
+  for (const Derived::ConstraintPass& pass : d_.constraint_schedule(d_.solver.iterations)) {
+    constraint_lambda();
+    if (first && d_.coarse.strength > 0) {  // from the first pass's rho
+      end_of(PassGroup::Constraints);
+      coarse_correction();
+      end_of(PassGroup::Coarse);
+    }
+    first = false;
+    if (pass.smoothed) constraint_smooth();
+    constraint_apply(pass.relax);
+  }
+}
+
+void GpuSolver::relax(int times) {
+  begin();
+  for (int k = 0; k < times; ++k) {
+    const VkBufferCopy all{0, 0, at(X).bytes()};
+    vkCmdCopyBuffer(cmd_.handle(), at(X).handle(), at(XPred).handle(), 1, &all);  // x* = x
+    vk::memory_barrier(cmd_.handle());
+    grid_at_predictions();
+    constraint_passes();
+    swap_roles(X, XPred);
+  }
+  cmd_.fill(at(V), 0);  // the sorts leave v in the old order: it is zero anyway
+  finish();
+  density_current_ = false;  // no pass summed rho at the new x
+  smoothed_current_ = false;
+  lists_built_ = times > 0 || lists_built_;
 }
 
 void GpuSolver::watch() {

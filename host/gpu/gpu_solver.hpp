@@ -30,6 +30,7 @@ class GpuSolver : public Solver {
   void copy_frame(const vk::Buffer& dst) const;
   void set_smoothed_positions(bool on) override;  // builds the pass's programs when first asked
   size_t particle_count() const override { return n_; }
+  void relax(int times) override;
   std::string device_name() const override;
 
   // Pass-level access for the tests: begin(), record passes, finish() submits and waits.
@@ -54,7 +55,8 @@ class GpuSolver : public Solver {
   // spare slot, which no pass writes again before the next frame's first grid build, and
   // the particles' drawn shapes.
   void smoothed_positions();
-  void record_step();  // one step, then the divergence watch
+  void record_step();        // one step, then the divergence watch
+  void constraint_passes();  // the step's constraint schedule at x_pred, the coarse correction in its first pass
   void record_measures();  // grid and density at x, then the reductions
 
   // Timestamps after every pass group, reported in FrameStats::pass_ms (benchmarks).

@@ -1,11 +1,21 @@
 #include "scene/seeding.hpp"
 
 #include <algorithm>
+#include <random>
 
 namespace pbflow {
 
-std::vector<glm::dvec3> initial_particles(const Scene& scene) {
+namespace {
+// The lattice points, each moved by up to `jitter` spacings along each axis; the obstacles are
+// kept out of the moved points.
+std::vector<glm::dvec3> seed(const Scene& scene, double jitter) {
   const double s = scene.particle_spacing;
+  std::mt19937_64 random(20261126);
+  std::uniform_real_distribution<double> offset(-jitter * s, jitter * s);
+  auto moved = [&](glm::dvec3 x) {
+    for (int axis = 0; axis < 3; ++axis) x[axis] += offset(random);
+    return x;
+  };
   std::vector<Obstacle> keep_out;
   for (const Obstacle& o : scene.obstacles) keep_out.push_back(o.grown(0.5 * s));
   auto in_box = [](const glm::dvec3& x, const Box& b) {
@@ -24,7 +34,8 @@ std::vector<glm::dvec3> initial_particles(const Scene& scene) {
           glm::dvec3 x = box.min + s * (glm::dvec3(i, j, k) + 0.5);
           bool earlier = false;
           for (size_t e = 0; e < b && !earlier; ++e) earlier = in_box(x, scene.fluid_blocks[e]);
-          if (!earlier && outside_obstacles(x)) points.push_back(x);
+          if (earlier) continue;
+          if (glm::dvec3 m = moved(x); outside_obstacles(m)) points.push_back(m);
         }
   }
   for (size_t b = 0; b < scene.fluid_spheres.size(); ++b) {
@@ -40,11 +51,18 @@ std::vector<glm::dvec3> initial_particles(const Scene& scene) {
                                      [&](const Box& box) { return in_box(x, box); });
           for (size_t e = 0; e < b && !earlier; ++e)
             earlier = glm::length(x - scene.fluid_spheres[e].centre) < scene.fluid_spheres[e].radius;
-          if (!earlier && outside_obstacles(x)) points.push_back(x);
+          if (earlier) continue;
+          if (glm::dvec3 m = moved(x); outside_obstacles(m)) points.push_back(m);
         }
   }
   if (points.empty()) throw InputError("the fluid holds no particle at this particle_spacing");
   return points;
 }
+
+}  // namespace
+
+std::vector<glm::dvec3> lattice_particles(const Scene& scene) { return seed(scene, 0.0); }
+
+std::vector<glm::dvec3> initial_particles(const Scene& scene) { return seed(scene, kSeedJitter); }
 
 }  // namespace pbflow

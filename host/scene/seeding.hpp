@@ -12,6 +12,13 @@ namespace pbflow {
 // that a block [a, b] holds (b - a)/spacing particles per axis) and the fluid spheres
 // (a lattice from the domain's corner); overlaps counted once; none where an obstacle
 // grown by half a spacing would push it out.
+std::vector<glm::dvec3> lattice_particles(const Scene& scene);
+
+// Each lattice point moved by up to kSeedJitter spacings along each axis (uniform, one fixed
+// seed: every run of a scene starts alike). A lattice's order outlives the flow: its columns
+// drew stripes on the water's faces, and the drop's mirror symmetry a seam that no particle
+// crossed (docs/rendering.md). A solver starts from this seed relaxed (sim/settle.hpp).
+inline constexpr double kSeedJitter = 0.025;
 std::vector<glm::dvec3> initial_particles(const Scene& scene);
 
 }  // namespace pbflow

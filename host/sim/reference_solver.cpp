@@ -363,6 +363,27 @@ void ReferenceSolver::vorticity_force() {
   }
 }
 
+void ReferenceSolver::constraint_passes() {
+  bool first = true;
+  for (const Derived::ConstraintPass& pass : d_.constraint_schedule(d_.solver.iterations)) {
+    constraint_lambda();
+    if (first && d_.coarse.strength > 0) coarse_correction();  // from the first pass's rho
+    first = false;
+    if (pass.smoothed) constraint_smooth();
+    constraint_apply(pass.relax);
+  }
+}
+
+void ReferenceSolver::relax(int times) {
+  for (int k = 0; k < times; ++k) {
+    state.x_pred = state.x;
+    build_grid(state.x_pred);
+    constraint_passes();
+    state.x = state.x_pred;
+  }
+  for (dvec3& v : state.v) v = dvec3(0.0);
+}
+
 void ReferenceSolver::step() {
   const SolverParams& p = d_.solver;
   if (p.method == Method::Ldc) {
@@ -371,14 +392,7 @@ void ReferenceSolver::step() {
   }
   predict();
   build_grid(state.x_pred);
-  bool first = true;
-  for (const Derived::ConstraintPass& pass : d_.constraint_schedule(p.iterations)) {
-    constraint_lambda();
-    if (first && d_.coarse.strength > 0) coarse_correction();  // from the first pass's rho
-    first = false;
-    if (pass.smoothed) constraint_smooth();
-    constraint_apply(pass.relax);
-  }
+  constraint_passes();
   int run = p.iterations;
   // Adaptive: as the GPU's check (check_converged.comp), from the last lambda pass's
   // densities, a pair of iterations at a time (GpuSolver::adaptive_iterations says why).

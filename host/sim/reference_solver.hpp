@@ -19,9 +19,11 @@ class ReferenceSolver : public Solver {
   ParticleState download() const override { return state; }
   void upload(const ParticleState& s) override;
   size_t particle_count() const override { return state.x.size(); }
+  void relax(int times) override;
   std::string device_name() const override { return "cpu (C++ reference)"; }
 
   void step();
+  void constraint_passes();  // the step's constraint schedule at x_pred, the coarse correction in its first pass
   FrameStats measure();  // density at x (from the last step's lists, as the GPU), then the measures
 
   // The passes of one step (docs/design.md), public so that tests can run them one by one.
