@@ -6,6 +6,7 @@
 
 #include "gpu/gpu_solver.hpp"
 #include "sim/reference_solver.hpp"
+#include "sim/settle.hpp"
 #include "support.hpp"
 
 namespace pbflow {
@@ -353,6 +354,32 @@ TEST_P(StepTest, SeveralStepsAgree) {
   test::ErrorReport ev = test::compare(g.v, ref.state.v, std::string(c.name) + " velocities after 4 steps");
   EXPECT_LT(e.max_abs, 1e-5);                 // metres
   EXPECT_LT(ev.max_abs, 1e-3 * ev.scale);
+}
+
+// The seed's relax (Solver::relax, sim/settle.hpp): the GPU's projections agree with the
+// reference's, leave the fluid at rest, and take out the compression the jitter brought.
+TEST_P(StepTest, TheSeedsRelaxAgreesAndDecompresses) {
+  const StepCase& c = GetParam();
+  Scene scene = load_scene("dam_break", {"particle_spacing=0.04", std::string("solver.method=\"") + c.method + "\"",
+                                         std::string("obstacles=") + c.obstacles});
+  Derived d = derive(scene);
+  auto x0 = initial_particles(scene);
+  GpuSolver gpu(test::gpu(), d, x0);
+  ReferenceSolver ref(d, x0);
+  const double seeded = ref.advance(0).mean_compression;
+  relax_seed(gpu);
+  relax_seed(ref);
+  const FrameStats g = gpu.advance(0), r = ref.advance(0);
+  std::printf("  %s: mean compression %.5f seeded, %.5f relaxed (reference %.5f)\n", c.name, seeded,
+              g.mean_compression, r.mean_compression);
+  EXPECT_LT(r.mean_compression, 0.5 * seeded);
+  EXPECT_NEAR(g.mean_compression, r.mean_compression, 1e-4 + 1e-2 * r.mean_compression);
+  EXPECT_EQ(g.kinetic_energy, 0.0);
+  const ParticleState gs = gpu.download();
+  test::ErrorReport e = test::compare(test::difference(gs.x, x0), test::difference(ref.state.x, x0),
+                                      std::string(c.name) + " the relax's moves");
+  EXPECT_LT(e.max_abs, 1e-5);  // metres
+  EXPECT_GT(e.scale, 0.0) << "the relax moved nothing";
 }
 
 // The obstacles stand inside the column, so that particles meet them from the first step.
