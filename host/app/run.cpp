@@ -47,6 +47,9 @@ class Progress {
     std::fprintf(stderr, "\rframe %d/%d  t = %.2f s  %.1f frames/s  %.0f s left   ", frame + 1, frames_, sim_time,
                  rate, left);
   }
+  void relaxing(int projection) {
+    if (enabled_) std::fprintf(stderr, "\rrelaxing the seed: %d/%d   ", projection, kSeedRelax);
+  }
   void settling(int step) {
     if (enabled_) std::fprintf(stderr, "\rsettling: step %d   ", step);
   }
@@ -157,7 +160,11 @@ int run(const RunOptions& o) {
     }
 
     Progress progress(scene.frames, !o.quiet);
-    relax_seed(*solver);
+    relax_seed(*solver, [&](int projection) {
+      progress.relaxing(projection);
+      return !interrupt.signal();
+    });
+    progress.done();
     if (scene.settle) {
       SettleReport r = settle(*solver, d, [&](int step) {
         progress.settling(step);

@@ -12,6 +12,13 @@ constexpr int kWindow = 25;         // steps over which the potential energy mus
 constexpr double kStill = 2e-4;     // relative change of the potential energy over the window
 }  // namespace
 
+void relax_seed(Solver& solver, const std::function<bool(int)>& progress) {
+  for (int k = 1; k <= kSeedRelax; ++k) {
+    solver.relax(1);
+    if (progress && !progress(k)) return;
+  }
+}
+
 SettleReport settle(Solver& solver, const Derived& d, const std::function<bool(int)>& progress) {
   SettleReport report;
   const double g = glm::length(d.gravity);

@@ -29,7 +29,9 @@ namespace pbflow {
 // energy). kSeedRelax projections (Solver::relax) take the worst of those tests to 0.35 %
 // (ten: 1.8 %; docs/physics.md, "The seed").
 inline constexpr int kSeedRelax = 20;
-inline void relax_seed(Solver& solver) { solver.relax(kSeedRelax); }
+// `progress(projection)`, if given, is called after each projection; false stops early (an
+// interrupt). A million particles take ~20 s on lavapipe.
+void relax_seed(Solver& solver, const std::function<bool(int)>& progress = {});
 
 struct SettleReport {
   int steps = 0;
