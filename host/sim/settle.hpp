@@ -30,7 +30,7 @@ namespace pbflow {
 // (ten: 1.8 %; docs/physics.md, "The seed").
 inline constexpr int kSeedRelax = 20;
 // `progress(projection)`, if given, is called after each projection; false stops early (an
-// interrupt). A million particles take ~20 s on lavapipe.
+// interrupt). A million particles take ~46 s on lavapipe (about twenty steps' worth).
 void relax_seed(Solver& solver, const std::function<bool(int)>& progress = {});
 
 struct SettleReport {
