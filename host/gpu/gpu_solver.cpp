@@ -522,21 +522,19 @@ void GpuSolver::constraint_passes() {
   }
 }
 
-void GpuSolver::relax(int times) {
+void GpuSolver::relax() {
   begin();
-  for (int k = 0; k < times; ++k) {
-    const VkBufferCopy all{0, 0, at(X).bytes()};
-    vkCmdCopyBuffer(cmd_.handle(), at(X).handle(), at(XPred).handle(), 1, &all);  // x* = x
-    vk::memory_barrier(cmd_.handle());
-    grid_at_predictions();
-    constraint_passes();
-    swap_roles(X, XPred);
-  }
-  cmd_.fill(at(V), 0);  // the sorts leave v in the old order: it is zero anyway
+  const VkBufferCopy all{0, 0, at(X).bytes()};
+  vkCmdCopyBuffer(cmd_.handle(), at(X).handle(), at(XPred).handle(), 1, &all);  // x* = x
+  vk::memory_barrier(cmd_.handle());
+  grid_at_predictions();
+  constraint_passes();
+  swap_roles(X, XPred);
+  cmd_.fill(at(V), 0);  // the sort left v in the old order: it is zero anyway
   finish();
   density_current_ = false;  // no pass summed rho at the new x
   smoothed_current_ = false;
-  lists_built_ = times > 0 || lists_built_;
+  lists_built_ = true;        // at the x* that is now x
 }
 
 void GpuSolver::watch() {

@@ -30,7 +30,7 @@ class GpuSolver : public Solver {
   void copy_frame(const vk::Buffer& dst) const;
   void set_smoothed_positions(bool on) override;  // builds the pass's programs when first asked
   size_t particle_count() const override { return n_; }
-  void relax(int times) override;
+  void relax() override;
   std::string device_name() const override;
 
   // Pass-level access for the tests: begin(), record passes, finish() submits and waits.

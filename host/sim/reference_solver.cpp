@@ -374,13 +374,11 @@ void ReferenceSolver::constraint_passes() {
   }
 }
 
-void ReferenceSolver::relax(int times) {
-  for (int k = 0; k < times; ++k) {
-    state.x_pred = state.x;
-    build_grid(state.x_pred);
-    constraint_passes();
-    state.x = state.x_pred;
-  }
+void ReferenceSolver::relax() {
+  state.x_pred = state.x;
+  build_grid(state.x_pred);
+  constraint_passes();
+  state.x = state.x_pred;
   for (dvec3& v : state.v) v = dvec3(0.0);
 }
 

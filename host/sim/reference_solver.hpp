@@ -19,7 +19,7 @@ class ReferenceSolver : public Solver {
   ParticleState download() const override { return state; }
   void upload(const ParticleState& s) override;
   size_t particle_count() const override { return state.x.size(); }
-  void relax(int times) override;
+  void relax() override;
   std::string device_name() const override { return "cpu (C++ reference)"; }
 
   void step();

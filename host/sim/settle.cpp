@@ -14,7 +14,7 @@ constexpr double kStill = 2e-4;     // relative change of the potential energy o
 
 void relax_seed(Solver& solver, const std::function<bool(int)>& progress) {
   for (int k = 1; k <= kSeedRelax; ++k) {
-    solver.relax(1);
+    solver.relax();
     if (progress && !progress(k)) return;
   }
 }

@@ -115,10 +115,10 @@ class Solver {
   virtual void upload(const ParticleState& s) = 0;  // x, v, x_pred and rho, in id order
   virtual size_t particle_count() const = 0;
   virtual std::string device_name() const = 0;
-  // The step's constraint projection alone, `times` over: x* = x, the grid and lists at x*,
-  // the step's constraint passes, x = x*. No time passes: no gravity, no LDC, no XSPH, and the
-  // velocities are zero after. A seed starts from it (sim/settle.hpp, relax_seed).
-  virtual void relax(int times) = 0;
+  // The step's constraint projection alone, once: x* = x, the grid and lists at x*, the step's
+  // constraint passes, x = x*. No time passes: no gravity, no LDC, no XSPH, and the velocities
+  // are zero after. A seed starts from it (sim/settle.hpp, relax_seed).
+  virtual void relax() = 0;
 
   // From the next advance() on, each frame also smooths the positions (x_smooth), for a
   // capture that draws the fluid's surface; off, a frame costs no more than its steps.
