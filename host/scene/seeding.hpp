@@ -18,7 +18,7 @@ std::vector<glm::dvec3> lattice_particles(const Scene& scene);
 // seed: every run of a scene starts alike). A lattice's order outlives the flow: its columns
 // drew stripes on the water's faces, and the drop's mirror symmetry a seam that no particle
 // crossed (docs/rendering.md). A solver starts from this seed relaxed (sim/settle.hpp).
-inline constexpr double kSeedJitter = 0.05;
+inline constexpr double kSeedJitter = 0.25;
 std::vector<glm::dvec3> initial_particles(const Scene& scene);
 
 }  // namespace pbflow
