@@ -109,7 +109,7 @@ TEST_P(RestTest, TankLosesEnergyAndSettles) {
   // From the lattice, not the jittered seed a run starts from: on the lattice the walls' images
   // continue the fluid exactly, and the wall layer must read what the inside does. From the
   // jittered seed the wall layer settles less squeezed than the inside at two to four
-  // iterations (pbf@2 0.42 % against 0.49 %, pbf@4 0.23 against 0.32 %): a known problem
+  // iterations (pbf@2 0.42 % against 0.48 %, pbf@4 0.23 against 0.34 %): a known problem
   // (docs/physics.md, "The seed").
   GpuSolver solver(test::gpu(), d, lattice_particles(scene));
   SettleReport settled = settle(solver, d);
