@@ -490,7 +490,7 @@ void GpuSolver::record_step() {
     end_of(PassGroup::Predict);
   }
   grid_at_predictions();
-  constraint_passes(d_.solver.iterations, true);
+  constraint_passes(d_.solver.iterations);
   if (d_.solver.target_compression > 0) adaptive_iterations();
   end_of(PassGroup::Constraints);
   velocity_update();
@@ -507,11 +507,11 @@ void GpuSolver::record_step() {
   end_of(viscosity ? PassGroup::Viscosity : PassGroup::Velocity);
 }
 
-void GpuSolver::constraint_passes(int passes, bool coarse) {
+void GpuSolver::constraint_passes(int passes) {
   bool first = true;
   for (const Derived::ConstraintPass& pass : d_.constraint_schedule(passes)) {
     constraint_lambda();
-    if (first && coarse && d_.coarse.strength > 0) {  // from the first pass's rho
+    if (first && d_.coarse.strength > 0) {  // from the first pass's rho
       end_of(PassGroup::Constraints);
       coarse_correction();
       end_of(PassGroup::Coarse);
@@ -528,7 +528,7 @@ void GpuSolver::relax() {
   vkCmdCopyBuffer(cmd_.handle(), at(X).handle(), at(XPred).handle(), 1, &all);  // x* = x
   vk::memory_barrier(cmd_.handle());
   grid_at_predictions();
-  constraint_passes(1, true);  // Solver::relax says why
+  constraint_passes(1);  // one pass whatever the step runs: Solver::relax says why
   swap_roles(X, XPred);
   cmd_.fill(at(V), 0);  // the sort left v in the old order: it is zero anyway
   finish();

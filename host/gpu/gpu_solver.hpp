@@ -56,7 +56,7 @@ class GpuSolver : public Solver {
   // the particles' drawn shapes.
   void smoothed_positions();
   void record_step();        // one step, then the divergence watch
-  void constraint_passes(int passes, bool coarse);  // the schedule of `passes` at x_pred, the coarse correction in its first pass
+  void constraint_passes(int passes);  // the schedule of `passes` at x_pred, the coarse correction in its first pass
   void record_measures();  // grid and density at x, then the reductions
 
   // Timestamps after every pass group, reported in FrameStats::pass_ms (benchmarks).

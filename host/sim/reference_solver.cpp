@@ -363,11 +363,11 @@ void ReferenceSolver::vorticity_force() {
   }
 }
 
-void ReferenceSolver::constraint_passes(int passes, bool coarse) {
+void ReferenceSolver::constraint_passes(int passes) {
   bool first = true;
   for (const Derived::ConstraintPass& pass : d_.constraint_schedule(passes)) {
     constraint_lambda();
-    if (first && coarse && d_.coarse.strength > 0) coarse_correction();  // from the first pass's rho
+    if (first && d_.coarse.strength > 0) coarse_correction();  // from the first pass's rho
     first = false;
     if (pass.smoothed) constraint_smooth();
     constraint_apply(pass.relax);
@@ -377,7 +377,7 @@ void ReferenceSolver::constraint_passes(int passes, bool coarse) {
 void ReferenceSolver::relax() {
   state.x_pred = state.x;
   build_grid(state.x_pred);
-  constraint_passes(1, true);  // Solver::relax says why
+  constraint_passes(1);  // one pass whatever the step runs: Solver::relax says why
   state.x = state.x_pred;
   for (dvec3& v : state.v) v = dvec3(0.0);
 }
@@ -390,7 +390,7 @@ void ReferenceSolver::step() {
   }
   predict();
   build_grid(state.x_pred);
-  constraint_passes(d_.solver.iterations, true);
+  constraint_passes(d_.solver.iterations);
   int run = p.iterations;
   // Adaptive: as the GPU's check (check_converged.comp), from the last lambda pass's
   // densities, a pair of iterations at a time (GpuSolver::adaptive_iterations says why).

@@ -23,7 +23,7 @@ class ReferenceSolver : public Solver {
   std::string device_name() const override { return "cpu (C++ reference)"; }
 
   void step();
-  void constraint_passes(int passes, bool coarse);  // the schedule of `passes` at x_pred, the coarse correction in its first pass
+  void constraint_passes(int passes);  // the schedule of `passes` at x_pred, the coarse correction in its first pass
   FrameStats measure();  // density at x (from the last step's lists, as the GPU), then the measures
 
   // The passes of one step (docs/design.md), public so that tests can run them one by one.
