@@ -8,7 +8,7 @@ layout(push_constant) uniform Sim {
   ivec3 grid; uint count;
   vec3 wall_min; float rho0;
   vec3 wall_max; float epsilon;
-  float poly6_coef; float spiky_coef; float ldc_k; float relax;  // relax: this Jacobi pass's
+  float poly6_scale; float spiky_grad_scale; float ldc_k; float relax;  // relax: this Jacobi pass's
   float xsph_c; float vorticity_eps;
 } sim;
 
@@ -17,19 +17,22 @@ uint thread_index() {
   return gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x;
 }
 
-// poly6: W(r) = 315/(64 pi h^9) (h^2 - r^2)^3 for r < h.
+// poly6: W(r) = 315/(64 pi h^3) (1 - r^2/h^2)^3 for r < h, in q = r/h so that no power of h
+// leaves float's range (kernels::poly6_scale says why).
 float poly6(float r2) {
-  float d = sim.h * sim.h - r2;
-  return d > 0.0 ? sim.poly6_coef * d * d * d : 0.0;
+  float d = 1.0 - r2 / (sim.h * sim.h);
+  return d > 0.0 ? sim.poly6_scale * d * d * d : 0.0;
 }
 
 // Gradient of the spiky kernel with respect to x_i, for d = x_i - x_j and r = |d|:
-// -45/(pi h^6) (h - r)^2 d/r for 0 < r < h.
-vec3 spiky_grad(vec3 d, float r) {
+// -45/(pi h^4) (1 - r/h)^2 d/r for 0 < r < h; its shape alone, without the 1/h^4, where only
+// a direction is wanted (kernels::spiky_grad_shape).
+vec3 spiky_grad_shape(vec3 d, float r) {
   if (r <= 0.0 || r >= sim.h) return vec3(0.0);
-  float s = sim.h - r;
-  return (-sim.spiky_coef * s * s / r) * d;
+  float s = 1.0 - r / sim.h;
+  return (-s * s / r) * d;
 }
+vec3 spiky_grad(vec3 d, float r) { return sim.spiky_grad_scale * spiky_grad_shape(d, r); }
 
 // The weight of a neighbourhood mean, 1 - (r/h)^8 (kernels::smoothing_weight says why).
 float smoothing_weight(vec3 d) {

@@ -22,9 +22,12 @@ void main() {
   if (!neighbour_pass_particle(i)) return;
   vec3 xi = imageLoad(x_pred, int(i)).xyz;
   WallImages walls = walls_near(xi);
+  // m/rho0 goes into every gradient term before it is squared: the squares alone, ~1/h^8,
+  // leave float's range at the ends of particle_spacing's (tests/scale_test.cpp).
+  const float s = sim.mass / sim.rho0;
   float w_sum = 0.0;
-  vec3 grad_i = vec3(0.0);  // grad of C_i with respect to x_i, times rho0/m
-  float grad_sq = 0.0;      // sum over the neighbours k != i of |grad_k C_i|^2, times (rho0/m)^2
+  vec3 grad_i = vec3(0.0);  // grad of C_i with respect to x_i
+  float grad_sq = 0.0;      // sum over the neighbours k != i of |grad_k C_i|^2
   int image;
   // The walls are mirrors (common.glsl): behind them lies the fluid reflected. A neighbour's
   // image is a neighbour of its own, its term squared on its own as a fluid neighbour's:
@@ -43,19 +46,17 @@ void main() {
     vec3 d = xi - mirror(walls, image, imageLoad(x_pred, int(j)).xyz);
     float r2 = dot(d, d);
     w_sum += poly6(r2);
-    vec3 g = spiky_grad(d, sqrt(r2));
+    vec3 g = s * spiky_grad(d, sqrt(r2));
     bool own_image = j == i;
     grad_i += own_image ? 2.0 * g : g;
     grad_sq += own_image ? 0.0 : dot(g, g);
   }
   float rho = sim.mass * w_sum;
-  float s = sim.mass / sim.rho0;
-  vec3 own = s * grad_i;  // grad_i C_i
   float c = max(rho / sim.rho0 - 1.0, 0.0);
   rho_out[i] = rho;
   // A pass's gain grows with the neighbours inside h: the relaxation, sized at rho0, shrinks
   // as 1 / (1 + c / 3), the growth a squeezed lattice shows (host/sim/stability.hpp). Without
   // it pbf@1 blew up in the dam break (+46 % energy); with 1 / (1 + c) it could not hold the
   // column and collapsed to the floor.
-  x_lambda[i] = vec4(xi, -c / ((s * s * grad_sq + dot(own, own) + sim.epsilon) * (1.0 + float(COMPRESSED_GAIN) * c)));
+  x_lambda[i] = vec4(xi, -c / ((grad_sq + dot(grad_i, grad_i) + sim.epsilon) * (1.0 + float(COMPRESSED_GAIN) * c)));
 }

@@ -19,10 +19,11 @@ void main() {
   vec3 eta = vec3(0.0);
   int image;
   FOR_EACH_NEIGHBOUR(i, xi, no_walls(), j, image) {
-    // The fluid only (a list holds images too); spiky_grad is zero from r = h on.
+    // The fluid only (a list holds images too); the gradient is zero from r = h on. Only eta's
+    // direction is used: its shape keeps it in float's range at every spacing.
     vec3 d = xi - imageLoad(x, int(j)).xyz;
-    if (image == 0) eta += length(imageLoad(omega, int(j)).xyz) * spiky_grad(d, length(d));
+    if (image == 0) eta += length(imageLoad(omega, int(j)).xyz) * spiky_grad_shape(d, length(d));
   }
   float len = length(eta);
-  if (len > 1e-9) v[i].xyz += (sim.vorticity_eps * sim.dt / len) * cross(eta, imageLoad(omega, int(i)).xyz);
+  if (len > 0.0) v[i].xyz += (sim.vorticity_eps * sim.dt / len) * cross(eta, imageLoad(omega, int(i)).xyz);
 }

@@ -64,7 +64,10 @@ const SceneKey kKeys[] = {
     {"solver.kernel_ratio", K::Number, "2", 2.0, KeyRange{2, 4}, "", "h / particle_spacing",
      "below 2 spacings the passes make energy (1.5: +28-54 % in the dam break) or the tank at rest churns (1.8: 0.4 m/s)",
      &P::kernel_ratio},
-    {"solver.rest_density", K::Number, "1000", 1000.0, KeyRange{0, 1e6, true}, "kg/m³", "ρ0 (water)", "",
+    // The GPU computes in float: below 1e-3 a particle's mass at the smallest spacing (1e-21 kg at
+    // 1e-6 m) and the energies summed from it near float's smallest numbers (tests/scale_test.cpp).
+    {"solver.rest_density", K::Number, "1000", 1000.0, KeyRange{1e-3, 1e6}, "kg/m³", "ρ0 (water)",
+     "the GPU's float arithmetic holds the lightest particles (1e-3 kg/m³ at 1e-6 m spacing) and no lighter",
      &P::rest_density},
     // Relative to the denominator's own scale, so that it means the same at any spacing.
     {"solver.relaxation", K::Number, "0.01", 0.01, KeyRange{0, 1e6, true}, "",

@@ -9,33 +9,38 @@
 
 namespace pbflow::kernels {
 
-inline double poly6_coef(double h) { return 315.0 / (64.0 * std::numbers::pi * std::pow(h, 9)); }
-inline double spiky_coef(double h) { return 45.0 / (std::numbers::pi * std::pow(h, 6)); }
+// Written in q = r/h with the powers of h in one factor, 1/h^3 for W and 1/h^4 for its
+// gradient: the textbook 315/(64 pi h^9) (h^2 - r^2)^3 leaves float's range below h ~ 6e-5 m
+// and above h ~ 2e4 m (1/h^9 overflows or underflows), and the shaders run in float.
+inline double poly6_scale(double h) { return 315.0 / (64.0 * std::numbers::pi * h * h * h); }
+inline double spiky_grad_scale(double h) { return 45.0 / (std::numbers::pi * h * h * h * h); }
 
-// W_poly6 for squared distance r2.
+// W_poly6 for squared distance r2: poly6_scale (1 - r^2/h^2)^3.
 inline double poly6(double r2, double h) {
-  double d = h * h - r2;
-  return d > 0 ? poly6_coef(h) * d * d * d : 0.0;
+  const double d = 1.0 - r2 / (h * h);
+  return d > 0 ? poly6_scale(h) * d * d * d : 0.0;
 }
 
 // Gradient of W_poly6 with respect to x_i, d = x_i - x_j: what the density really changes by.
 inline glm::dvec3 poly6_grad(const glm::dvec3& d, double h) {
-  double t = h * h - glm::dot(d, d);
-  return t > 0 ? (-6.0 * poly6_coef(h) * t * t) * d : glm::dvec3(0.0);
+  const double t = 1.0 - glm::dot(d, d) / (h * h);
+  return t > 0 ? (-6.0 * poly6_scale(h) / (h * h) * t * t) * d : glm::dvec3(0.0);
 }
 
-// Gradient of W_spiky with respect to x_i, d = x_i - x_j.
-inline glm::dvec3 spiky_grad(const glm::dvec3& d, double h) {
-  double r = glm::length(d);
+// Gradient of W_spiky with respect to x_i, d = x_i - x_j: spiky_grad_scale times its shape,
+// -(1 - r/h)^2 d/r, which alone serves where only a direction is wanted (the vorticity force).
+inline glm::dvec3 spiky_grad_shape(const glm::dvec3& d, double h) {
+  const double r = glm::length(d);
   if (r <= 0 || r >= h) return glm::dvec3(0.0);
-  double s = h - r;
-  return (-spiky_coef(h) * s * s / r) * d;
+  const double s = 1.0 - r / h;
+  return (-s * s / r) * d;
 }
+inline glm::dvec3 spiky_grad(const glm::dvec3& d, double h) { return spiky_grad_scale(h) * spiky_grad_shape(d, h); }
 
 // W_spiky itself (for the kernel tests: its gradient is checked against finite differences).
 inline double spiky(double r, double h) {
-  double s = h - r;
-  return r < h ? spiky_coef(h) / 3.0 * s * s * s : 0.0;  // 15/(pi h^6) (h - r)^3
+  const double s = 1.0 - r / h;
+  return r < h ? spiky_grad_scale(h) * h / 3.0 * s * s * s : 0.0;  // 15/(pi h^6) (h - r)^3
 }
 
 // The weight of lambda's average over the neighbours (constraint_smooth.comp), 1 - (r/h)^8:

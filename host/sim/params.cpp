@@ -58,8 +58,8 @@ SimConstants Derived::to_gpu(uint32_t count) const {
   c.rho0 = float(rho0);
   c.wall_max = wall_max;
   c.epsilon = float(epsilon);
-  c.poly6_coef = float(kernels::poly6_coef(h));
-  c.spiky_coef = float(kernels::spiky_coef(h));
+  c.poly6_scale = float(kernels::poly6_scale(h));
+  c.spiky_grad_scale = float(kernels::spiky_grad_scale(h));
   c.ldc_k = float(ldc_k);
   c.relax = 1.0f;  // set per constraint pass
   c.xsph_c = float(solver.xsph);

@@ -48,7 +48,7 @@ struct SimConstants {
   glm::ivec3 grid; uint32_t count;
   glm::vec3 wall_min; float rho0;
   glm::vec3 wall_max; float epsilon;
-  float poly6_coef, spiky_coef, ldc_k, relax;
+  float poly6_scale, spiky_grad_scale, ldc_k, relax;
   float xsph_c, vorticity_eps;
 };
 static_assert(sizeof(SimConstants) == 120, "SimConstants must match shaders/common.glsl and fit 128 bytes");

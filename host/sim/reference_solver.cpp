@@ -356,10 +356,10 @@ void ReferenceSolver::vorticity_force() {
   for (size_t i = 0; i < state.x.size(); ++i) {
     dvec3 eta(0.0);
     for_each_neighbour(i, state.x[i], [&](size_t j, const WallImage& m) {
-      if (m.axes == 0) eta += glm::length(state.omega[j]) * kernels::spiky_grad(state.x[i] - state.x[j], d_.h);
+      if (m.axes == 0) eta += glm::length(state.omega[j]) * kernels::spiky_grad_shape(state.x[i] - state.x[j], d_.h);
     });
-    double len = glm::length(eta);
-    if (len > 1e-9) state.v[i] += (d_.solver.vorticity * d_.dt / len) * glm::cross(eta, state.omega[i]);
+    double len = glm::length(eta);  // only its direction is used
+    if (len > 0) state.v[i] += (d_.solver.vorticity * d_.dt / len) * glm::cross(eta, state.omega[i]);
   }
 }
 
