@@ -10,6 +10,7 @@ Usage: charts.py DIR   (writes DIR/*.png; `pbflow bench` runs it and leaves a co
   time_per_step.png      ms per step vs iterations, per method (seed paper, Figure 7)
   compression_over_time.png, kinetic_energy.png
                          pbf@1,2,3 and ldc@1 on dam_break (seed paper, Figures 1/4 and 6)
+The charts of one scene take dam_break where the study ran it, else its first scene.
   pareto.png             with several substeps: mean compression against ms per frame (ms per
                          step x substeps), one line per method and substep count through its
                          iteration counts, a panel per scene and particle count, the front of
@@ -49,6 +50,11 @@ def fixed(runs):
     return [r for r in runs if float(r.get("target_compression") or 0) == 0]
 
 
+def scenes_of(runs):
+    """The scenes the runs hold, dam_break first where it is among them (the seed paper's)."""
+    return sorted({r["scene"] for r in runs}, key=lambda s: (s != "dam_break", s))
+
+
 def largest(runs, scene, pick=max):
     rows = [r for r in runs if r["scene"] == scene]
     n = pick(int(r["particles"]) for r in rows)
@@ -73,9 +79,11 @@ def accuracy_vs_cost(runs, out_dir, device):
     measures = [("mean_compression_avg", "mean compression, time average (%)", "log")]
     if all(r.get("energy_gain") for r in runs):
         measures.append(("energy_gain", "energy gain, largest (% of PE0)", "linear"))
-    fig, axes = plt.subplots(len(measures), 2, figsize=(11, 4.2 * len(measures)), squeeze=False)
+    scenes = scenes_of(runs)
+    fig, axes = plt.subplots(len(measures), len(scenes), figsize=(5.5 * len(scenes), 4.2 * len(measures)),
+                             squeeze=False)
     for row, (column, label, scale) in zip(axes, measures):
-        for ax, scene in zip(row, ("dam_break", "hydrostatic")):
+        for ax, scene in zip(row, scenes):
             rows, n = largest(runs, scene)
             for method, rs in by_method(rows).items():
                 x = [step_ms(r) for r in rs]
@@ -147,7 +155,8 @@ def pareto(runs, out_dir, device):
 
 
 def time_per_step(runs, out_dir, device):
-    rows, n = largest(runs, "dam_break")
+    scene = scenes_of(runs)[0]
+    rows, n = largest(runs, scene)
     fig, ax = plt.subplots(figsize=(6, 4.2))
     for method, rs in by_method(rows).items():
         ax.plot([int(r["iterations"]) for r in rs], [step_ms(r) for r in rs], label=method,
@@ -155,7 +164,7 @@ def time_per_step(runs, out_dir, device):
     ax.set_xlabel("constraint iterations")
     ax.set_ylabel("ms per step")
     ax.set_ylim(bottom=0)
-    ax.set_title(f"Time per step, dam_break, {n} particles, {device}")
+    ax.set_title(f"Time per step, {scene}, {n} particles, {device}")
     ax.legend()
     fig.tight_layout()
     fig.savefig(os.path.join(out_dir, "time_per_step.png"), dpi=110)
@@ -163,7 +172,8 @@ def time_per_step(runs, out_dir, device):
 
 
 def over_time(runs, series, out_dir, device, column, file, ylabel, scale):
-    rows, n = largest(runs, "dam_break", min)
+    scene = scenes_of(runs)[0]
+    rows, n = largest(runs, scene, min)
     wanted = [("pbf", 1), ("pbf", 2), ("pbf", 3), ("ldc", 1)]
     fig, ax = plt.subplots(figsize=(6.5, 4.2))
     for method, k in wanted:
@@ -175,7 +185,7 @@ def over_time(runs, series, out_dir, device, column, file, ylabel, scale):
                 label=f"{method}@{k}", color=STYLE[method]["color"], alpha=1.0 if method == "ldc" else 0.35 + 0.2 * k)
     ax.set_xlabel("simulated time (s)")
     ax.set_ylabel(ylabel)
-    ax.set_title(f"dam_break, {n} particles, {device}")
+    ax.set_title(f"{scene}, {n} particles, {device}")
     ax.legend()
     fig.tight_layout()
     fig.savefig(os.path.join(out_dir, file), dpi=110)

@@ -1,13 +1,21 @@
 #include "bench/common.hpp"
 
+#include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
+#include <stdexcept>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <sstream>
 #include <string_view>
 #include <utility>
+
+#include "common/child_process.hpp"
+#include "gpu/memory_estimate.hpp"
+#include "scene/derive.hpp"
+#include "vk/context.hpp"
 
 namespace pbflow {
 const std::vector<std::pair<std::string_view, std::string_view>>& bench_scripts_text();  // generated
@@ -26,7 +34,7 @@ namespace {
 // Debian's python3 with matplotlib (pyenv or venv interpreters on PATH may lack it).
 std::string python_with_matplotlib() {
   for (const char* py : {"/usr/bin/python3", "python3"})
-    if (std::system((std::string(py) + " -c 'import matplotlib' > /dev/null 2>&1").c_str()) == 0) return py;
+    if (run_child({py, "-c", "import matplotlib"}, true) == 0) return py;
   return "";
 }
 
@@ -50,6 +58,29 @@ std::string join(const std::vector<std::string>& cells) {
 
 double spacing_for(const Scene& scene, int particles) { return std::cbrt(fluid_volume(scene) / particles); }
 
+void check_fits(const Scene& scene, const vk::Context* ctx) {
+  const vk::DeviceInfo* device = ctx ? &ctx->info() : nullptr;
+  check_memory(memory_need(derive(scene), particle_estimate(scene), device), device, {"lower --counts", ""});
+}
+
+OutputFile::OutputFile(const std::filesystem::path& path) : path_(path), file_(std::fopen(path.c_str(), "w")) {
+  if (!file_) throw std::runtime_error("cannot write " + path.string() + ": " + std::strerror(errno));
+}
+
+OutputFile::~OutputFile() {
+  if (file_) std::fclose(file_);
+}
+
+void OutputFile::write(const std::string& text) {
+  if (std::fwrite(text.data(), 1, text.size(), file_) != text.size() || std::fflush(file_) != 0)
+    throw std::runtime_error("cannot write " + path_.string() + ": " + std::strerror(errno));
+}
+
+void OutputFile::close() {
+  const int closed = std::fclose(std::exchange(file_, nullptr));
+  if (closed != 0) throw std::runtime_error("cannot write " + path_.string() + ": " + std::strerror(errno));
+}
+
 int draw_charts(const std::string& out) {
   const std::string python = python_with_matplotlib();
   if (python.empty()) {
@@ -58,11 +89,13 @@ int draw_charts(const std::string& out) {
   }
   // The embedded script goes beside its charts, so that they can be remade from the CSVs.
   const std::filesystem::path script = std::filesystem::path(out) / "charts.py";
+  OutputFile file(script);
   for (const auto& [name, text] : bench_scripts_text())
-    if (name == "charts") std::ofstream(script) << text;
-  const std::string cmd = python + " '" + script.string() + "' '" + out + "'";
-  if (std::system(cmd.c_str()) != 0) {
-    std::cerr << "pbflow: the chart script failed: " << cmd << "\n";
+    if (name == "charts") file.write(std::string(text));
+  file.close();
+  if (run_child({python, script.string(), out}) != 0) {
+    std::cerr << "pbflow: the chart script failed: " << python << " " << script << " " << std::filesystem::path(out)
+              << "\n";
     return 1;
   }
   return 0;

@@ -66,9 +66,9 @@ Measured measure(const ScalingOptions& o, const Scene& base, const vk::Context* 
   if (o.iterations > 0) overrides.push_back("solver.iterations=" + std::to_string(o.iterations));
   const Scene scene = load_scene(o.scene, overrides);
   const Derived d = derive(scene);
+  check_fits(scene, ctx);  // InputError: this count does not fit; before its particles are made
   const auto x0 = initial_particles(scene);
-  const MemoryNeed need = memory_need(d, double(x0.size()), ctx ? &ctx->info() : nullptr, 0);
-  check_memory(need, ctx ? &ctx->info() : nullptr);  // InputError: this count does not fit
+  const MemoryNeed need = memory_need(d, double(x0.size()), ctx ? &ctx->info() : nullptr);
 
   std::unique_ptr<Solver> solver = make_solver(ctx, d, x0);
   relax_seed(*solver);  // as `pbflow run` starts
@@ -127,7 +127,9 @@ int run_scaling(const ScalingOptions& o) {
   const Scene base = load_scene(o.scene);  // a wrong name fails before any run
 
   std::unique_ptr<vk::Context> ctx = make_context(o.device, false);
-  fs::create_directories(o.out);
+  std::error_code error;
+  fs::create_directories(o.out, error);
+  if (error) throw InputError("cannot create --out " + o.out + ": " + error.message());
   const bool tty = isatty(STDERR_FILENO);
   const auto start = std::chrono::steady_clock::now();
   std::vector<Measured> rows;
@@ -166,13 +168,13 @@ int run_scaling(const ScalingOptions& o) {
     log_n.push_back(std::log(n[i])), log_ms.push_back(std::log(std::max(ms[i], 1e-9)));
   const double slope = log_n.size() >= 2 ? fit(log_n, log_ms, std::vector<double>(log_n.size(), 1.0)).b : NAN;
 
-  std::ofstream csv(fs::path(o.out) / "scaling.csv");
-  csv << join(scaling_columns()) << "\n";
+  OutputFile csv(fs::path(o.out) / "scaling.csv");
+  csv.write(join(scaling_columns()) + "\n");
   std::printf("%s, %s %s\n%12s %12s %14s %14s\n", rows[0].device.c_str(), o.scene.c_str(), rows[0].setting.c_str(),
               "particles", "ms/step", "M p-steps/s", "bytes/particle");
   for (Measured& m : rows) {
     for (double v : {line.a, line.b, slope}) m.cells.push_back(number(v));
-    csv << join(m.cells) << "\n";
+    csv.write(join(m.cells) + "\n");
     std::printf("%12.0f %12.3f %14.3f %14.1f\n", m.particles, m.step_ms, m.particles / (m.step_ms * 1e-3) * 1e-6,
                 m.bytes_per_particle);
   }

@@ -67,7 +67,8 @@ double mean_height(const ParticleFrame& f) {
   return f.x.empty() ? 0 : sum / double(f.x.size());
 }
 
-Outcome simulate(const Run& r, int index, double seconds, const vk::Context* ctx) {
+// The scene of run `r`, `seconds` long.
+Scene scene_of(const Run& r, double seconds) {
   Scene base = load_scene(r.scene);
   const double spacing = spacing_for(base, r.particles_wanted);
   const int frames = std::max(2, int(std::lround(seconds * base.fps)) + 1);
@@ -80,7 +81,12 @@ Outcome simulate(const Run& r, int index, double seconds, const vk::Context* ctx
     overrides.push_back("solver.target_compression=" + number(r.target));
     overrides.push_back("solver.max_iterations=" + std::to_string(kMaxAdaptive));
   }
-  Scene scene = load_scene(r.scene, overrides);
+  return load_scene(r.scene, overrides);
+}
+
+Outcome simulate(const Run& r, int index, double seconds, const vk::Context* ctx) {
+  const Scene scene = scene_of(r, seconds);
+  const int frames = scene.frames;
   Derived d = derive(scene);
   auto x0 = initial_particles(scene);
   std::unique_ptr<Solver> solver = make_solver(ctx, d, x0);
@@ -200,20 +206,23 @@ int run_study(const StudyOptions& options) {
         }
       }
 
-  fs::create_directories(o.out);
-  std::ofstream runs_csv(fs::path(o.out) / "runs.csv"), series_csv(fs::path(o.out) / "series.csv");
-  runs_csv << join(run_columns()) << "\n";
-  series_csv << "run,frame,time,mean_compression,max_compression,kinetic_energy,potential_energy\n";
-  const bool tty = isatty(STDERR_FILENO);
   // One device for the sitting, as a user's process has: NVIDIA's driver refused a 30th
   // instance made and destroyed in one process (H200, driver 580), and each costs a start.
   std::unique_ptr<vk::Context> ctx = make_context(o.device, false);
+  for (const Run& r : runs) check_fits(scene_of(r, seconds), ctx.get());  // before any particle is made
+  std::error_code error;
+  fs::create_directories(o.out, error);
+  if (error) throw InputError("cannot create --out " + o.out + ": " + error.message());
+  OutputFile runs_csv(fs::path(o.out) / "runs.csv"), series_csv(fs::path(o.out) / "series.csv");
+  runs_csv.write(join(run_columns()) + "\n");
+  series_csv.write("run,frame,time,mean_compression,max_compression,kinetic_energy,potential_energy\n");
+  const bool tty = isatty(STDERR_FILENO);
   auto start = std::chrono::steady_clock::now();
   for (size_t i = 0; i < runs.size(); ++i) {
     const Run& r = runs[i];
     Outcome out = simulate(r, int(i), seconds, ctx.get());
-    runs_csv << join(out.cells) << std::endl;
-    series_csv << out.series << std::flush;
+    runs_csv.write(join(out.cells) + "\n");
+    series_csv.write(out.series);
     double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     double left = elapsed / double(i + 1) * double(runs.size() - i - 1);
     std::fprintf(stderr, "%s[%zu/%zu] %s %s particles %s@%d  %.0f s, about %.0f s left%s", tty ? "\r" : "", i + 1,
@@ -221,6 +230,8 @@ int run_study(const StudyOptions& options) {
                  tty ? "   " : "\n");
   }
   if (tty) std::fprintf(stderr, "\n");
+  runs_csv.close();
+  series_csv.close();
   std::cout << "runs: " << (fs::path(o.out) / "runs.csv").string()
             << "\nseries: " << (fs::path(o.out) / "series.csv").string() << "\n";
   return o.charts ? draw_charts(o.out) : 0;

@@ -43,7 +43,7 @@ TEST_P(MemoryTest, TheSolverAllocatesItsPlanAndTheEstimateCoversIt) {
   std::printf("[ memory ] %zu particles: the solver holds %llu bytes, its plan %llu\n", x0.size(),
               (unsigned long long)held, (unsigned long long)planned);
   EXPECT_EQ(held, planned);
-  EXPECT_GE(memory_need(d, double(x0.size()), &test::gpu().info(), 0).device, held);
+  EXPECT_GE(memory_need(d, double(x0.size()), &test::gpu().info()).device, held);
 }
 
 // The buffers each option adds: none, vorticity's omega, smoothing's spare, the adaptive

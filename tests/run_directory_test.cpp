@@ -342,9 +342,9 @@ TEST(RunDirectory, ListsPastTheBufferRangeAreLeftOutAndTheRunFits) {
   device.max_storage_buffer_range = 128ull << 20;
   EXPECT_EQ(pbflow::neighbour_capacity_on(d, 400000, device), d.neighbour_capacity);
   EXPECT_EQ(pbflow::neighbour_capacity_on(d, 640000, device), 0u);
-  const pbflow::MemoryNeed need = pbflow::memory_need(d, 640000, &device, 0);
+  const pbflow::MemoryNeed need = pbflow::memory_need(d, 640000, &device);
   EXPECT_LE(need.largest_array, device.max_storage_buffer_range);
-  EXPECT_LT(need.device, pbflow::memory_need(d, 400000, &device, 0).device * 640 / 400) << "lists counted";
+  EXPECT_LT(need.device, pbflow::memory_need(d, 400000, &device).device * 640 / 400) << "lists counted";
 
   // And the run itself on this machine's device (633k particles, two steps, validated).
   fs::path dir = fresh_dir("no_lists");

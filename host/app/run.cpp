@@ -123,8 +123,12 @@ int run(const RunOptions& o) {
   RunDirectory::check(out);  // before any work: a foreign file here is refused at once
   std::unique_ptr<vk::Context> ctx = make_context(o.device, o.validate);
   const vk::DeviceInfo* device = ctx ? &ctx->info() : nullptr;
-  const MemoryNeed need = memory_need(d, particle_estimate(scene), device, o.render ? double(o.width) * o.height : 0.0);
-  check_memory(need, device);
+  const bool full_surface = o.fluid_resolution == "full";
+  const MemoryNeed need =
+      memory_need(d, particle_estimate(scene), device, {o.render ? double(o.width) * o.height : 0.0, full_surface});
+  MemoryAdvice advice;
+  if (full_surface) advice.picture += ", or leave out --fluid-resolution full";
+  check_memory(need, device, advice);
   std::vector<glm::dvec3> x0 = initial_particles(scene);
   std::unique_ptr<Solver> solver = make_solver(ctx.get(), d, x0);
   const capture::ExportFormat export_format = capture::parse_export_format(o.export_format);

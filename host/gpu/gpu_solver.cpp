@@ -44,7 +44,7 @@ struct CheckPush {  // check_converged.comp
 // Bad input rather than a Vulkan failure: the scene asks for more than this device holds.
 // run.cpp checks the same estimate before any particle is made; this guards every other caller.
 uint32_t checked_count(const vk::Context& ctx, const Derived& d, size_t n) {
-  check_device_memory(memory_need(d, double(n), &ctx.info(), 0), ctx.info());
+  check_device_memory(memory_need(d, double(n), &ctx.info()), ctx.info());
   return uint32_t(n);
 }
 }  // namespace

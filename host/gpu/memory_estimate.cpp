@@ -28,8 +28,10 @@ constexpr double kHostPerParticleDrawn = 3 * sizeof(glm::vec4);
 // GPU's (8 bytes an entry, a count), bounded by the capacity.
 constexpr double kHostPerParticleCpuRun = 96 + 16 + 16 + 48 + 24 + 40, kHostPerCellCpuRun = 24;
 // Framebuffers and the image read back: colour and depth for the tank and for a frame (16),
-// the fluid's surface targets (24 at full size: two RG32F, R32F, depth), RGB copies.
-constexpr double kBytesPerPixel = 48;
+// the fluid's surface targets (24 at full size: two RG32F, R32F, depth), RGB copies; the
+// surface drawn at full size takes its targets, their smoothing and the driver's copies four
+// times over (peak resident memory, llvmpipe, 4096x4096: 0.71 GB at half, 1.35 GB at full).
+constexpr double kBytesPerPixel = 48, kBytesPerPixelFullSurface = 40;
 // What a run holds besides its arrays, measured as peak resident memory (tests/memory_test.cpp
 // holds the estimate above the measured peak): the process and its libraries (8 MB); a Vulkan
 // driver in the process, lavapipe's compiler and JIT code (80 MB) or NVIDIA's (~95 MB, H200,
@@ -74,9 +76,11 @@ uint32_t neighbour_capacity_on(const Derived& d, double particles, const vk::Dev
   return past_range || past_texels ? 0 : d.neighbour_capacity;
 }
 
-MemoryNeed memory_need(const Derived& d, double particles, const vk::DeviceInfo* device, double pixels) {
-  const double cells = double(d.grid.x) * d.grid.y * d.grid.z;
-  double gpu = 0, host = kProcessBytes + (pixels > 0 ? kRendererBytes + kBytesPerPixel * pixels : 0.0), largest = 0;
+MemoryNeed memory_need(const Derived& d, double particles, const vk::DeviceInfo* device, Picture picture) {
+  const double cells = double(d.grid.x) * d.grid.y * d.grid.z, pixels = picture.pixels;
+  const double picture_bytes =
+      pixels > 0 ? kRendererBytes + (kBytesPerPixel + (picture.full_surface ? kBytesPerPixelFullSurface : 0)) * pixels : 0;
+  double gpu = 0, host = kProcessBytes + picture_bytes, largest = 0;
   if (device) {
     Derived on_device = d;
     on_device.neighbour_capacity = neighbour_capacity_on(d, particles, *device);
@@ -89,7 +93,7 @@ MemoryNeed memory_need(const Derived& d, double particles, const vk::DeviceInfo*
     const double list_bytes = 8.0 * d.neighbour_capacity + 4;  // ReferenceSolver's lists, as the GPU's
     host += (kHostPerParticleCpuRun + list_bytes) * particles + kHostPerCellCpuRun * cells;
   }
-  return {uint64_t(gpu), uint64_t(host), uint64_t(largest)};
+  return {uint64_t(gpu), uint64_t(host), uint64_t(largest), uint64_t(picture_bytes)};
 }
 
 uint64_t host_memory_available() {
@@ -105,17 +109,17 @@ uint64_t host_memory_available() {
   return available;
 }
 
-void check_device_memory(const MemoryNeed& need, const vk::DeviceInfo& device) {
+void check_device_memory(const MemoryNeed& need, const vk::DeviceInfo& device, const MemoryAdvice& advice) {
   std::ostringstream m;
   m.precision(3);
   if (device.max_storage_buffer_range && need.largest_array > device.max_storage_buffer_range) {
     m << "the run needs arrays of " << gib(need.largest_array) << " GiB, " << device.name << " takes at most "
-      << gib(device.max_storage_buffer_range) << " GiB in one: raise particle_spacing";
+      << gib(device.max_storage_buffer_range) << " GiB in one: " << advice.particles;
     throw InputError(m.str());
   }
   if (device.device_local_bytes && need.device > device.device_local_bytes) {
     m << "the run needs " << gib(need.device) << " GiB of GPU memory, " << device.name << " has "
-      << gib(device.device_local_bytes) << " GiB: raise particle_spacing";
+      << gib(device.device_local_bytes) << " GiB: " << advice.particles;
     throw InputError(m.str());
   }
 }
@@ -125,15 +129,15 @@ uint64_t host_bytes(const MemoryNeed& need, const vk::DeviceInfo* device) {
   return need.host + (device && device->kind == "cpu" ? need.device : 0);
 }
 
-void check_memory(const MemoryNeed& need, const vk::DeviceInfo* device) {
-  if (device) check_device_memory(need, *device);
+void check_memory(const MemoryNeed& need, const vk::DeviceInfo* device, const MemoryAdvice& advice) {
+  if (device) check_device_memory(need, *device, advice);
   const uint64_t host_need = host_bytes(need, device);
   const uint64_t host = host_memory_available();
   if (host_need > host) {
     std::ostringstream m;
     m.precision(3);
     m << "the run needs " << gib(host_need) << " GiB of memory, this machine has " << gib(host)
-      << " GiB available: raise particle_spacing";
+      << " GiB available: " << (2 * need.picture > host_need ? advice.picture : advice.particles);
     throw InputError(m.str());
   }
 }
