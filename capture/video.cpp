@@ -35,7 +35,19 @@ VideoEncoder::VideoEncoder(const std::filesystem::path& file, int width, int hei
   const std::string extension = file.extension().string();
   if (extension != ".mp4" && extension != ".mkv" && extension != ".mov")
     throw InputError("--video " + file.string() + " needs the extension .mp4, .mkv or .mov (H.264)");
-  if (std::filesystem::is_directory(file)) throw InputError("--video " + file.string() + " is a directory: name a file");
+  // Checked now, not after the whole run: what is there must be a regular file that the rename
+  // at the end can replace (an immutable or append-only file cannot be opened for writing).
+  std::error_code exists_error;
+  const std::filesystem::file_status there = std::filesystem::symlink_status(file, exists_error);
+  if (std::filesystem::is_directory(there)) throw InputError("--video " + file.string() + " is a directory: name a file");
+  if (std::filesystem::exists(there) && !std::filesystem::is_regular_file(there) && !std::filesystem::is_symlink(there))
+    throw InputError("--video " + file.string() + " exists and is not a regular file (a FIFO, socket or device)");
+  if (std::filesystem::is_regular_file(there)) {
+    const int existing = open(file.c_str(), O_WRONLY | O_NOFOLLOW | O_CLOEXEC | O_NONBLOCK);
+    if (existing < 0)
+      throw InputError("--video " + file.string() + " exists and cannot be replaced: " + std::strerror(errno));
+    close(existing);
+  }
   std::filesystem::path ffmpeg = find_ffmpeg();
   if (ffmpeg.empty()) throw InputError("--video needs ffmpeg, which is not on PATH (apt-get install ffmpeg)");
   if (width % 2 || height % 2) throw InputError("--video needs an even --width and --height (H.264 with 4:2:0)");

@@ -4,8 +4,12 @@
 
 #include <cmath>
 #include <csignal>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <iostream>
+#include <nlohmann/json.hpp>
+#include <string_view>
 
 #include "app/run.hpp"
 #include "bench/scaling.hpp"
@@ -71,6 +75,37 @@ const CLI::Validator kFinite(
       return "'" + text + "' is not a finite number";
     },
     "FINITE");
+
+// The argument as a message can show it: bytes past ASCII as \xNN.
+std::string printable(std::string_view text) {
+  std::string out;
+  for (unsigned char c : text) {
+    char hex[8];
+    std::snprintf(hex, sizeof hex, "\\x%02x", c);
+    out += c >= 0x20 && c < 0x7f ? std::string(1, char(c)) : std::string(hex);
+  }
+  return out;
+}
+
+// Every argument must be UTF-8: a run records its names and values (the scene, --out, --video,
+// --param) in JSON, which holds nothing else. Refused here, before anything is read or written,
+// naming the option it belongs to.
+void check_utf8(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    try {
+      (void)nlohmann::json(argv[i]).dump();
+    } catch (const nlohmann::json::exception&) {
+      const std::string arg = argv[i];
+      const bool value = i > 1 && argv[i - 1][0] == '-' && arg[0] != '-';
+      const std::string option = value ? argv[i - 1] : arg.substr(0, arg.find('='));
+      throw pbflow::InputError((value || option[0] == '-' ? "the value of " + printable(option) : "the argument") + " '" +
+                               printable(arg) + "' is not valid UTF-8 (pbflow records names and values in JSON)");
+    }
+  }
+}
+
+int run_command(CLI::App& app, const pbflow::RunOptions& run, const pbflow::bench::StudyOptions& bench, bool scaling,
+                double budget_minutes, const std::string& scaling_method);
 
 }  // namespace
 
@@ -154,10 +189,16 @@ int main(int argc, char** argv) {
   bool no_charts = false;
   bench_cmd->add_flag("--no-charts", no_charts, "CSV only");
 
-  CLI::App* scenes_cmd = app.add_subcommand("scenes", "list the built-in scenes");
-  CLI::App* devices_cmd = app.add_subcommand("devices", "list the Vulkan devices and their limits");
-  CLI::App* keys_cmd = app.add_subcommand("keys", "list every scene key: default, range, unit, meaning (Markdown)");
+  app.add_subcommand("scenes", "list the built-in scenes");
+  app.add_subcommand("devices", "list the Vulkan devices and their limits");
+  app.add_subcommand("keys", "list every scene key: default, range, unit, meaning (Markdown)");
 
+  try {
+    check_utf8(argc, argv);
+  } catch (const pbflow::InputError& e) {
+    std::cerr << "pbflow: " << e.what() << "\n";
+    return 2;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {
@@ -169,6 +210,24 @@ int main(int argc, char** argv) {
   run.render = !no_render;
   bench.charts = !no_charts;
 
+  const int status = run_command(app, run, bench, scaling, budget_minutes, scaling_method);
+  // What was printed must have reached its reader: `pbflow keys > /dev/full` is a failure.
+  std::cout.flush();
+  if (std::fflush(stdout) != 0 || std::ferror(stdout) || !std::cout) {
+    std::cerr << "pbflow: cannot write the output: " << std::strerror(errno ? errno : EIO) << "\n";
+    return status == 0 ? 1 : status;
+  }
+  return status;
+}
+
+namespace {
+
+int run_command(CLI::App& app, const pbflow::RunOptions& run, const pbflow::bench::StudyOptions& bench, bool scaling,
+                double budget_minutes, const std::string& scaling_method) {
+  CLI::App* scenes_cmd = app.get_subcommand("scenes");
+  CLI::App* devices_cmd = app.get_subcommand("devices");
+  CLI::App* keys_cmd = app.get_subcommand("keys");
+  CLI::App* bench_cmd = app.get_subcommand("bench");
   try {
     if (*scenes_cmd) return list_scenes();
     if (*devices_cmd) return list_devices();
@@ -191,3 +250,5 @@ int main(int argc, char** argv) {
     return 1;
   }
 }
+
+}  // namespace

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "app/interrupt.hpp"
+#include "common/pause_point.hpp"
 #include "capture/frame_capture.hpp"
 #include "capture/particle_export.hpp"
 #include "gpu/make_solver.hpp"
@@ -113,14 +114,41 @@ nlohmann::json describe_run(const RunOptions& o, const Scene& scene, const Deriv
           {"device", solver.device_name()}};
 }
 
+// What an interrupt leaves, in words: "frames 0-k are complete", or that none is.
+std::string frames_complete(int frames) {
+  return frames > 0 ? "frames 0-" + std::to_string(frames - 1) + " are complete" : "no frame was written";
+}
+
+// The video is not --out itself, nor a file in the folders a run owns there (it would be
+// refused as foreign by the next run, or replaced by a frame).
+void check_video_outside(const std::filesystem::path& video, const std::filesystem::path& out) {
+  auto resolved = [](const std::filesystem::path& p) {
+    std::error_code error;
+    const std::filesystem::path r = std::filesystem::weakly_canonical(p, error);
+    return error ? std::filesystem::absolute(p, error) : r;
+  };
+  const std::filesystem::path v = resolved(video), dir = resolved(out);
+  if (v == dir) throw InputError("--video " + video.string() + " names the --out directory: name a file");
+  for (const char* sub : {"frames", "particles"})
+    if (v.parent_path() == dir / sub)
+      throw InputError("--video " + video.string() + " lies in " + (out / sub).string() +
+                       ", which the run owns: name a file elsewhere");
+}
+
+std::string signal_name(int signal) { return signal == SIGINT ? "SIGINT" : "SIGTERM"; }
+
 }  // namespace
 
 int run(const RunOptions& o) {
+  // Before anything in --out changes: from here a SIGINT or SIGTERM stops the run between
+  // steps, and never in the middle of replacing the previous run.
+  InterruptGuard interrupt;
   if (!o.video.empty() && !o.render) throw InputError("--video needs frames to encode: leave out --no-render");
   Scene scene = load_scene(o.scene, scene_overrides(o));
   Derived d = derive(scene);
   const std::filesystem::path out(o.out);
   RunDirectory::check(out);  // before any work: a foreign file here is refused at once
+  if (!o.video.empty()) check_video_outside(o.video, out);
   std::unique_ptr<vk::Context> ctx = make_context(o.device, o.validate);
   const vk::DeviceInfo* device = ctx ? &ctx->info() : nullptr;
   const bool full_surface = o.fluid_resolution == "full";
@@ -143,8 +171,11 @@ int run(const RunOptions& o) {
   const bool chose_substeps = about["chosen"].contains("solver.substeps");  // for the first line
   const bool chose_setting = about["chosen"].contains("solver.method") || about["chosen"].contains("solver.iterations");
   about["memory_estimate"] = {{"host_bytes", host_bytes(need, device)}, {"device_bytes", need.device}};
-  dir.begin(std::move(about));
-  InterruptGuard interrupt;
+  if (!dir.begin(std::move(about), [&] { return interrupt.signal() != 0; })) {
+    std::cerr << "pbflow: interrupted by " << signal_name(interrupt.signal()) << " before the run began; "
+              << out.string() << " holds the previous run as it was\n";
+    return 128 + interrupt.signal();
+  }
   auto start = std::chrono::steady_clock::now();
   auto wall = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
   int frame = 0;
@@ -165,6 +196,7 @@ int run(const RunOptions& o) {
 
     Progress progress(scene.frames, !o.quiet);
     relax_seed(*solver, [&](int projection) {
+      if (projection == 1) pause_point("relax");
       progress.relaxing(projection);
       return !interrupt.signal();
     });
@@ -189,8 +221,8 @@ int run(const RunOptions& o) {
         long step = long(frame - 1) * scene.solver.substeps + s.divergence.first_step + 1;
         std::ostringstream m;
         m << "the simulation diverged at step " << step << " (t = " << step * d.dt << " s, frame " << frame
-          << "): " << s.divergence.describe(d.speed_limit) << ". Frames 0-" << frame - 1
-          << " are complete; " << divergence_advice(scene, d);
+          << "): " << s.divergence.describe(d.speed_limit) << "; " << frames_complete(frame) << "; "
+          << divergence_advice(scene, d);
         diverged = m.str();
         break;
       }
@@ -220,8 +252,7 @@ int run(const RunOptions& o) {
       return 3;
     }
     if (int signal = interrupt.signal()) {
-      std::string m = std::string("interrupted by ") + (signal == SIGINT ? "SIGINT" : "SIGTERM") + "; frames 0-" +
-                      std::to_string(frame - 1) + " are complete";
+      std::string m = "interrupted by " + signal_name(signal) + "; " + frames_complete(frame);
       std::cerr << "pbflow: " << m << "\n";
       dir.end("interrupted", m, wall());
       return 128 + signal;

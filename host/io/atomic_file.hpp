@@ -1,6 +1,7 @@
 #pragma once
 // Files that appear whole or not at all: written under a temporary name in the same
-// directory, flushed, then renamed over the final name.
+// directory (NAME.tmpDIGITS, created exclusively: never a file that was there), flushed, then
+// renamed over the final name.
 #include <cstdio>
 #include <filesystem>
 #include <functional>

@@ -12,10 +12,13 @@
 #include <ctime>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <sstream>
 
 #include "common/input_error.hpp"
 #include "common/json_input.hpp"
+#include "common/pause_point.hpp"
+#include "common/read_file.hpp"
 #include "io/atomic_file.hpp"
 #include "io/frame_files.hpp"
 
@@ -28,6 +31,8 @@ namespace {
 
 const char* kManifest = "run.json";
 const char* kSubdirs[] = {"frames", "particles"};
+// The manifest records the scene it ran: room for the largest scene file (kMaxSceneBytes, 64 MiB).
+constexpr long long kMaxManifestBytes = 128LL << 20;
 
 double now_seconds() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
@@ -43,24 +48,23 @@ size_t skip_digits(std::string_view text, size_t at) {
   return at;
 }
 
-// Whether `name` is `pattern` ('*': one or more digits), or its temporary NAME.tmpPID
-// (io/atomic_file.hpp). One pass over the name.
-bool matches(std::string_view pattern, std::string_view name) {
+// Where `pattern` ('*': one or more digits) ends as a prefix of `name`; npos where it is not one.
+size_t pattern_end(std::string_view pattern, std::string_view name) {
   const size_t star = pattern.find('*');
-  size_t at = 0;
-  if (star == std::string_view::npos) {
-    if (!name.starts_with(pattern)) return false;
-    at = pattern.size();
-  } else {
-    const std::string_view before = pattern.substr(0, star), after = pattern.substr(star + 1);
-    if (!name.starts_with(before)) return false;
-    const size_t digits_end = skip_digits(name, before.size());
-    if (digits_end == before.size() || name.substr(digits_end, after.size()) != after) return false;
-    at = digits_end + after.size();
-  }
-  if (at == name.size()) return true;
+  if (star == std::string_view::npos) return name.starts_with(pattern) ? pattern.size() : std::string_view::npos;
+  const std::string_view before = pattern.substr(0, star), after = pattern.substr(star + 1);
+  if (!name.starts_with(before)) return std::string_view::npos;
+  const size_t digits_end = skip_digits(name, before.size());
+  if (digits_end == before.size() || name.substr(digits_end, after.size()) != after) return std::string_view::npos;
+  return digits_end + after.size();
+}
+
+// Whether `name` is `pattern`'s, or a temporary of one (NAME.tmpDIGITS, io/atomic_file.hpp).
+bool matches(std::string_view pattern, std::string_view name) { return pattern_end(pattern, name) == name.size(); }
+bool temporary_of(std::string_view pattern, std::string_view name) {
+  const size_t at = pattern_end(pattern, name);
   const std::string_view tmp = ".tmp";
-  return name.substr(at, tmp.size()) == tmp && at + tmp.size() < name.size() &&
+  return at != std::string_view::npos && name.substr(at, tmp.size()) == tmp && at + tmp.size() < name.size() &&
          skip_digits(name, at + tmp.size()) == name.size();
 }
 
@@ -81,6 +85,14 @@ class Listed {
   bool lists(std::string_view relative) const {
     return std::any_of(patterns_.begin(), patterns_.end(), [&](const std::string& p) { return matches(p, relative); });
   }
+  bool temporary(std::string_view relative) const {
+    return std::any_of(patterns_.begin(), patterns_.end(), [&](const std::string& p) { return temporary_of(p, relative); });
+  }
+  // Whether a run made the folder `sub`: it listed files in it.
+  bool made(std::string_view sub) const {
+    return std::any_of(patterns_.begin(), patterns_.end(),
+                       [&](const std::string& p) { return p.size() > sub.size() && p.starts_with(sub) && p[sub.size()] == '/'; });
+  }
 
  private:
   static InputError not_ours(const fs::path& path, const std::string& what) {
@@ -89,12 +101,13 @@ class Listed {
   std::vector<std::string> patterns_;
 };
 
-// The previous run's manifest, or an empty object where there is none.
+// The previous run's manifest, or an empty object where there is none: a regular file (not a
+// link, FIFO or device) of bounded size, since pbflow removes what it lists.
 json previous_manifest(const fs::path& dir) {
   fs::path path = dir / kManifest;
-  if (!fs::exists(path)) return json::object();
-  std::ifstream in(path);
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::error_code error;
+  if (!fs::exists(fs::symlink_status(path, error))) return json::object();
+  const std::string text = read_user_file(path.string(), path.string(), {kMaxManifestBytes, false});
   json m;
   try {
     m = parse_user_json(text, path.string());
@@ -110,22 +123,29 @@ InputError foreign(const fs::path& file) {
   return InputError(file.string() + " was not written by pbflow (no run.json lists it); choose another --out");
 }
 
-// Every file where a run writes that `previous` (the manifest in `dir`) lists, relative to
-// `dir`. Throws InputError for one it does not list.
-std::vector<std::string> previous_files(const fs::path& dir, const json& previous) {
-  Listed listed(previous, dir / kManifest);
+// Every file where a run writes that `listed` (the manifest in `dir`) names, relative to `dir`:
+// regular files only, never followed through a link. Throws InputError for a file it does not
+// list, for a folder or link under a name pbflow writes, and for a frames/ or particles/ that is
+// not a real directory. Temporaries (NAME.tmpDIGITS) are left alone: no run can tell whose they are.
+std::vector<std::string> previous_files(const fs::path& dir, const Listed& listed) {
   std::vector<std::string> owned;
   for (const auto& entry : fs::directory_iterator(dir)) {
-    std::string name = entry.path().filename().string();
-    bool sub = std::find(std::begin(kSubdirs), std::end(kSubdirs), name) != std::end(kSubdirs);
+    const std::string name = entry.path().filename().string();
+    const fs::file_status status = entry.symlink_status();
+    const bool sub = std::find(std::begin(kSubdirs), std::end(kSubdirs), name) != std::end(kSubdirs);
     if (sub) {
-      if (!entry.is_directory()) throw InputError(entry.path().string() + " exists and is not a directory; choose another --out");
+      if (!fs::is_directory(status))
+        throw InputError(entry.path().string() + " exists and is not a directory (a file or a link); choose another --out");
       for (const auto& file : fs::directory_iterator(entry.path())) {
-        std::string relative = name + "/" + file.path().filename().string();
-        if (!file.is_regular_file() || !listed.lists(relative)) throw foreign(file.path());
+        const std::string relative = name + "/" + file.path().filename().string();
+        if (listed.temporary(relative)) continue;
+        if (!fs::is_regular_file(file.symlink_status()) || !listed.lists(relative)) throw foreign(file.path());
         owned.push_back(relative);
       }
     } else if (listed.lists(name)) {
+      if (!fs::is_regular_file(status))
+        throw InputError(entry.path().string() + " is not a regular file (a folder or a link), so pbflow did not write it; "
+                         "choose another --out");
       owned.push_back(name);
     } else if (name == "stats.csv") {
       throw foreign(entry.path());
@@ -151,33 +171,76 @@ long lock_holder(const fs::path& dir) {
   return 0;
 }
 
-// Moves every file of the previous run into DIR/.pbflow-replaced-PID (a rename: the same
-// filesystem), then deletes that folder. A file that cannot be moved (permissions, an
-// immutable file) stops it before anything is deleted: the files moved so far go back, and
-// the previous run and its manifest stay whole.
-void replace_previous_run(const fs::path& dir) {
-  const std::vector<std::string> files = previous_files(dir, previous_manifest(dir));
-  if (files.empty()) return;
-  const fs::path aside = dir / (".pbflow-replaced-" + std::to_string(getpid()));
-  std::error_code error;
-  if (!fs::create_directory(aside, error) || error)
-    throw InputError("cannot set the previous run aside in " + aside.string() + ": " +
-                     (error ? error.message() : "it exists"));
-  for (const char* sub : kSubdirs) fs::create_directory(aside / sub, error);
+// A directory opened once and worked in by descriptor, never through a link.
+class DirectoryFd {
+ public:
+  DirectoryFd(int parent, const std::string& name)
+      : fd_(openat(parent, name.c_str(), O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC)) {}
+  ~DirectoryFd() {
+    if (fd_ >= 0) close(fd_);
+  }
+  DirectoryFd(DirectoryFd&& other) noexcept : fd_(std::exchange(other.fd_, -1)) {}
+  DirectoryFd(const DirectoryFd&) = delete;
+  DirectoryFd& operator=(const DirectoryFd&) = delete;
+  int get() const { return fd_; }
+
+ private:
+  int fd_;
+};
+
+// Moves `files` (relative to `dir`, open as `dir_fd`) into DIR/.pbflow-replaced-PID, then deletes
+// them there. A file that cannot be moved (permissions, an immutable file), or a `stop()` once all
+// are moved, puts every moved file back: the previous run and its manifest stay whole. Returns
+// false for a stop; throws InputError naming a file that could not be moved.
+bool replace_previous_run(int dir_fd, const fs::path& dir, const std::vector<std::string>& files,
+                          const std::function<bool()>& stop) {
+  if (files.empty()) return !stop();
+  const std::string aside = ".pbflow-replaced-" + std::to_string(getpid());
+  if (mkdirat(dir_fd, aside.c_str(), 0700) != 0)
+    throw InputError("cannot set the previous run aside in " + (dir / aside).string() + ": " + std::strerror(errno));
+  const DirectoryFd aside_fd(dir_fd, aside);
+  // Each folder of the previous run's, as (where its files are, where they go aside).
+  std::map<std::string, std::pair<DirectoryFd, DirectoryFd>> folders;
+  auto folder = [&](const std::string& sub) -> std::pair<int, int> {
+    if (sub.empty()) return {dir_fd, aside_fd.get()};
+    auto found = folders.find(sub);
+    if (found == folders.end()) {
+      mkdirat(aside_fd.get(), sub.c_str(), 0700);
+      found = folders.emplace(sub, std::pair{DirectoryFd(dir_fd, sub), DirectoryFd(aside_fd.get(), sub)}).first;
+    }
+    return {found->second.first.get(), found->second.second.get()};
+  };
+  auto split = [](const std::string& file) {
+    const size_t slash = file.find('/');
+    return slash == std::string::npos ? std::pair<std::string, std::string>{"", file}
+                                      : std::pair{file.substr(0, slash), file.substr(slash + 1)};
+  };
   std::vector<std::string> moved;
+  std::string failure;
   for (const std::string& file : files) {
-    fs::rename(dir / file, aside / file, error);
-    if (error) {
-      const std::string why = error.message();
-      for (auto f = moved.rbegin(); f != moved.rend(); ++f) fs::rename(aside / *f, dir / *f, error);
-      fs::remove_all(aside, error);
-      throw InputError("cannot replace the previous run in " + dir.string() + ": " + (dir / file).string() + ": " + why +
-                       "; nothing was removed");
+    const auto [sub, name] = split(file);
+    const auto [from, to] = folder(sub);
+    if (from < 0 || to < 0 || renameat(from, name.c_str(), to, name.c_str()) != 0) {
+      failure = (dir / file).string() + ": " + std::strerror(errno);
+      break;
     }
     moved.push_back(file);
+    if (moved.size() == 1) pause_point("replace");
   }
-  fs::remove_all(aside, error);
-  if (error) std::cerr << "pbflow: warning: the previous run's files stay in " << aside.string() << ": " << error.message() << "\n";
+  const bool undo = !failure.empty() || stop();
+  for (auto file = moved.rbegin(); file != moved.rend(); ++file) {
+    const auto [sub, name] = split(*file);
+    const auto [from, to] = folder(sub);
+    if (undo) renameat(to, name.c_str(), from, name.c_str());
+    else unlinkat(to, name.c_str(), 0);
+  }
+  for (const auto& [sub, fds] : folders) unlinkat(aside_fd.get(), sub.c_str(), AT_REMOVEDIR);
+  if (unlinkat(dir_fd, aside.c_str(), AT_REMOVEDIR) != 0)
+    std::cerr << "pbflow: warning: the previous run's files stay in " << (dir / aside).string() << ": "
+              << std::strerror(errno) << "\n";
+  if (!failure.empty())
+    throw InputError("cannot replace the previous run in " + dir.string() + ": " + failure + "; nothing was removed");
+  return !undo;
 }
 
 constexpr size_t kManifestRoom = 64 << 10;
@@ -211,7 +274,7 @@ void RunDirectory::check(const fs::path& dir) {
   if (dir.empty()) throw InputError("--out is empty: name a directory");
   if (!fs::exists(dir)) return;
   if (!fs::is_directory(dir)) throw InputError("--out " + dir.string() + " exists and is not a directory");
-  previous_files(dir, previous_manifest(dir));
+  previous_files(dir, Listed(previous_manifest(dir), dir / kManifest));
 }
 
 RunDirectory::RunDirectory(const fs::path& dir, const RunFiles& files) : dir_(dir), files_(files) {
@@ -252,15 +315,17 @@ fs::path RunDirectory::particle_path(int frame) const {
   return capture::frame_file(dir_ / sub, frame, files_.frame_count, extension);
 }
 
-void RunDirectory::begin(json about) {
-  replace_previous_run(dir_);
+bool RunDirectory::begin(json about, const std::function<bool()>& stop) {
+  const Listed previous(previous_manifest(dir_), dir_ / kManifest);
+  if (!replace_previous_run(lock_fd_, dir_, previous_files(dir_, previous), stop)) return false;
   std::vector<std::string> listed = {"stats.csv"};
   for (const auto& [sub, extension] : frame_folders()) {
-    if (!extension.empty()) {
-      fs::create_directories(dir_ / sub);
+    if (!extension.empty()) {  // a real directory where one exists (previous_files checked)
+      if (mkdirat(lock_fd_, sub, 0755) != 0 && errno != EEXIST)
+        throw std::runtime_error("cannot create " + (dir_ / sub).string() + ": " + std::strerror(errno));
       listed.push_back(std::string(sub) + "/frame_*." + extension);
-    } else if (fs::is_directory(dir_ / sub) && fs::is_empty(dir_ / sub)) {
-      fs::remove(dir_ / sub);
+    } else if (previous.made(sub)) {  // the previous run's folder, where it is empty now
+      unlinkat(lock_fd_, sub, AT_REMOVEDIR);
     }
   }
   manifest_ = std::move(about);
@@ -271,6 +336,7 @@ void RunDirectory::begin(json about) {
   manifest_["files"] = listed;
   manifest_["frames"] = {{"planned", files_.frame_count}, {"completed", 0}};
   write_manifest();
+  return true;
 }
 
 void RunDirectory::frames_done(int completed) {

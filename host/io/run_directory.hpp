@@ -2,10 +2,13 @@
 // A run owns its --out directory: it locks it for its lifetime (flock, so that a second
 // run into it is refused), writes only the files its manifest DIR/run.json lists, and
 // replaces the previous run's files as a whole, so that the directory never mixes two runs.
-// It removes only files inside DIR under pbflow's own names that the previous manifest
-// lists; a manifest that lists anything else is refused before anything changes.
+// It removes only regular files inside DIR under pbflow's own names that the previous manifest
+// lists, working by directory descriptor and never through a link; a manifest that lists
+// anything else, or a folder or link under one of pbflow's names, is refused before anything
+// changes (docs/design.md, "What a run guarantees about its directory").
 #include <array>
 #include <filesystem>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
@@ -32,11 +35,13 @@ class RunDirectory {
   RunDirectory(const RunDirectory&) = delete;
   RunDirectory& operator=(const RunDirectory&) = delete;
 
-  // Replaces the previous run's files (from its manifest, temporaries of a crashed run
-  // included) as a whole: all are removed, or, where one cannot be, none (InputError naming
-  // it). Then writes this run's manifest, status "running". `about` holds what the manifest
-  // records of the run (scene, options, device); files and status are added here.
-  void begin(nlohmann::json about);
+  // Replaces the previous run's files (those its manifest lists; regular files only, never
+  // through a link; temporaries left alone) as a whole: all are removed, or, where one cannot
+  // be, none (InputError naming it). Then writes this run's manifest, status "running".
+  // `about` holds what the manifest records of the run (scene, options, device); files and
+  // status are added here. Where `stop()` says so once the old files are set aside, they go
+  // back, nothing is written, and it returns false.
+  bool begin(nlohmann::json about, const std::function<bool()>& stop);
   // Frames 0..completed-1 are whole on disk; the manifest catches up at most once a second.
   void frames_done(int completed);
   // The final manifest: status complete / diverged / interrupted / failed, and why.

@@ -1,5 +1,6 @@
 #include "io/stats_csv.hpp"
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -8,7 +9,16 @@
 
 namespace pbflow {
 
-StatsCsv::StatsCsv(const std::filesystem::path& path) : path_(path), file_(std::fopen(path.c_str(), "w")) {
+namespace {
+// A new file: the previous run's was set aside, and a stats.csv that appeared since (or a link
+// under its name) is not opened through, let alone truncated.
+std::FILE* create_new(const std::filesystem::path& path) {
+  const int fd = open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+  return fd < 0 ? nullptr : fdopen(fd, "w");
+}
+}  // namespace
+
+StatsCsv::StatsCsv(const std::filesystem::path& path) : path_(path), file_(create_new(path)) {
   if (!file_) throw std::runtime_error("cannot write " + path.string() + ": " + std::strerror(errno));
   append("frame,time,mean_compression,max_compression,kinetic_energy,potential_energy,max_speed,iterations,step_ms\n");
 }

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "common/json_input.hpp"
+#include "common/read_file.hpp"
 #include "scene/framing.hpp"
 #include "scene/keys.hpp"
 
@@ -136,6 +137,9 @@ void apply_override(json& j, const std::string& assignment) {
   std::stringstream parts(key);
   std::string part, done;
   while (std::getline(parts, part, '.')) {
+    if (!target->is_object() && !target->is_null())
+      throw InputError("--param " + key + ": '" + done + "' is set to a value that is not an object (" +
+                       target->dump().substr(0, 40) + ")");
     done += (done.empty() ? "" : ".") + part;
     if (!allowed->is_object() || !allowed->contains(part)) throw InputError("--param: unknown scene key '" + done + "'");
     allowed = &(*allowed)[part];
@@ -154,7 +158,9 @@ void apply_override(json& j, const std::string& assignment) {
 
 }  // namespace
 
-Scene parse_scene(const std::string& json_text, const std::string& origin, const std::vector<std::string>& overrides) {
+namespace {
+
+Scene parse_checked(const std::string& json_text, const std::string& origin, const std::vector<std::string>& overrides) {
   json j = parse_user_json(json_text, origin);
   if (!j.is_object()) throw InputError(origin + ": a scene must be a JSON object ({...})");
   for (const std::string& o : overrides) apply_override(j, o);
@@ -253,25 +259,28 @@ Scene parse_scene(const std::string& json_text, const std::string& origin, const
   return s;
 }
 
+}  // namespace
+
+Scene parse_scene(const std::string& json_text, const std::string& origin, const std::vector<std::string>& overrides) {
+  // Every check above names its key; what a value could still make the JSON library throw
+  // (a type the walk did not expect) is bad input all the same, named by where it came from.
+  try {
+    return parse_checked(json_text, origin, overrides);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(origin + ": " + e.what());
+  }
+}
+
 Scene load_scene(const std::string& name_or_path, const std::vector<std::string>& overrides) {
   for (const auto& [name, text] : builtin_scenes_text())
     if (name == name_or_path) return parse_scene(std::string(text), std::string(name), overrides);
   // A scene is a regular file of modest size: a directory, FIFO or device (/dev/zero) is
   // refused before it is read, and so is a file too large to be a scene.
   std::error_code error;
-  const std::filesystem::file_status status = std::filesystem::status(name_or_path, error);
-  if (error || !std::filesystem::exists(status))
+  if (!std::filesystem::exists(std::filesystem::symlink_status(name_or_path, error)))
     throw InputError("no built-in scene or readable file named '" + name_or_path + "' (see 'pbflow scenes')");
-  if (!std::filesystem::is_regular_file(status))
-    throw InputError("scene '" + name_or_path + "' is not a regular file (a directory, FIFO or device)");
-  if (std::filesystem::file_size(name_or_path, error) > kMaxSceneBytes)
-    throw InputError("scene '" + name_or_path + "' is larger than " + std::to_string(kMaxSceneBytes >> 20) +
-                     " MiB, too large to be a scene");
-  std::ifstream file(name_or_path);
-  if (!file) throw InputError("cannot read scene '" + name_or_path + "'");
-  std::stringstream text;
-  text << file.rdbuf();
-  return parse_scene(text.str(), name_or_path, overrides);
+  const std::string text = read_user_file(name_or_path, "scene '" + name_or_path + "'", {kMaxSceneBytes});
+  return parse_scene(text, name_or_path, overrides);
 }
 
 std::vector<BuiltinScene> builtin_scenes() {

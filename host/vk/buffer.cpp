@@ -1,5 +1,7 @@
 #include "vk/buffer.hpp"
 
+#include <sys/resource.h>
+
 #include <string>
 
 #include "vk/check.hpp"
@@ -36,7 +38,16 @@ Buffer::Buffer(const Context& ctx, VkDeviceSize bytes, Memory memory) : ctx_(&ct
         req.memoryTypeBits, memory == Memory::Host
                                 ? VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT
                                 : VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-    VK_CHECK(vkAllocateMemory(ctx.device(), &alloc, nullptr, &memory_));
+    const VkResult allocated = vkAllocateMemory(ctx.device(), &alloc, nullptr, &memory_);
+    // Memory exported as a file descriptor is a file to the kernel (lavapipe's is a memfd):
+    // past a file-size limit it cannot be sized, and the driver reports that as out of memory.
+    rlimit file_size{};
+    if (allocated != VK_SUCCESS && memory == Memory::Shared && getrlimit(RLIMIT_FSIZE, &file_size) == 0 &&
+        file_size.rlim_cur != RLIM_INFINITY && file_size.rlim_cur < req.size)
+      throw Error("cannot share " + std::to_string((req.size + 1023) >> 10) + " KiB between the solver and the renderer: a "
+                  "file-size limit of " + std::to_string(file_size.rlim_cur >> 10) + " KiB is in force (ulimit -f), and " +
+                  ctx.info().name + " keeps shared memory in a file; raise the limit");
+    VK_CHECK(allocated);
     VK_CHECK(vkBindBufferMemory(ctx.device(), buffer_, memory_, 0));
     if (memory == Memory::Host) VK_CHECK(vkMapMemory(ctx.device(), memory_, 0, VK_WHOLE_SIZE, 0, &mapped_));
     ctx.count_buffer_bytes(int64_t(bytes_));
