@@ -1,8 +1,11 @@
 #include "support.hpp"
 
+#include <fcntl.h>
+#include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -92,6 +95,44 @@ CliResult run_pbflow(const std::string& args, const std::string& prefix) {
   std::string output((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   fs::remove(log);
   return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, output};
+}
+
+pid_t spawn_pbflow(const std::vector<std::string>& args, const std::filesystem::path& log,
+                   const std::vector<std::string>& env, const std::string& stdout_path) {
+  std::vector<std::string> argv_text = {PBFLOW_BINARY};
+  argv_text.insert(argv_text.end(), args.begin(), args.end());
+  std::vector<char*> argv, envp;
+  for (std::string& a : argv_text) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  std::vector<std::string> env_text = env;
+  for (char** e = environ; *e; ++e) env_text.push_back(*e);
+  for (std::string& e : env_text) envp.push_back(e.data());
+  envp.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  if (stdout_path.empty()) posix_spawn_file_actions_adddup2(&actions, STDERR_FILENO, STDOUT_FILENO);
+  else posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, stdout_path.c_str(), O_WRONLY, 0);
+  pid_t pid = -1;
+  EXPECT_EQ(posix_spawn(&pid, PBFLOW_BINARY, &actions, nullptr, argv.data(), envp.data()), 0);
+  posix_spawn_file_actions_destroy(&actions);
+  return pid;
+}
+
+CliResult finish_pbflow(pid_t pid, const std::filesystem::path& log) {
+  int raw = 0;
+  while (waitpid(pid, &raw, 0) < 0 && errno == EINTR) {
+  }
+  std::ifstream in(log);
+  std::string output((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::filesystem::remove(log);
+  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, output};
+}
+
+CliResult run_pbflow(const std::vector<std::string>& args, const std::string& stdout_path) {
+  const std::filesystem::path log =
+      std::filesystem::temp_directory_path() / ("pbflow_argv_" + std::to_string(getpid()) + ".log");
+  return finish_pbflow(spawn_pbflow(args, log, {}, stdout_path), log);
 }
 
 std::filesystem::path fresh_dir(const std::string& name) {

@@ -3,6 +3,8 @@
 // error reports (max and mean, absolute and relative, printed for every comparison).
 #include <gtest/gtest.h>
 
+#include <sys/types.h>
+
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -53,6 +55,15 @@ struct CliResult {
 // Runs `pbflow args` through the shell; `prefix` goes before the binary, e.g. an
 // environment ("PATH=/x") or a limit ("ulimit -f 8;"), and holds for this run alone.
 CliResult run_pbflow(const std::string& args, const std::string& prefix = "");
+
+// The same without a shell: `args` is the argument vector as given (quotes, $(...), newlines
+// and all); stdout goes to `stdout_path` where one is named (e.g. /dev/full), else into the output.
+CliResult run_pbflow(const std::vector<std::string>& args, const std::string& stdout_path = "");
+// Starts pbflow with `args` and `env` (NAME=VALUE) added to its environment, its output into
+// `log`; finish_pbflow waits for it and reads the log.
+pid_t spawn_pbflow(const std::vector<std::string>& args, const std::filesystem::path& log,
+                   const std::vector<std::string>& env = {}, const std::string& stdout_path = "");
+CliResult finish_pbflow(pid_t pid, const std::filesystem::path& log);
 
 // An empty path under the temporary directory: pbflow_test_NAME, removed if it exists.
 std::filesystem::path fresh_dir(const std::string& name);
