@@ -18,15 +18,20 @@ FrameCapture::FrameCapture(const CaptureOptions& options, const Solver& solver, 
 
 FrameCapture::~FrameCapture() = default;
 
+const Image& FrameCapture::draw(const Solver& solver) {
+  const auto start = std::chrono::steady_clock::now();
+  const Image& image = renderer_.render(transfer_->update(solver), uint32_t(solver.particle_count()));
+  drawing_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  gpu_drawing_seconds_ += renderer_.last_gpu_seconds();
+  return image;
+}
+
 void FrameCapture::write(const std::filesystem::path& png, const Solver& solver, std::function<void()> written) {
   using clock = std::chrono::steady_clock;
   const auto start = clock::now();
-  const Image& image = renderer_.render(transfer_->update(solver), uint32_t(solver.particle_count()));
-  const auto drawn = clock::now();
+  const Image& image = draw(solver);
   if (video_) video_->add(image);
   writer_.push(png, image, std::move(written));  // a copy: the renderer draws the next frame into its own
-  drawing_seconds_ += std::chrono::duration<double>(drawn - start).count();
-  gpu_drawing_seconds_ += renderer_.last_gpu_seconds();
   seconds_ += std::chrono::duration<double>(clock::now() - start).count();
 }
 

@@ -30,6 +30,9 @@ class FrameCapture {
   // Draws the solver's frame and starts writing it to `png`; `written` runs once the file is
   // whole, in frame order (FrameWriter), here or in a later write() or finish().
   void write(const std::filesystem::path& png, const Solver& solver, std::function<void()> written);
+  // Draws the solver's frame and returns the image (the renderer's own, valid until the next
+  // draw): what the live view encodes, and what write() writes.
+  const Image& draw(const Solver& solver);
   void finish();  // waits for the frames' files, then completes the video
 
   std::string description() const;  // GL platform, renderer and transfer path

@@ -12,6 +12,7 @@
 #include <string_view>
 
 #include "app/run.hpp"
+#include "app/serve.hpp"
 #include "bench/scaling.hpp"
 #include "bench/study.hpp"
 #include "capture/gl_context.hpp"
@@ -104,8 +105,32 @@ void check_utf8(int argc, char** argv) {
   }
 }
 
-int run_command(CLI::App& app, const pbflow::RunOptions& run, const pbflow::bench::StudyOptions& bench, bool scaling,
+int run_command(CLI::App& app, const pbflow::RunOptions& run, const pbflow::ServeOptions& serve, const pbflow::bench::StudyOptions& bench, bool scaling,
                 double budget_minutes, const std::string& scaling_method);
+
+// The options `run` and `serve` share: the scene, its setting, the device and the image.
+void add_scene_options(CLI::App* cmd, pbflow::RunOptions& o) {
+  cmd->add_option("scene", o.scene, "built-in scene name or JSON file");
+  cmd->add_option("--method", o.method, "pbf | ldc")->check(CLI::IsMember({"pbf", "ldc"}));
+  cmd->add_option("--iterations", o.iterations, "constraint iterations per step")->check(CLI::Range(1, 1000));
+  cmd->add_option("--device", o.device, "auto | cpu | INDEX (see 'pbflow devices')")->capture_default_str();
+  cmd->add_option("--param", o.params, "override a scene key, e.g. solver.ldc_k=2000 (repeatable)");
+  cmd->add_flag("--validate", o.validate, "enable the Vulkan validation layer");
+  std::vector<std::string> styles;
+  for (pbflow::capture::Style s : pbflow::capture::kStyles) styles.push_back(pbflow::capture::style_name(s));
+  cmd->add_option("--style", o.style, "how frames are drawn: fluid (the default), particles, density, speed or "
+                                            "normals (the fluid's surface normals, RGB = 0.5 n + 0.5)")
+      ->check(CLI::IsMember(styles))
+      ->capture_default_str();
+  cmd->add_option("--fluid-resolution", o.fluid_resolution,
+                      "fluid style: the surface's depth, thickness and smoothing at half or full image size")
+      ->check(CLI::IsMember({"half", "full"}))
+      ->capture_default_str();
+  cmd->add_option("--width", o.width, "image width in pixels")->check(CLI::Range(16, 16384))->capture_default_str();
+  cmd->add_option("--height", o.height, "image height in pixels")
+      ->check(CLI::Range(16, 16384))
+      ->capture_default_str();
+}
 
 }  // namespace
 
@@ -122,37 +147,27 @@ int main(int argc, char** argv) {
 
   pbflow::RunOptions run;
   CLI::App* run_cmd = app.add_subcommand("run", "simulate a scene (default: dam_break)");
-  run_cmd->add_option("scene", run.scene, "built-in scene name or JSON file");
-  run_cmd->add_option("--method", run.method, "pbf | ldc")->check(CLI::IsMember({"pbf", "ldc"}));
-  run_cmd->add_option("--iterations", run.iterations, "constraint iterations per step")->check(CLI::Range(1, 1000));
+  add_scene_options(run_cmd, run);
   run_cmd->add_option("--frames", run.frames, "frames to write (frame 0 is the initial state)")
       ->check(CLI::Range(1, pbflow::kMaxFrames));
   run_cmd->add_option("--out", run.out, "output directory")->capture_default_str();
-  run_cmd->add_option("--device", run.device, "auto | cpu | INDEX (see 'pbflow devices')")->capture_default_str();
-  run_cmd->add_option("--param", run.params, "override a scene key, e.g. solver.ldc_k=2000 (repeatable)");
-  run_cmd->add_flag("--validate", run.validate, "enable the Vulkan validation layer");
   run_cmd->add_flag("--quiet", run.quiet, "no progress line or summary");
   bool no_render = false;
   run_cmd->add_flag("--no-render", no_render, "simulate only, write no images");
-  std::vector<std::string> styles;
-  for (pbflow::capture::Style s : pbflow::capture::kStyles) styles.push_back(pbflow::capture::style_name(s));
-  run_cmd->add_option("--style", run.style, "how frames are drawn: fluid (the default), particles, density, speed or "
-                                            "normals (the fluid's surface normals, RGB = 0.5 n + 0.5)")
-      ->check(CLI::IsMember(styles))
-      ->capture_default_str();
-  run_cmd->add_option("--fluid-resolution", run.fluid_resolution,
-                      "fluid style: the surface's depth, thickness and smoothing at half or full image size")
-      ->check(CLI::IsMember({"half", "full"}))
-      ->capture_default_str();
-  run_cmd->add_option("--width", run.width, "image width in pixels")->check(CLI::Range(16, 16384))->capture_default_str();
-  run_cmd->add_option("--height", run.height, "image height in pixels")
-      ->check(CLI::Range(16, 16384))
-      ->capture_default_str();
   run_cmd->add_option("--video", run.video, "also encode the frames into this .mp4 (needs ffmpeg)");
   run_cmd->add_flag("--readback", run.readback, "read particles back through the host even where zero-copy works");
   run_cmd->add_option("--export", run.export_format, "particle files per frame: ply | vtk (.vtp)")
       ->check(CLI::IsMember({"ply", "vtk"}));
   run_cmd->add_flag("--verbose", run.verbose, "say how frames are rendered (EGL platform, GL, particle path)");
+
+  pbflow::ServeOptions serve;
+  serve.run.width = 640;  // a live view's default: what lavapipe holds near real time (docs/serve.md)
+  serve.run.height = 360;
+  CLI::App* serve_cmd = app.add_subcommand("serve", "run a scene live and watch it in a browser (docs/serve.md)");
+  add_scene_options(serve_cmd, serve.run);
+  serve_cmd->add_option("--listen", serve.listen, "ADDR:PORT to serve on (another address than 127.0.0.1 is reachable "
+                                                  "from other machines)")
+      ->capture_default_str();
 
   pbflow::bench::StudyOptions bench;
   CLI::App* bench_cmd = app.add_subcommand("bench", "the speed-accuracy study: CSV and charts (bench/study.hpp)");
@@ -210,7 +225,7 @@ int main(int argc, char** argv) {
   run.render = !no_render;
   bench.charts = !no_charts;
 
-  const int status = run_command(app, run, bench, scaling, budget_minutes, scaling_method);
+  const int status = run_command(app, run, serve, bench, scaling, budget_minutes, scaling_method);
   // What was printed must have reached its reader: `pbflow keys > /dev/full` is a failure.
   std::cout.flush();
   if (std::fflush(stdout) != 0 || std::ferror(stdout) || !std::cout) {
@@ -222,13 +237,15 @@ int main(int argc, char** argv) {
 
 namespace {
 
-int run_command(CLI::App& app, const pbflow::RunOptions& run, const pbflow::bench::StudyOptions& bench, bool scaling,
+int run_command(CLI::App& app, const pbflow::RunOptions& run, const pbflow::ServeOptions& serve, const pbflow::bench::StudyOptions& bench, bool scaling,
                 double budget_minutes, const std::string& scaling_method) {
   CLI::App* scenes_cmd = app.get_subcommand("scenes");
   CLI::App* devices_cmd = app.get_subcommand("devices");
   CLI::App* keys_cmd = app.get_subcommand("keys");
   CLI::App* bench_cmd = app.get_subcommand("bench");
+  CLI::App* serve_cmd = app.get_subcommand("serve");
   try {
+    if (*serve_cmd) return pbflow::serve(serve);
     if (*scenes_cmd) return list_scenes();
     if (*devices_cmd) return list_devices();
     if (*keys_cmd) return std::cout << pbflow::scene_keys_markdown(), 0;

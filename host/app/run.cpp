@@ -36,6 +36,31 @@ std::vector<std::string> scene_overrides(const RunOptions& o) {
   return all;
 }
 
+std::unique_ptr<capture::FrameCapture> make_frame_capture(const RunOptions& o, const Scene& scene, const Solver& solver,
+                                                    const vk::Context* vk) {
+  if (o.width < 16 || o.height < 16 || o.width > 16384 || o.height > 16384)
+    throw InputError("--width and --height must be between 16 and 16384 pixels");
+  capture::CaptureOptions c;
+  c.view.width = o.width;
+  c.view.height = o.height;
+  c.view.style = capture::parse_style(o.style);
+  if (o.fluid_resolution != "half" && o.fluid_resolution != "full")
+    throw InputError("--fluid-resolution must be half or full, not '" + o.fluid_resolution + "'");
+  c.view.surface_divisor = o.fluid_resolution == "half" ? 2 : 1;
+  c.view.camera = scene.camera;
+  c.view.domain = scene.domain;
+  c.view.obstacles = scene.obstacles;
+  c.view.particle_radius = 0.5 * scene.particle_spacing;
+  c.view.rest_density = scene.solver.rest_density;
+  // Red in the speed style: the speed of a fall through the domain's height.
+  c.view.speed_scale = std::max(fall_speed(scene), 0.1);
+  c.video = o.video;
+  c.fps = scene.fps;
+  c.allow_shared = !o.readback;
+  c.debug = o.validate;
+  return std::make_unique<capture::FrameCapture>(c, solver, vk);
+}
+
 namespace {
 
 class Progress {
@@ -62,31 +87,6 @@ class Progress {
   int frames_;
   bool enabled_;
 };
-
-std::unique_ptr<capture::FrameCapture> make_capture(const RunOptions& o, const Scene& scene, const Solver& solver,
-                                                    const vk::Context* vk) {
-  if (o.width < 16 || o.height < 16 || o.width > 16384 || o.height > 16384)
-    throw InputError("--width and --height must be between 16 and 16384 pixels");
-  capture::CaptureOptions c;
-  c.view.width = o.width;
-  c.view.height = o.height;
-  c.view.style = capture::parse_style(o.style);
-  if (o.fluid_resolution != "half" && o.fluid_resolution != "full")
-    throw InputError("--fluid-resolution must be half or full, not '" + o.fluid_resolution + "'");
-  c.view.surface_divisor = o.fluid_resolution == "half" ? 2 : 1;
-  c.view.camera = scene.camera;
-  c.view.domain = scene.domain;
-  c.view.obstacles = scene.obstacles;
-  c.view.particle_radius = 0.5 * scene.particle_spacing;
-  c.view.rest_density = scene.solver.rest_density;
-  // Red in the speed style: the speed of a fall through the domain's height.
-  c.view.speed_scale = std::max(fall_speed(scene), 0.1);
-  c.video = o.video;
-  c.fps = scene.fps;
-  c.allow_shared = !o.readback;
-  c.debug = o.validate;
-  return std::make_unique<capture::FrameCapture>(c, solver, vk);
-}
 
 // What DIR/run.json records of a run besides its files and status. "chosen": what pbflow
 // picked where the scene left a key out, as the --param that would state it.
@@ -161,7 +161,7 @@ int run(const RunOptions& o) {
   std::unique_ptr<Solver> solver = make_solver(ctx.get(), d, x0);
   const capture::ExportFormat export_format = capture::parse_export_format(o.export_format);
   std::unique_ptr<capture::FrameCapture> capture;
-  if (o.render) capture = make_capture(o, scene, *solver, ctx.get());
+  if (o.render) capture = make_frame_capture(o, scene, *solver, ctx.get());
   if (capture) solver->set_smoothed_positions(capture->draws_surface());
 
   // Everything is checked: from here the run owns DIR and replaces the previous run's files.

@@ -37,6 +37,16 @@ struct RunOptions {
 // The scene's overrides: --param entries, then the dedicated options (which win).
 std::vector<std::string> scene_overrides(const RunOptions& o);
 
+namespace capture {
+class FrameCapture;
+}
+struct Scene;
+
+// The renderer of `o`'s image options for `scene`, drawing `solver`'s frames (and its video,
+// where `o` names one). Throws InputError for a bad size or style.
+std::unique_ptr<capture::FrameCapture> make_frame_capture(const RunOptions& o, const Scene& scene, const Solver& solver,
+                                                          const vk::Context* vk);
+
 // Runs the scene; returns the exit status (docs/design.md). Throws InputError for bad input.
 int run(const RunOptions& o);
 

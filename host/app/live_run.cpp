@@ -1,0 +1,190 @@
+#include "app/live_run.hpp"
+
+#include <future>
+
+#include "capture/frame_capture.hpp"
+#include "capture/jpeg.hpp"
+#include "gpu/make_solver.hpp"
+#include "gpu/memory_estimate.hpp"
+#include "scene/derive.hpp"
+#include "scene/parse.hpp"
+#include "scene/seeding.hpp"
+#include "sim/settle.hpp"
+#include "vk/context.hpp"
+
+namespace pbflow {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Simulated over wall seconds, over windows of about a second.
+class RealtimeFactor {
+ public:
+  void add(double simulated_s) {
+    simulated_ += simulated_s;
+    const double wall = std::chrono::duration<double>(Clock::now() - since_).count();
+    if (wall >= 1.0) {
+      value_ = simulated_ / wall;
+      simulated_ = 0;
+      since_ = Clock::now();
+    }
+  }
+  void restart() { simulated_ = 0, since_ = Clock::now(); }
+  double value() const { return value_; }
+
+ private:
+  double simulated_ = 0, value_ = 0;
+  Clock::time_point since_ = Clock::now();
+};
+
+}  // namespace
+
+LiveRun::LiveRun(const RunOptions& options) {
+  std::promise<void> ready;
+  std::future<void> started = ready.get_future();
+  simulation_ = std::thread([this, options, &ready] { simulate(options, ready); });
+  try {
+    started.get();  // the set-up's error, rethrown here
+  } catch (...) {
+    simulation_.join();
+    throw;
+  }
+  encoder_ = std::thread([this] { encode(); });
+}
+
+LiveRun::~LiveRun() {
+  stop();
+  if (simulation_.joinable()) simulation_.join();
+  if (encoder_.joinable()) encoder_.join();
+}
+
+void LiveRun::stop() {
+  stopping_ = true;
+  {
+    std::lock_guard lock(commands_mutex_);
+    commands_changed_.notify_all();
+  }
+  std::lock_guard lock(frames_mutex_);
+  drawn_changed_.notify_all();
+  encoded_changed_.notify_all();
+}
+
+void LiveRun::command(LiveCommand c) {
+  std::lock_guard lock(commands_mutex_);
+  if (commands_.size() < 64) commands_.push_back(c);  // a flood of commands is cut, not queued
+  commands_changed_.notify_all();
+}
+
+std::shared_ptr<const LiveFrame> LiveRun::next_frame(uint64_t after, std::chrono::milliseconds timeout) const {
+  std::unique_lock lock(frames_mutex_);
+  encoded_changed_.wait_for(lock, timeout, [&] { return stopping_ || (encoded_ && encoded_->number > after); });
+  return encoded_ && encoded_->number > after ? encoded_ : nullptr;
+}
+
+// The run's thread: the Vulkan device, the solver and the GL context live here. Frames go at
+// the scene's clock: each is due a period after the last; one that is late is drawn at once
+// and the clock starts again from it (the run then goes as fast as it can).
+void LiveRun::simulate(const RunOptions& o, std::promise<void>& ready) {
+  std::unique_ptr<vk::Context> ctx;
+  std::unique_ptr<Solver> solver;
+  std::unique_ptr<capture::FrameCapture> capture;
+  Scene scene;
+  ParticleState start;
+  try {
+    scene = load_scene(o.scene, scene_overrides(o));
+    const Derived d = derive(scene);
+    ctx = make_context(o.device, o.validate);
+    const vk::DeviceInfo* device = ctx ? &ctx->info() : nullptr;
+    check_memory(memory_need(d, particle_estimate(scene), device, {double(o.width) * o.height, o.fluid_resolution == "full"}),
+                 device);
+    solver = make_solver(ctx.get(), d, initial_particles(scene));
+    capture = make_frame_capture(o, scene, *solver, ctx.get());
+    solver->set_smoothed_positions(capture->draws_surface());
+    relax_seed(*solver);
+    if (scene.settle) settle(*solver, d);
+    start = solver->download();
+    description_ = scene.name + ", " + std::to_string(solver->particle_count()) + " particles, " +
+                   method_name(scene.solver.method) + "@" + std::to_string(scene.solver.iterations) + ", " +
+                   std::to_string(scene.solver.substeps) + " substeps per frame, on " + solver->device_name();
+    ready.set_value();
+  } catch (...) {
+    ready.set_exception(std::current_exception());
+    return;
+  }
+  const std::string setting = std::string(method_name(scene.solver.method)) + "@" + std::to_string(scene.solver.iterations);
+  const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / scene.fps));
+  RealtimeFactor realtime;
+  uint64_t number = 0;
+  double sim_time = 0;
+  bool paused = false, first = true;
+  Clock::time_point due = Clock::now();
+  while (!stopping_) {
+    bool step = false;
+    {
+      std::unique_lock lock(commands_mutex_);
+      if (paused && commands_.empty()) commands_changed_.wait_for(lock, std::chrono::milliseconds(100));
+      for (; !commands_.empty(); commands_.pop_front()) {
+        switch (commands_.front()) {
+          case LiveCommand::Pause: paused = true; break;
+          case LiveCommand::Resume: paused = false; break;
+          case LiveCommand::Step: step = paused = true; break;
+          case LiveCommand::Restart: solver->upload(start), sim_time = 0, first = true; break;
+        }
+      }
+    }
+    if (stopping_) break;
+    if (paused && !step && !first) {
+      realtime.restart();
+      due = Clock::now();
+      continue;
+    }
+    const FrameStats stats = solver->advance(first ? 0 : scene.solver.substeps);
+    if (!first) sim_time += 1.0 / scene.fps;
+    realtime.add(first ? 0.0 : 1.0 / scene.fps);
+    first = false;
+    auto frame = std::make_shared<LiveFrame>();
+    frame->number = ++number;
+    frame->sim_time = sim_time;
+    frame->stats = stats;
+    frame->realtime_factor = paused ? 0.0 : realtime.value();
+    frame->paused = paused;
+    frame->setting = setting;
+    auto image = std::make_shared<const capture::Image>(capture->draw(*solver));
+    frame->drawn = Clock::now();
+    {
+      std::lock_guard lock(frames_mutex_);  // the encoder takes the newest; one it missed is dropped
+      drawn_ = std::move(frame);
+      drawn_image_ = std::move(image);
+      drawn_changed_.notify_all();
+    }
+    due += period;
+    const Clock::time_point now = Clock::now();
+    if (now < due) std::this_thread::sleep_until(due);
+    else if (now - due > period) due = now;  // behind: as fast as it can, the clock from here
+  }
+}
+
+void LiveRun::encode() {
+  capture::JpegEncoder jpeg;
+  uint64_t last = 0;
+  while (!stopping_) {
+    std::shared_ptr<LiveFrame> frame;
+    std::shared_ptr<const capture::Image> image;
+    {
+      std::unique_lock lock(frames_mutex_);
+      drawn_changed_.wait(lock, [&] { return stopping_ || (drawn_ && drawn_->number > last); });
+      if (stopping_) return;
+      frame = drawn_;
+      image = drawn_image_;
+    }
+    last = frame->number;
+    auto encoded = std::make_shared<LiveFrame>(*frame);
+    encoded->jpeg = jpeg.encode(*image);
+    std::lock_guard lock(frames_mutex_);
+    encoded_ = std::move(encoded);
+    encoded_changed_.notify_all();
+  }
+}
+
+}  // namespace pbflow

@@ -1,0 +1,72 @@
+#pragma once
+// The live run behind `pbflow serve`: a scene simulated and drawn on its own thread at the
+// scene's clock, each frame encoded on another, the newest frame published for any number of
+// viewers to take. Nothing a viewer does (or fails to do) makes the simulation wait.
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <deque>
+#include <future>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+
+#include "app/run.hpp"
+#include "capture/renderer.hpp"
+
+namespace pbflow {
+
+// A frame as viewers get it: the JPEG and the measures it was drawn with.
+struct LiveFrame {
+  uint64_t number = 0;        // frames drawn since the start (a restart goes on counting)
+  double sim_time = 0;        // s of simulated time since the last (re)start
+  FrameStats stats;           // of this frame
+  double realtime_factor = 0;  // simulated over wall seconds, over the last second or so
+  bool paused = false;
+  std::string setting;        // "pbf@2"
+  std::string jpeg;
+  std::chrono::steady_clock::time_point drawn;  // when its image was drawn
+};
+
+// What a viewer can ask of the run (docs/serve.md, "Protocol").
+enum class LiveCommand { Pause, Resume, Step, Restart };
+
+class LiveRun {
+ public:
+  // Loads the scene, makes the solver and renderer on the run's thread and starts it; throws
+  // InputError (bad scene or options) or the failure that stopped the set-up.
+  explicit LiveRun(const RunOptions& options);
+  ~LiveRun();  // stops both threads
+  LiveRun(const LiveRun&) = delete;
+  LiveRun& operator=(const LiveRun&) = delete;
+
+  void command(LiveCommand c);
+  // The newest encoded frame past `after` (a frame number), waiting up to `timeout`; null
+  // where none came. Returns at once once stop() was called.
+  std::shared_ptr<const LiveFrame> next_frame(uint64_t after, std::chrono::milliseconds timeout) const;
+  void stop();
+  const std::string& description() const { return description_; }  // scene, particles, setting, device
+
+ private:
+  void simulate(const RunOptions& options, std::promise<void>& ready);
+  void encode();
+
+  std::atomic<bool> stopping_{false};
+  std::string description_;
+
+  std::mutex commands_mutex_;
+  std::condition_variable commands_changed_;
+  std::deque<LiveCommand> commands_;
+
+  // The newest drawn frame, waiting for the encoder (its jpeg empty); the newest encoded one.
+  mutable std::mutex frames_mutex_;
+  mutable std::condition_variable drawn_changed_, encoded_changed_;
+  std::shared_ptr<LiveFrame> drawn_;
+  std::shared_ptr<const capture::Image> drawn_image_;
+  std::shared_ptr<const LiveFrame> encoded_;
+
+  std::thread simulation_, encoder_;
+};
+
+}  // namespace pbflow

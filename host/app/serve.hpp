@@ -1,0 +1,17 @@
+#pragma once
+// `pbflow serve`: a scene run live and watched in a browser (docs/serve.md).
+#include <string>
+
+#include "app/run.hpp"
+
+namespace pbflow {
+
+struct ServeOptions {
+  RunOptions run;  // the scene and image options, as `pbflow run` takes them
+  std::string listen = "127.0.0.1:8080";
+};
+
+// Serves until SIGINT or SIGTERM; returns the exit status. Throws InputError for bad input.
+int serve(const ServeOptions& o);
+
+}  // namespace pbflow

@@ -1,0 +1,221 @@
+#include "app/web_server.hpp"
+
+#include <civetweb.h>
+
+#include <algorithm>
+#include <condition_variable>
+#include <cstring>
+#include <deque>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <sstream>
+
+#include "common/input_error.hpp"
+#include "common/json_input.hpp"
+
+namespace pbflow {
+
+const std::vector<std::pair<std::string_view, std::string_view>>& web_pages_text();  // generated
+
+namespace {
+
+using nlohmann::json;
+using Clock = std::chrono::steady_clock;
+
+const Clock::time_point kStarted = Clock::now();
+
+bool loopback(const char* address) {
+  return address && (std::strncmp(address, "127.", 4) == 0 || std::strcmp(address, "::1") == 0);
+}
+
+std::string page_text() {
+  for (const auto& [name, text] : web_pages_text())
+    if (name == "live") return std::string(text);
+  return "";
+}
+
+std::string stats_message(const LiveFrame& f) {
+  return json{{"type", "stats"},
+              {"frame", f.number},
+              {"time", f.sim_time},
+              {"paused", f.paused},
+              {"setting", f.setting},
+              {"realtime_factor", f.realtime_factor},
+              {"mean_compression", f.stats.mean_compression},
+              {"max_compression", f.stats.max_compression},
+              {"kinetic_energy", f.stats.kinetic_energy},
+              {"potential_energy", f.stats.potential_energy},
+              {"step_ms", f.stats.step_ms},
+              {"bytes", f.jpeg.size()}}
+      .dump();
+}
+
+std::string error_message(const std::string& text) { return json{{"type", "error"}, {"message", text}}.dump(); }
+
+// A token a client outside this machine must send to steer: 128 random bits in hex.
+std::string new_token() {
+  std::random_device random;
+  std::ostringstream hex;
+  for (int i = 0; i < 4; ++i) hex << std::hex << random();
+  return hex.str();
+}
+
+}  // namespace
+
+struct WebServer::Viewer {
+  mg_connection* conn;
+  bool local;  // connected from a loopback address: may steer without the token
+  std::atomic<bool> closed{false};
+  std::mutex mutex;
+  std::deque<std::string> replies;  // text messages for the sender, at most a few
+  std::thread sender;
+};
+
+WebServer::WebServer(const std::string& listen, LiveRun& run, ServerLimits limits) : run_(run), limits_(limits) {
+  mg_init_library(MG_FEATURES_WEBSOCKET);
+  const std::string threads = std::to_string(limits.connections), timeout = std::to_string(limits.request_timeout_ms);
+  const char* options[] = {"listening_ports", listen.c_str(), "num_threads", threads.c_str(), "request_timeout_ms",
+                           timeout.c_str(), "enable_keep_alive", "no", "max_request_size", "16384", nullptr};
+  mg_callbacks callbacks{};
+  callbacks.log_message = [](const mg_connection*, const char*) { return 1; };  // errors reach the client, not stderr
+  mg_init_data init{&callbacks, this, options};
+  char error_text[256] = "";
+  unsigned error_code = 0;
+  mg_error_data error{&error_code, error_text, sizeof error_text};
+  ctx_ = mg_start2(&init, &error);
+  if (!ctx_) {
+    mg_exit_library();
+    throw InputError("cannot listen on " + listen + ": " + (error_text[0] ? error_text : "unknown error"));
+  }
+  mg_server_port ports[4]{};
+  if (mg_get_server_ports(ctx_, 4, ports) > 0) port_ = ports[0].port;
+  mg_set_request_handler(ctx_, "/$", &WebServer::page, this);
+  mg_set_websocket_handler(ctx_, "/ws$", &WebServer::ws_connect, &WebServer::ws_ready, &WebServer::ws_data,
+                           &WebServer::ws_close, this);
+  if (!loopback(listen.c_str())) token_ = new_token();
+}
+
+WebServer::~WebServer() {
+  mg_stop(ctx_);  // closes every connection; ws_close joins each viewer's thread
+  mg_exit_library();
+}
+
+int WebServer::page(mg_connection* conn, void*) {
+  const mg_request_info* request = mg_get_request_info(conn);
+  if (std::strcmp(request->request_method, "GET") != 0 && std::strcmp(request->request_method, "HEAD") != 0) {
+    mg_send_http_error(conn, 405, "%s", "only GET");
+    return 405;
+  }
+  static const std::string text = page_text();
+  mg_send_http_ok(conn, "text/html; charset=utf-8", (long long)text.size());
+  if (std::strcmp(request->request_method, "GET") == 0) mg_write(conn, text.data(), text.size());
+  return 200;
+}
+
+int WebServer::ws_connect(const mg_connection*, void* self) {
+  auto* server = static_cast<WebServer*>(self);
+  return server->connected_.fetch_add(1) < server->limits_.viewers ? 0 : (server->connected_.fetch_sub(1), 1);
+}
+
+void WebServer::ws_ready(mg_connection* conn, void* self) {
+  auto* server = static_cast<WebServer*>(self);
+  auto viewer = std::make_shared<Viewer>();
+  viewer->conn = conn;
+  viewer->local = loopback(mg_get_request_info(conn)->remote_addr);
+  viewer->replies.push_back(json{{"type", "hello"}, {"about", server->run_.description()}}.dump());
+  mg_set_user_connection_data(conn, viewer.get());
+  {
+    std::lock_guard lock(server->viewers_mutex_);
+    server->viewers_.push_back(viewer);
+  }
+  viewer->sender = std::thread([server, viewer] { server->send_frames(*viewer); });
+}
+
+int WebServer::ws_data(mg_connection* conn, int bits, char* data, size_t length, void* self) {
+  auto* server = static_cast<WebServer*>(self);
+  auto* viewer = static_cast<Viewer*>(mg_get_user_connection_data(conn));
+  const int opcode = bits & 0xf;
+  if (opcode == MG_WEBSOCKET_OPCODE_CONNECTION_CLOSE || !viewer) return 0;
+  if (opcode == MG_WEBSOCKET_OPCODE_PING || opcode == MG_WEBSOCKET_OPCODE_PONG) return 1;
+  if (length > server->limits_.max_message) return 0;  // closes the connection
+  std::string reply = opcode == MG_WEBSOCKET_OPCODE_TEXT
+                          ? server->answer(data, length, viewer->local)
+                          : error_message("commands are JSON text messages (docs/serve.md)");
+  if (!reply.empty()) {
+    std::lock_guard lock(viewer->mutex);
+    if (viewer->replies.size() < 8) viewer->replies.push_back(std::move(reply));  // a flood is answered in part
+  }
+  return 1;
+}
+
+void WebServer::ws_close(const mg_connection* conn, void* self) {
+  auto* server = static_cast<WebServer*>(self);
+  auto* viewer = static_cast<Viewer*>(mg_get_user_connection_data(conn));
+  if (!viewer) {
+    server->connected_.fetch_sub(1);
+    return;
+  }
+  viewer->closed = true;
+  if (viewer->sender.joinable()) viewer->sender.join();
+  std::lock_guard lock(server->viewers_mutex_);
+  server->viewers_.remove_if([&](const std::shared_ptr<Viewer>& v) { return v.get() == viewer; });
+  server->connected_.fetch_sub(1);
+}
+
+// A viewer's own thread: its replies, then the newest frame past the last it sent. A viewer
+// that reads slowly gets fewer frames; one whose send fails or times out gets none after.
+void WebServer::send_frames(Viewer& viewer) {
+  uint64_t last = 0;
+  auto send = [&](int opcode, const char* data, size_t size) {
+    mg_lock_connection(viewer.conn);
+    const int sent = mg_websocket_write(viewer.conn, opcode, data, size);
+    mg_unlock_connection(viewer.conn);
+    return sent > 0;
+  };
+  while (!viewer.closed) {
+    std::deque<std::string> replies;
+    {
+      std::lock_guard lock(viewer.mutex);
+      replies.swap(viewer.replies);
+    }
+    for (const std::string& r : replies)
+      if (!send(MG_WEBSOCKET_OPCODE_TEXT, r.data(), r.size())) return;
+    const std::shared_ptr<const LiveFrame> frame = run_.next_frame(last, std::chrono::milliseconds(100));
+    if (!frame) continue;
+    last = frame->number;
+    // The frame's number and when it was sent (ms since the server started), then the JPEG.
+    std::string message(16, '\0');
+    const uint64_t number = frame->number;
+    const double sent_ms = std::chrono::duration<double, std::milli>(Clock::now() - kStarted).count();
+    std::memcpy(message.data(), &number, 8);
+    std::memcpy(message.data() + 8, &sent_ms, 8);
+    message += frame->jpeg;
+    const std::string stats = stats_message(*frame);
+    if (!send(MG_WEBSOCKET_OPCODE_BINARY, message.data(), message.size()) ||
+        !send(MG_WEBSOCKET_OPCODE_TEXT, stats.data(), stats.size()))
+      return;
+  }
+}
+
+std::string WebServer::answer(const char* data, size_t length, bool local) {
+  json message;
+  try {
+    message = parse_user_json(std::string_view(data, length), "the command");
+  } catch (const InputError& e) {
+    return error_message(e.what());
+  }
+  if (!message.is_object() || !message.contains("cmd") || !message["cmd"].is_string())
+    return error_message("a command is an object with a string 'cmd', e.g. {\"cmd\": \"pause\"}");
+  if (!local && !token_.empty() && message.value("token", json()) != json(token_))
+    return error_message("steering from another machine needs the token the server printed");
+  const std::string cmd = message["cmd"].get<std::string>();
+  static const std::pair<const char*, LiveCommand> commands[] = {{"pause", LiveCommand::Pause},
+                                                                 {"resume", LiveCommand::Resume},
+                                                                 {"step", LiveCommand::Step},
+                                                                 {"restart", LiveCommand::Restart}};
+  for (const auto& [name, c] : commands)
+    if (cmd == name) return run_.command(c), std::string();
+  return error_message("unknown command '" + cmd.substr(0, 40) + "' (pause, resume, step, restart)");
+}
+
+}  // namespace pbflow

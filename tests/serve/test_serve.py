@@ -1,0 +1,239 @@
+"""`pbflow serve` as viewers and hostile clients meet it, on loopback (docs/serve.md): the page,
+the frames, the commands, several viewers, a stalled one, and every malformed or oversized
+request answered with an error or a closed connection while the run goes on.
+
+Usage: test_serve.py PBFLOW_BINARY (run by ctest). Prints "N passed, N failed"."""
+import json
+import os
+import re
+import signal
+import socket
+import subprocess
+import sys
+import time
+import unittest
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from wsclient import Client  # noqa: E402
+
+BINARY = sys.argv.pop(1) if len(sys.argv) > 1 else "build/pbflow"
+
+
+class Server:
+    """One `pbflow serve` on a free loopback port, small enough for lavapipe on two busy cores."""
+
+    def __init__(self, *extra):
+        self.process = subprocess.Popen(
+            [BINARY, "serve", "hydrostatic", "--listen", "127.0.0.1:0", "--param", "particle_spacing=0.05",
+             "--style", "particles", "--width", "160", "--height", "96", *extra],
+            stderr=subprocess.PIPE, text=True)
+        self.log = []
+        self.port = None
+        for line in self.process.stderr:
+            self.log.append(line)
+            found = re.search(r"open http://127\.0\.0\.1:(\d+)/", line)
+            if found:
+                self.port = int(found.group(1))
+                break
+        if self.port is None:
+            raise RuntimeError("the server did not start: " + "".join(self.log))
+
+    def alive(self):
+        return self.process.poll() is None
+
+    def stop(self, sig=signal.SIGINT):
+        self.process.send_signal(sig)
+        try:
+            return self.process.wait(timeout=30)
+        finally:
+            if self.process.poll() is None:
+                self.process.kill()
+
+
+def http(port, request, timeout=10):
+    """The raw answer to a raw request ('' where the server closed without one)."""
+    with socket.create_connection(("127.0.0.1", port), timeout=timeout) as s:
+        s.sendall(request)
+        answer = b""
+        try:
+            while True:
+                chunk = s.recv(65536)
+                if not chunk:
+                    break
+                answer += chunk
+        except (ConnectionResetError, socket.timeout):
+            pass
+    return answer.decode("latin-1")
+
+
+def status_of(answer):
+    return int(answer.split(" ")[1]) if answer.startswith("HTTP/") else None
+
+
+class ServeTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.server = Server()
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.server.stop()
+
+    def assert_still_serving(self):
+        self.assertTrue(self.server.alive())
+        viewer = Client(self.server.port)
+        viewer.frame()
+        viewer.sock.close()
+
+    def test_the_page_is_served_whole_and_nothing_else(self):
+        answer = http(self.server.port, b"GET / HTTP/1.1\r\nHost: x\r\n\r\n")
+        self.assertEqual(status_of(answer), 200)
+        self.assertIn("<title>pbflow live</title>", answer)
+        self.assertIsNone(re.search(r"(src|href)=\"(https?:)?//", answer), "the page loads something from elsewhere")
+        for path in ("/etc/passwd", "/../../etc/passwd", "/index.html", "/ws/x", "/%2e%2e/etc/passwd", "/%2e%2e/"):
+            other = http(self.server.port, f"GET {path} HTTP/1.1\r\nHost: x\r\n\r\n".encode())
+            # Nothing but the page: a path that normalises to "/" (/%2e%2e/) gets the page itself.
+            self.assertTrue(status_of(other) == 404 or other == answer, f"{path}: {other[:80]!r}")
+        self.assertEqual(status_of(http(self.server.port, b"POST / HTTP/1.1\r\nHost: x\r\nContent-Length: 0\r\n\r\n")),
+                         405)
+
+    def test_malformed_and_oversized_requests_get_an_error_or_a_closed_connection(self):
+        for request in (b"GARBAGE\r\n\r\n", b"GET / HTTP/9.9\r\n\r\n", b"\x00\xff\xfe\r\n\r\n",
+                        b"GET / HTTP/1.1\r\nHost: x\r\nX-Big: " + b"a" * 100000 + b"\r\n\r\n",
+                        b"GET /ws HTTP/1.1\r\nHost: x\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n\r\n"):
+            answer = http(self.server.port, request)
+            code = status_of(answer)
+            self.assertTrue(code is None or code >= 400, f"{request[:30]!r} answered {answer[:60]!r}")
+        self.assert_still_serving()
+
+    def test_frames_arrive_numbered_with_their_measures(self):
+        viewer = Client(self.server.port)
+        op, hello = viewer.receive()
+        self.assertEqual(json.loads(hello)["type"], "hello")
+        numbers = []
+        for _ in range(5):
+            number, jpeg, stats = viewer.frame()
+            numbers.append(number)
+            self.assertEqual(jpeg[:3], b"\xff\xd8\xff", "not a JPEG")
+            self.assertEqual(stats["frame"], number)
+            self.assertEqual(stats["setting"], "pbf@2")
+            self.assertGreaterEqual(stats["mean_compression"], 0)
+            self.assertGreater(stats["potential_energy"], 0)
+        self.assertEqual(numbers, sorted(set(numbers)), "frame numbers go forward")
+        viewer.sock.close()
+
+    def test_pause_holds_the_frame_step_draws_one_and_resume_goes_on(self):
+        viewer = Client(self.server.port)
+        viewer.frame()
+        viewer.send(json.dumps({"cmd": "pause"}))
+        deadline, held = time.time() + 2, None
+        while time.time() < deadline:  # frames drawn before the pause still come
+            viewer.sock.settimeout(max(deadline - time.time(), 0.01))
+            try:
+                held = viewer.frame()[0]
+            except (socket.timeout, TimeoutError):
+                break
+        viewer.sock.settimeout(1.5)
+        with self.assertRaises((socket.timeout, TimeoutError)):
+            number = viewer.frame()[0]
+            self.fail(f"frame {number} drawn while paused (held {held})")
+        viewer.sock.settimeout(20)
+        viewer.send(json.dumps({"cmd": "step"}))
+        number, _, stats = viewer.frame()
+        self.assertTrue(stats["paused"])
+        viewer.send(json.dumps({"cmd": "resume"}))
+        later = [viewer.frame()[0] for _ in range(3)]
+        self.assertGreater(later[-1], number)
+        viewer.sock.close()
+
+    def test_bad_commands_are_answered_and_a_long_one_closes_its_connection(self):
+        viewer = Client(self.server.port)
+        for command, expect in (("{\"cmd\": \"explode\"}", "unknown command"), ("{\"cmd\": 5}", "string 'cmd'"),
+                                ("not json", "syntax error"), ("[" * 60 + "]" * 60, "string 'cmd'"),
+                                ("[" * 100 + "]" * 100, "nested deeper")):
+            viewer.send(command)
+            for _ in range(200):
+                op, data = viewer.receive()
+                if op == 1 and json.loads(data).get("type") == "error":
+                    self.assertIn(expect, json.loads(data)["message"], command[:20])
+                    break
+            else:
+                self.fail(f"no error for {command[:20]}")
+        viewer.send(b"\x01\x02", opcode=2)
+        viewer.send("x" * 100000)
+        with self.assertRaises((ConnectionError, OSError, socket.timeout)):
+            for _ in range(10000):
+                viewer.receive()
+        viewer.sock.close()
+        self.assert_still_serving()
+
+    def test_viewers_share_the_run_and_a_stalled_one_holds_up_no_one(self):
+        first, second = Client(self.server.port), Client(self.server.port)
+        a, b = first.frame()[0], second.frame()[0]
+        self.assertLess(abs(a - b), 30, "two viewers, two runs?")
+        stalled = Client(self.server.port)  # never reads: its socket buffers fill
+        stalled.sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
+        start = first.frame()[0]
+        time.sleep(3)
+        for _ in range(10):
+            number = first.frame()[0]
+        self.assertGreater(number, start + 5, "the frames stopped for a reader beside a stalled viewer")
+        late = Client(self.server.port)  # joins at the current frame
+        self.assertGreater(late.frame()[0], start)
+        for c in (first, second, stalled, late):
+            c.sock.close()
+
+    def test_past_the_viewer_limit_a_connection_is_refused_and_the_rest_go_on(self):
+        viewers = [Client(self.server.port) for _ in range(16)]
+        with self.assertRaises((ConnectionError, OSError)):
+            refused = Client(self.server.port)
+            try:
+                refused.frame(timeout=5)
+            finally:
+                refused.sock.close()
+        viewers[0].frame()
+        for v in viewers:
+            v.sock.close()
+        time.sleep(1)
+        self.assert_still_serving()
+
+    def test_connections_opened_and_never_finished_do_not_stop_the_run(self):
+        viewer = Client(self.server.port)
+        start = viewer.frame()[0]
+        idle = [socket.create_connection(("127.0.0.1", self.server.port)) for _ in range(150)]
+        for s in idle[:50]:
+            s.sendall(b"GET / HTTP/1.1\r\n")  # a request never finished
+        time.sleep(2)
+        for _ in range(5):
+            number = viewer.frame()[0]
+        self.assertGreater(number, start + 3)
+        for s in idle:
+            s.close()
+        viewer.sock.close()
+
+
+class ServeLifetimeTest(unittest.TestCase):
+    def test_sigint_and_sigterm_stop_it_cleanly(self):
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            server = Server()
+            viewer = Client(server.port)
+            viewer.frame()
+            start = time.time()
+            self.assertEqual(server.stop(sig), 0)
+            self.assertLess(time.time() - start, 20)
+
+    def test_a_bad_listen_address_or_a_port_in_use_is_one_line(self):
+        server = Server()
+        for listen, expect in (("127.0.0.1:" + str(server.port), "cannot listen"), ("nonsense", "cannot listen")):
+            answer = subprocess.run([BINARY, "serve", "hydrostatic", "--param", "particle_spacing=0.05", "--listen", listen],
+                                    capture_output=True, text=True, timeout=120)
+            self.assertEqual(answer.returncode, 2, answer.stderr)
+            self.assertIn(expect, answer.stderr)
+        server.stop()
+
+
+if __name__ == "__main__":
+    result = unittest.main(exit=False, verbosity=2).result
+    failed = len(result.failures) + len(result.errors)
+    print(f"{result.testsRun - failed} passed, {failed} failed")
+    sys.exit(1 if failed else 0)

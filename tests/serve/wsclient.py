@@ -1,0 +1,59 @@
+"""A minimal WebSocket client over a raw socket (RFC 6455), for pbflow serve's tests: the
+standard library only."""
+import base64, json, os, socket, struct, time
+
+class Client:
+    def __init__(self, port, path="/ws", timeout=10):
+        self.sock = socket.create_connection(("127.0.0.1", port), timeout=timeout)
+        key = base64.b64encode(os.urandom(16)).decode()
+        self.sock.sendall((f"GET {path} HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nUpgrade: websocket\r\n"
+                           f"Connection: Upgrade\r\nSec-WebSocket-Key: {key}\r\nSec-WebSocket-Version: 13\r\n\r\n").encode())
+        head = b""
+        while b"\r\n\r\n" not in head:
+            chunk = self.sock.recv(1)
+            if not chunk:
+                raise ConnectionError("closed during the handshake")
+            head += chunk
+        self.status = int(head.split(b" ")[1])
+        if self.status != 101:
+            raise ConnectionError(f"handshake answered {self.status}")
+
+    def _exact(self, n):
+        data = b""
+        while len(data) < n:
+            chunk = self.sock.recv(n - len(data))
+            if not chunk:
+                raise ConnectionError("closed")
+            data += chunk
+        return data
+
+    def receive(self):
+        """(opcode, payload) of the next message."""
+        b0, b1 = self._exact(2)
+        n = b1 & 0x7F
+        if n == 126:
+            n = struct.unpack(">H", self._exact(2))[0]
+        elif n == 127:
+            n = struct.unpack(">Q", self._exact(8))[0]
+        return b0 & 0x0F, self._exact(n)
+
+    def send(self, payload, opcode=1):
+        if isinstance(payload, str):
+            payload = payload.encode()
+        mask = os.urandom(4)
+        n = len(payload)
+        head = bytes([0x80 | opcode])
+        head += bytes([0x80 | n]) if n < 126 else (bytes([0x80 | 126]) + struct.pack(">H", n) if n < 65536
+                                                    else bytes([0x80 | 127]) + struct.pack(">Q", n))
+        self.sock.sendall(head + mask + bytes(b ^ mask[i % 4] for i, b in enumerate(payload)))
+
+    def frame(self, timeout=20):
+        """The next frame: (number, jpeg bytes), and the stats that follow it."""
+        end = time.time() + timeout
+        while time.time() < end:
+            op, data = self.receive()
+            if op == 2:
+                number = struct.unpack("<Q", data[:8])[0]
+                op2, stats = self.receive()
+                return number, data[16:], json.loads(stats)
+        raise TimeoutError("no frame")
