@@ -2,7 +2,9 @@
 # Installs pbflow's Debian 12 packages (only when one is missing) and builds build/pbflow.
 # Usage: scripts/setup.sh            -> packages + Release build
 #        scripts/setup.sh --test     -> also what only the tests need (ffmpeg, to test --video;
-#                                       python3-vtk9, to read .vtp files with VTK's own reader)
+#                                       python3-vtk9, to read .vtp files with VTK's own reader;
+#                                       chromium, its driver and selenium, to test `pbflow serve`
+#                                       in a real browser)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -15,7 +17,7 @@ packages=(
   python3-matplotlib
 )
 if [[ "${1:-}" == "--test" ]]; then
-  packages+=(ffmpeg python3-vtk9)
+  packages+=(ffmpeg python3-vtk9 chromium chromium-driver python3-selenium)
 fi
 
 scripts/install-packages.sh "${packages[@]}"

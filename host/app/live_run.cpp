@@ -151,7 +151,8 @@ void LiveRun::simulate(const RunOptions& o, std::promise<void>& ready) {
     frame->paused = paused;
     frame->setting = setting;
     auto image = std::make_shared<const capture::Image>(capture->draw(*solver));
-    frame->drawn = Clock::now();
+    frame->drawn_unix_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::system_clock::now().time_since_epoch()).count();
     {
       std::lock_guard lock(frames_mutex_);  // the encoder takes the newest; one it missed is dropped
       drawn_ = std::move(frame);

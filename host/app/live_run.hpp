@@ -26,7 +26,7 @@ struct LiveFrame {
   bool paused = false;
   std::string setting;        // "pbf@2"
   std::string jpeg;
-  std::chrono::steady_clock::time_point drawn;  // when its image was drawn
+  double drawn_unix_ms = 0;   // when its image was drawn, ms since the Unix epoch (the page's Date.now())
 };
 
 // What a viewer can ask of the run (docs/serve.md, "Protocol").

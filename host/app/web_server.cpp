@@ -20,10 +20,6 @@ const std::vector<std::pair<std::string_view, std::string_view>>& web_pages_text
 namespace {
 
 using nlohmann::json;
-using Clock = std::chrono::steady_clock;
-
-const Clock::time_point kStarted = Clock::now();
-
 bool loopback(const char* address) {
   return address && (std::strncmp(address, "127.", 4) == 0 || std::strcmp(address, "::1") == 0);
 }
@@ -183,12 +179,11 @@ void WebServer::send_frames(Viewer& viewer) {
     const std::shared_ptr<const LiveFrame> frame = run_.next_frame(last, std::chrono::milliseconds(100));
     if (!frame) continue;
     last = frame->number;
-    // The frame's number and when it was sent (ms since the server started), then the JPEG.
+    // The frame's number and when it was drawn (ms since the Unix epoch), then the JPEG.
     std::string message(16, '\0');
     const uint64_t number = frame->number;
-    const double sent_ms = std::chrono::duration<double, std::milli>(Clock::now() - kStarted).count();
     std::memcpy(message.data(), &number, 8);
-    std::memcpy(message.data() + 8, &sent_ms, 8);
+    std::memcpy(message.data() + 8, &frame->drawn_unix_ms, 8);
     message += frame->jpeg;
     const std::string stats = stats_message(*frame);
     if (!send(MG_WEBSOCKET_OPCODE_BINARY, message.data(), message.size()) ||

@@ -14,40 +14,10 @@ import time
 import unittest
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from wsclient import Client  # noqa: E402
+from serve_support import Client, Server  # noqa: E402
 
-BINARY = sys.argv.pop(1) if len(sys.argv) > 1 else "build/pbflow"
-
-
-class Server:
-    """One `pbflow serve` on a free loopback port, small enough for lavapipe on two busy cores."""
-
-    def __init__(self, *extra):
-        self.process = subprocess.Popen(
-            [BINARY, "serve", "hydrostatic", "--listen", "127.0.0.1:0", "--param", "particle_spacing=0.05",
-             "--style", "particles", "--width", "160", "--height", "96", *extra],
-            stderr=subprocess.PIPE, text=True)
-        self.log = []
-        self.port = None
-        for line in self.process.stderr:
-            self.log.append(line)
-            found = re.search(r"open http://127\.0\.0\.1:(\d+)/", line)
-            if found:
-                self.port = int(found.group(1))
-                break
-        if self.port is None:
-            raise RuntimeError("the server did not start: " + "".join(self.log))
-
-    def alive(self):
-        return self.process.poll() is None
-
-    def stop(self, sig=signal.SIGINT):
-        self.process.send_signal(sig)
-        try:
-            return self.process.wait(timeout=30)
-        finally:
-            if self.process.poll() is None:
-                self.process.kill()
+if len(sys.argv) > 1:
+    os.environ["PBFLOW_BINARY"] = sys.argv.pop(1)
 
 
 def http(port, request, timeout=10):
@@ -225,7 +195,7 @@ class ServeLifetimeTest(unittest.TestCase):
     def test_a_bad_listen_address_or_a_port_in_use_is_one_line(self):
         server = Server()
         for listen, expect in (("127.0.0.1:" + str(server.port), "cannot listen"), ("nonsense", "cannot listen")):
-            answer = subprocess.run([BINARY, "serve", "hydrostatic", "--param", "particle_spacing=0.05", "--listen", listen],
+            answer = subprocess.run([os.environ["PBFLOW_BINARY"], "serve", "hydrostatic", "--param", "particle_spacing=0.05", "--listen", listen],
                                     capture_output=True, text=True, timeout=120)
             self.assertEqual(answer.returncode, 2, answer.stderr)
             self.assertIn(expect, answer.stderr)

@@ -1,6 +1,14 @@
-"""A minimal WebSocket client over a raw socket (RFC 6455), for pbflow serve's tests: the
-standard library only."""
-import base64, json, os, socket, struct, time
+"""For pbflow serve's tests: a `pbflow serve` on a free loopback port, and a minimal WebSocket
+client over a raw socket (RFC 6455), with the standard library only."""
+import base64
+import json
+import os
+import re
+import signal
+import socket
+import struct
+import subprocess
+import time
 
 class Client:
     def __init__(self, port, path="/ws", timeout=10):
@@ -57,3 +65,35 @@ class Client:
                 op2, stats = self.receive()
                 return number, data[16:], json.loads(stats)
         raise TimeoutError("no frame")
+
+
+class Server:
+    """One `pbflow serve` on a free loopback port, small enough for lavapipe on two busy cores."""
+
+    SMALL = ("--param", "particle_spacing=0.05", "--style", "particles", "--width", "160", "--height", "96")
+
+    def __init__(self, scene="hydrostatic", options=SMALL):
+        self.process = subprocess.Popen(
+            [os.environ.get("PBFLOW_BINARY", "build/pbflow"), "serve", scene, "--listen", "127.0.0.1:0", *options],
+            stderr=subprocess.PIPE, text=True)
+        self.log = []
+        self.port = None
+        for line in self.process.stderr:
+            self.log.append(line)
+            found = re.search(r"open http://127\.0\.0\.1:(\d+)/", line)
+            if found:
+                self.port = int(found.group(1))
+                break
+        if self.port is None:
+            raise RuntimeError("the server did not start: " + "".join(self.log))
+
+    def alive(self):
+        return self.process.poll() is None
+
+    def stop(self, sig=signal.SIGINT):
+        self.process.send_signal(sig)
+        try:
+            return self.process.wait(timeout=30)
+        finally:
+            if self.process.poll() is None:
+                self.process.kill()

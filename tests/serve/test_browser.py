@@ -1,0 +1,100 @@
+"""`pbflow serve` in a real browser: Debian's Chromium, headless, driven by Selenium, against a
+real server on lavapipe (docs/serve.md). The page loads; the picture changes over time; pause
+holds the frame counter and resume goes on; a second viewer sees the same run; the measured
+latency (drawn to shown) and bit rate are reported. With SCREENSHOT=PATH it leaves the page's
+screenshot there (the README's picture).
+
+Usage: test_browser.py PBFLOW_BINARY (run by ctest). Prints "N passed, N failed"."""
+import os
+import statistics
+import sys
+import time
+import unittest
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from serve_support import Client, Server  # noqa: E402
+
+if len(sys.argv) > 1:
+    os.environ["PBFLOW_BINARY"] = sys.argv.pop(1)
+
+from selenium import webdriver  # noqa: E402
+from selenium.webdriver.chrome.service import Service  # noqa: E402
+
+
+def wait_for(predicate, timeout=60, what="a condition"):
+    end = time.time() + timeout
+    while time.time() < end:
+        value = predicate()
+        if value:
+            return value
+        time.sleep(0.1)
+    raise AssertionError(f"timed out waiting for {what}")
+
+
+class BrowserTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.server = Server("dam_break", ("--param", "particle_spacing=0.04", "--width", "480", "--height", "270"))
+        options = webdriver.ChromeOptions()
+        for flag in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage", "--window-size=960,720"):
+            options.add_argument(flag)
+        options.binary_location = "/usr/bin/chromium"
+        cls.browser = webdriver.Chrome(service=Service("/usr/bin/chromedriver"), options=options)
+        cls.browser.get(f"http://127.0.0.1:{cls.server.port}/")
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.browser.quit()
+        cls.server.stop()
+
+    def live(self, key):
+        return self.browser.execute_script(f"return window.pbflowLive.{key};")
+
+    def test_1_the_page_shows_the_fluid_moving(self):
+        wait_for(lambda: self.live("frames") >= 5, what="five frames on screen")
+        view = self.browser.find_element("id", "view")
+        first = view.screenshot_as_png
+        frame = self.live("frame")
+        wait_for(lambda: self.live("frame") >= frame + 10, what="ten more frames")
+        self.assertNotEqual(view.screenshot_as_png, first, "the picture did not change")
+        stats = self.browser.find_element("id", "stats").text
+        self.assertIn("mean compression", stats)
+        self.assertIn("pbf@2", stats)
+        if os.environ.get("SCREENSHOT"):
+            self.browser.save_screenshot(os.environ["SCREENSHOT"])
+
+    def test_2_pause_holds_the_frame_counter_and_resume_goes_on(self):
+        wait_for(lambda: self.live("frames") >= 1, what="a frame")
+        self.browser.find_element("id", "pause").click()
+        time.sleep(2)  # the frames drawn before the pause reach the page
+        held = self.live("frame")
+        time.sleep(2)
+        self.assertEqual(self.live("frame"), held, "frames went on while paused")
+        self.browser.find_element("id", "resume").click()
+        wait_for(lambda: self.live("frame") > held + 3, what="frames after resume")
+
+    def test_3_a_second_viewer_sees_the_same_run(self):
+        other = Client(self.server.port)
+        number = other.frame()[0]
+        self.assertLess(abs(number - self.live("frame")), 30)
+        other.sock.close()
+
+    def test_4_latency_and_bit_rate_are_reported(self):
+        self.browser.execute_script("window.pbflowLive.bytes = 0; window.pbflowLive.since = performance.now();"
+                                    "window.pbflowLive.latencyMs = [];")
+        time.sleep(5)
+        seconds = (self.browser.execute_script("return performance.now();") - self.live("since")) / 1000
+        latency = self.live("latencyMs")
+        self.assertTrue(latency, "no frame shown in 5 s")
+        print(f"\n  {len(latency)} frames in {seconds:.1f} s at 480x270 (dam break, lavapipe): drawn to shown "
+              f"median {statistics.median(latency):.0f} ms, 90th percentile "
+              f"{sorted(latency)[int(0.9 * (len(latency) - 1))]:.0f} ms; "
+              f"{8 * self.live('bytes') / seconds / 1e6:.2f} Mbit/s")
+        self.assertTrue(all(x >= -5 for x in latency), "a frame shown before it was drawn: clocks disagree")
+
+
+if __name__ == "__main__":
+    result = unittest.main(exit=False, verbosity=2).result
+    failed = len(result.failures) + len(result.errors)
+    print(f"{result.testsRun - failed} passed, {failed} failed")
+    sys.exit(1 if failed else 0)
