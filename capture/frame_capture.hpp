@@ -33,6 +33,8 @@ class FrameCapture {
   // Draws the solver's frame and returns the image (the renderer's own, valid until the next
   // draw): what the live view encodes, and what write() writes.
   const Image& draw(const Solver& solver);
+  void set_camera(const Camera& camera) { renderer_.set_camera(camera); }
+  const Camera& camera() const { return renderer_.view().camera; }
   void finish();  // waits for the frames' files, then completes the video
 
   std::string description() const;  // GL platform, renderer and transfer path

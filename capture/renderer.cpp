@@ -113,6 +113,11 @@ Renderer::Renderer(const View& view)
   }
 }
 
+void Renderer::set_camera(const Camera& camera) {
+  view_.camera = camera;
+  tank_drawn_ = false;  // the tank's image is the camera's
+}
+
 Renderer::FrameUniforms Renderer::uniforms(uint32_t count, int pass, glm::ivec2 viewport) const {
   const Camera& c = view_.camera;
   glm::vec3 eye(c.eye), target(c.target);

@@ -53,6 +53,7 @@ class Renderer {
   // fill the same memory, which page faults made dear to allocate anew (host/main.cpp).
   const Image& render(GLuint buffer, uint32_t count);
   const View& view() const { return view_; }
+  void set_camera(const Camera& camera);  // the next render() draws from here
   // The GPU time of the last render() (a GL timer query), the read-back excluded: what a
   // frame costs the GPU, where the wall clock also counts the driver and the copy out.
   double last_gpu_seconds() const { return last_gpu_seconds_; }

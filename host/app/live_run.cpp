@@ -1,5 +1,7 @@
 #include "app/live_run.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <future>
 
 #include "capture/frame_capture.hpp"
@@ -37,6 +39,21 @@ class RealtimeFactor {
   double simulated_ = 0, value_ = 0;
   Clock::time_point since_ = Clock::now();
 };
+
+// The camera moved as a viewer's drag and wheel ask: orbit about the target (the pitch kept off
+// the poles), the eye's distance scaled, the target panned in the view's plane.
+Camera moved(Camera c, const LiveCommand& m) {
+  glm::dvec3 offset = c.eye - c.target;
+  const double distance = std::clamp(glm::length(offset) * m.zoom, 1e-6, 1e7);
+  double yaw = std::atan2(offset.x, offset.z) - m.orbit_x;
+  double pitch = std::clamp(std::asin(std::clamp(offset.y / glm::length(offset), -1.0, 1.0)) + m.orbit_y, -1.5, 1.5);
+  offset = distance * glm::dvec3(std::cos(pitch) * std::sin(yaw), std::sin(pitch), std::cos(pitch) * std::cos(yaw));
+  const glm::dvec3 forward = -offset / distance, right = glm::normalize(glm::cross(forward, glm::dvec3(0, 1, 0))),
+                   up = glm::cross(right, forward);
+  c.target += distance * (m.pan_x * right + m.pan_y * up);
+  c.eye = c.target + offset;
+  return c;
+}
 
 }  // namespace
 
@@ -112,7 +129,25 @@ void LiveRun::simulate(const RunOptions& o, std::promise<void>& ready) {
     ready.set_exception(std::current_exception());
     return;
   }
-  const std::string setting = std::string(method_name(scene.solver.method)) + "@" + std::to_string(scene.solver.iterations);
+  RunOptions current = o;  // as the viewers have changed it
+  std::string setting = std::string(method_name(scene.solver.method)) + "@" + std::to_string(scene.solver.iterations);
+  // Another method or iteration count, or another style: the solver or the renderer made anew
+  // on this thread, the particles carried over. The renderer shares the solver's buffers, so
+  // it goes first and comes back after.
+  auto rebuild = [&](bool new_solver) {
+    const Camera camera = capture->camera();
+    const ParticleState now = solver->download();
+    capture.reset();
+    if (new_solver) {
+      scene = load_scene(current.scene, scene_overrides(current));
+      solver = make_solver(ctx.get(), derive(scene), initial_particles(scene));
+      solver->upload(now);
+      setting = std::string(method_name(scene.solver.method)) + "@" + std::to_string(scene.solver.iterations);
+    }
+    capture = make_frame_capture(current, scene, *solver, ctx.get());
+    capture->set_camera(camera);
+    solver->set_smoothed_positions(capture->draws_surface());
+  };
   const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / scene.fps));
   RealtimeFactor realtime;
   uint64_t number = 0;
@@ -120,28 +155,36 @@ void LiveRun::simulate(const RunOptions& o, std::promise<void>& ready) {
   bool paused = false, first = true;
   Clock::time_point due = Clock::now();
   while (!stopping_) {
-    bool step = false;
+    bool step = false, redraw = false, new_solver = false, new_capture = false;
     {
       std::unique_lock lock(commands_mutex_);
       if (paused && commands_.empty()) commands_changed_.wait_for(lock, std::chrono::milliseconds(100));
       for (; !commands_.empty(); commands_.pop_front()) {
-        switch (commands_.front()) {
-          case LiveCommand::Pause: paused = true; break;
-          case LiveCommand::Resume: paused = false; break;
-          case LiveCommand::Step: step = paused = true; break;
-          case LiveCommand::Restart: solver->upload(start), sim_time = 0, first = true; break;
+        const LiveCommand& c = commands_.front();
+        switch (c.kind) {
+          case LiveCommand::Kind::Pause: paused = true; break;
+          case LiveCommand::Kind::Resume: paused = false; break;
+          case LiveCommand::Kind::Step: step = paused = true; break;
+          case LiveCommand::Kind::Restart: solver->upload(start), sim_time = 0, first = true; break;
+          case LiveCommand::Kind::Setting:
+            current.method = c.method, current.iterations = c.iterations, new_solver = redraw = true;
+            break;
+          case LiveCommand::Kind::Style: current.style = c.style, new_capture = redraw = true; break;
+          case LiveCommand::Kind::Camera: capture->set_camera(moved(capture->camera(), c)), redraw = true; break;
         }
       }
     }
     if (stopping_) break;
-    if (paused && !step && !first) {
+    if (new_solver || new_capture) rebuild(new_solver);
+    if (paused && !step && !first && !redraw) {
       realtime.restart();
       due = Clock::now();
       continue;
     }
-    const FrameStats stats = solver->advance(first ? 0 : scene.solver.substeps);
-    if (!first) sim_time += 1.0 / scene.fps;
-    realtime.add(first ? 0.0 : 1.0 / scene.fps);
+    const bool advance = !first && (!paused || step);
+    const FrameStats stats = solver->advance(advance ? scene.solver.substeps : 0);  // 0: measures, as shown
+    if (advance) sim_time += 1.0 / scene.fps;
+    realtime.add(advance ? 1.0 / scene.fps : 0.0);
     first = false;
     auto frame = std::make_shared<LiveFrame>();
     frame->number = ++number;

@@ -29,8 +29,16 @@ struct LiveFrame {
   double drawn_unix_ms = 0;   // when its image was drawn, ms since the Unix epoch (the page's Date.now())
 };
 
-// What a viewer can ask of the run (docs/serve.md, "Protocol").
-enum class LiveCommand { Pause, Resume, Step, Restart };
+// What a viewer can ask of the run (docs/serve.md, "Protocol"), checked by the server.
+struct LiveCommand {
+  enum class Kind { Pause, Resume, Step, Restart, Setting, Style, Camera } kind;
+  std::string method;      // Setting: "pbf" or "ldc"
+  int iterations = 0;      // Setting
+  std::string style;       // Style: a capture::Style's name
+  double orbit_x = 0, orbit_y = 0;  // Camera: radians about the up axis and the camera's right
+  double zoom = 1;                  // Camera: the eye's distance from the target times this
+  double pan_x = 0, pan_y = 0;      // Camera: the target moved by these fractions of that distance
+};
 
 class LiveRun {
  public:

@@ -3,6 +3,7 @@
 #include <civetweb.h>
 
 #include <algorithm>
+#include <cmath>
 #include <condition_variable>
 #include <cstring>
 #include <deque>
@@ -11,6 +12,7 @@
 #include <sstream>
 
 #include "common/input_error.hpp"
+#include "capture/renderer.hpp"
 #include "common/json_input.hpp"
 
 namespace pbflow {
@@ -20,6 +22,9 @@ const std::vector<std::pair<std::string_view, std::string_view>>& web_pages_text
 namespace {
 
 using nlohmann::json;
+// A live run's iterations per step: enough for every setting on the accuracy-against-cost front.
+constexpr double kMaxLiveIterations = 16;
+
 bool loopback(const char* address) {
   return address && (std::strncmp(address, "127.", 4) == 0 || std::strcmp(address, "::1") == 0);
 }
@@ -204,13 +209,45 @@ std::string WebServer::answer(const char* data, size_t length, bool local) {
   if (!local && !token_.empty() && message.value("token", json()) != json(token_))
     return error_message("steering from another machine needs the token the server printed");
   const std::string cmd = message["cmd"].get<std::string>();
-  static const std::pair<const char*, LiveCommand> commands[] = {{"pause", LiveCommand::Pause},
-                                                                 {"resume", LiveCommand::Resume},
-                                                                 {"step", LiveCommand::Step},
-                                                                 {"restart", LiveCommand::Restart}};
-  for (const auto& [name, c] : commands)
-    if (cmd == name) return run_.command(c), std::string();
-  return error_message("unknown command '" + cmd.substr(0, 40) + "' (pause, resume, step, restart)");
+  auto number = [&](const char* key, double fallback, double lo, double hi) {
+    if (!message.contains(key)) return fallback;
+    const json& v = message[key];
+    if (!v.is_number() || !(v.get<double>() >= lo && v.get<double>() <= hi)) {
+      std::ostringstream m;
+      m << "'" << key << "' must be a number in [" << lo << ", " << hi << "]";
+      throw InputError(m.str());
+    }
+    return v.get<double>();
+  };
+  using Kind = LiveCommand::Kind;
+  static const std::pair<const char*, Kind> kinds[] = {{"pause", Kind::Pause},     {"resume", Kind::Resume},
+                                                       {"step", Kind::Step},       {"restart", Kind::Restart},
+                                                       {"setting", Kind::Setting}, {"style", Kind::Style},
+                                                       {"camera", Kind::Camera}};
+  const auto kind = std::find_if(std::begin(kinds), std::end(kinds), [&](const auto& k) { return cmd == k.first; });
+  if (kind == std::end(kinds))
+    return error_message("unknown command '" + cmd.substr(0, 40) +
+                         "' (pause, resume, step, restart, setting, style, camera)");
+  LiveCommand c{kind->second};
+  try {
+    if (c.kind == Kind::Setting) {
+      c.method = message.contains("method") && message["method"].is_string() ? message["method"].get<std::string>() : "";
+      if (c.method != "pbf" && c.method != "ldc") throw InputError("'method' must be \"pbf\" or \"ldc\"");
+      const double iterations = number("iterations", 2, 1, kMaxLiveIterations);
+      if (iterations != std::floor(iterations)) throw InputError("'iterations' must be a whole number");
+      c.iterations = int(iterations);
+    } else if (c.kind == Kind::Style) {
+      c.style = message.value("style", json()).is_string() ? message["style"].get<std::string>() : "";
+      capture::parse_style(c.style);  // InputError naming the styles
+    } else if (c.kind == Kind::Camera) {
+      c.orbit_x = number("orbit_x", 0, -7, 7), c.orbit_y = number("orbit_y", 0, -7, 7);
+      c.zoom = number("zoom", 1, 0.1, 10), c.pan_x = number("pan_x", 0, -10, 10), c.pan_y = number("pan_y", 0, -10, 10);
+    }
+  } catch (const InputError& e) {
+    return error_message(cmd + ": " + e.what());
+  }
+  run_.command(c);
+  return "";
 }
 
 }  // namespace pbflow

@@ -1,6 +1,7 @@
 """`pbflow serve` in a real browser: Debian's Chromium, headless, driven by Selenium, against a
 real server on lavapipe (docs/serve.md). The page loads; the picture changes over time; pause
-holds the frame counter and resume goes on; a second viewer sees the same run; the measured
+holds the frame counter and resume goes on; a second viewer sees the same run; a drag turns the
+view; a method switch shows in the stats; the measured
 latency (drawn to shown) and bit rate are reported. With SCREENSHOT=PATH it leaves the page's
 screenshot there (the README's picture).
 
@@ -19,6 +20,8 @@ if len(sys.argv) > 1:
 
 from selenium import webdriver  # noqa: E402
 from selenium.webdriver.chrome.service import Service  # noqa: E402
+from selenium.webdriver.common.action_chains import ActionChains  # noqa: E402
+from selenium.webdriver.support.ui import Select  # noqa: E402
 
 
 def wait_for(predicate, timeout=60, what="a condition"):
@@ -78,6 +81,23 @@ class BrowserTest(unittest.TestCase):
         number = other.frame()[0]
         self.assertLess(abs(number - self.live("frame")), 30)
         other.sock.close()
+
+    def test_5_a_drag_turns_the_view(self):
+        self.browser.find_element("id", "pause").click()
+        view = self.browser.find_element("id", "view")
+        time.sleep(2)
+        held, before = self.live("frame"), view.screenshot_as_png
+        ActionChains(self.browser).move_to_element(view).click_and_hold().move_by_offset(120, 40).release().perform()
+        wait_for(lambda: self.live("frame") > held, what="the turned view drawn")
+        time.sleep(0.5)
+        self.assertNotEqual(view.screenshot_as_png, before, "the drag did not change the view")
+        self.browser.find_element("id", "resume").click()
+
+    def test_6_a_method_switch_shows_in_the_stats(self):
+        Select(self.browser.find_element("id", "method")).select_by_visible_text("ldc")
+        wait_for(lambda: "ldc@2" in self.browser.find_element("id", "stats").text, what="ldc@2 in the stats")
+        Select(self.browser.find_element("id", "iterations")).select_by_visible_text("1")
+        wait_for(lambda: "ldc@1" in self.browser.find_element("id", "stats").text, what="ldc@1 in the stats")
 
     def test_4_latency_and_bit_rate_are_reported(self):
         self.browser.execute_script("window.pbflowLive.bytes = 0; window.pbflowLive.since = performance.now();"

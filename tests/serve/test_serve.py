@@ -137,6 +137,49 @@ class ServeTest(unittest.TestCase):
         viewer.sock.close()
         self.assert_still_serving()
 
+    def error_for(self, viewer, command):
+        viewer.send(json.dumps(command))
+        for _ in range(300):
+            op, data = viewer.receive()
+            if op == 1 and json.loads(data).get("type") == "error":
+                return json.loads(data)["message"]
+        self.fail(f"no error for {command}")
+
+    def frame_where(self, viewer, predicate, limit=200):
+        for _ in range(limit):
+            frame = viewer.frame()
+            if predicate(frame):
+                return frame
+        self.fail("no such frame")
+
+    def test_setting_style_and_camera_change_live_and_bad_values_are_refused(self):
+        viewer = Client(self.server.port)
+        viewer.send(json.dumps({"cmd": "setting", "method": "ldc", "iterations": 1}))
+        self.frame_where(viewer, lambda f: f[2]["setting"] == "ldc@1")
+        viewer.send(json.dumps({"cmd": "setting", "method": "pbf", "iterations": 2}))
+        self.frame_where(viewer, lambda f: f[2]["setting"] == "pbf@2")
+        # Paused, a new view or style is drawn at once, as a frame of its own.
+        viewer.send(json.dumps({"cmd": "step"}))
+        before = self.frame_where(viewer, lambda f: f[2]["paused"])
+        viewer.send(json.dumps({"cmd": "camera", "orbit_x": 0.8, "orbit_y": 0.3, "zoom": 0.7}))
+        after = self.frame_where(viewer, lambda f: f[0] > before[0])
+        self.assertTrue(after[2]["paused"])
+        self.assertNotEqual(after[1], before[1], "the new view drew the same picture")
+        viewer.send(json.dumps({"cmd": "style", "style": "density"}))
+        styled = self.frame_where(viewer, lambda f: f[0] > after[0])
+        self.assertNotEqual(styled[1], after[1], "the new style drew the same picture")
+        for command, expect in (({"cmd": "camera", "zoom": 100}, "'zoom' must be a number in [0.1, 10]"),
+                                ({"cmd": "camera", "orbit_x": "left"}, "'orbit_x'"),
+                                ({"cmd": "style", "style": "glitter"}, "--style must be"),
+                                ({"cmd": "setting", "method": "sph", "iterations": 2}, "'method'"),
+                                ({"cmd": "setting", "method": "pbf", "iterations": 1.5}, "whole number"),
+                                ({"cmd": "setting", "method": "pbf", "iterations": 17}, "'iterations'")):
+            self.assertIn(expect, self.error_for(viewer, command))
+        viewer.send(json.dumps({"cmd": "style", "style": "particles"}))
+        viewer.send(json.dumps({"cmd": "resume"}))
+        self.frame_where(viewer, lambda f: not f[2]["paused"])
+        viewer.sock.close()
+
     def test_viewers_share_the_run_and_a_stalled_one_holds_up_no_one(self):
         first, second = Client(self.server.port), Client(self.server.port)
         a, b = first.frame()[0], second.frame()[0]
@@ -154,18 +197,24 @@ class ServeTest(unittest.TestCase):
             c.sock.close()
 
     def test_past_the_viewer_limit_a_connection_is_refused_and_the_rest_go_on(self):
-        viewers = [Client(self.server.port) for _ in range(16)]
-        with self.assertRaises((ConnectionError, OSError)):
-            refused = Client(self.server.port)
-            try:
-                refused.frame(timeout=5)
-            finally:
-                refused.sock.close()
-        viewers[0].frame()
-        for v in viewers:
-            v.sock.close()
-        time.sleep(1)
-        self.assert_still_serving()
+        server = Server()  # its own: no viewer of another test still counted
+        try:
+            viewers = [Client(server.port) for _ in range(16)]
+            with self.assertRaises((ConnectionError, OSError)):
+                refused = Client(server.port)
+                try:
+                    refused.frame(timeout=5)
+                finally:
+                    refused.sock.close()
+            viewers[0].frame()
+            for v in viewers:
+                v.sock.close()
+            time.sleep(1)
+            late = Client(server.port)  # the places are free again
+            late.frame()
+            late.sock.close()
+        finally:
+            server.stop()
 
     def test_connections_opened_and_never_finished_do_not_stop_the_run(self):
         viewer = Client(self.server.port)
