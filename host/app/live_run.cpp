@@ -182,7 +182,9 @@ void LiveRun::simulate(const RunOptions& o, std::promise<void>& ready) {
       continue;
     }
     const bool advance = !first && (!paused || step);
+    const Clock::time_point began = Clock::now();
     const FrameStats stats = solver->advance(advance ? scene.solver.substeps : 0);  // 0: measures, as shown
+    const Clock::time_point simulated = Clock::now();
     if (advance) sim_time += 1.0 / scene.fps;
     realtime.add(advance ? 1.0 / scene.fps : 0.0);
     first = false;
@@ -194,6 +196,8 @@ void LiveRun::simulate(const RunOptions& o, std::promise<void>& ready) {
     frame->paused = paused;
     frame->setting = setting;
     auto image = std::make_shared<const capture::Image>(capture->draw(*solver));
+    frame->simulate_ms = std::chrono::duration<double, std::milli>(simulated - began).count();
+    frame->draw_ms = std::chrono::duration<double, std::milli>(Clock::now() - simulated).count();
     frame->drawn_unix_ms =
         std::chrono::duration<double, std::milli>(std::chrono::system_clock::now().time_since_epoch()).count();
     {
@@ -224,7 +228,9 @@ void LiveRun::encode() {
     }
     last = frame->number;
     auto encoded = std::make_shared<LiveFrame>(*frame);
+    const Clock::time_point began = Clock::now();
     encoded->jpeg = jpeg.encode(*image);
+    encoded->encode_ms = std::chrono::duration<double, std::milli>(Clock::now() - began).count();
     std::lock_guard lock(frames_mutex_);
     encoded_ = std::move(encoded);
     encoded_changed_.notify_all();

@@ -27,6 +27,9 @@ struct LiveFrame {
   std::string setting;        // "pbf@2"
   std::string jpeg;
   double drawn_unix_ms = 0;   // when its image was drawn, ms since the Unix epoch (the page's Date.now())
+  // The frame's cost on the wall clock: simulating it (its steps, waited for), drawing it and
+  // reading it back, encoding it (on the encoder's thread, beside the next frame's work).
+  double simulate_ms = 0, draw_ms = 0, encode_ms = 0;
 };
 
 // What a viewer can ask of the run (docs/serve.md, "Protocol"), checked by the server.

@@ -35,7 +35,8 @@ std::string page_text() {
   return "";
 }
 
-std::string stats_message(const LiveFrame& f) {
+// `send_ms`: how long the viewer's last frame took to hand to its socket.
+std::string stats_message(const LiveFrame& f, double send_ms) {
   return json{{"type", "stats"},
               {"frame", f.number},
               {"time", f.sim_time},
@@ -47,6 +48,10 @@ std::string stats_message(const LiveFrame& f) {
               {"kinetic_energy", f.stats.kinetic_energy},
               {"potential_energy", f.stats.potential_energy},
               {"step_ms", f.stats.step_ms},
+              {"simulate_ms", f.simulate_ms},
+              {"draw_ms", f.draw_ms},
+              {"encode_ms", f.encode_ms},
+              {"send_ms", send_ms},
               {"bytes", f.jpeg.size()}}
       .dump();
 }
@@ -190,10 +195,12 @@ void WebServer::send_frames(Viewer& viewer) {
     std::memcpy(message.data(), &number, 8);
     std::memcpy(message.data() + 8, &frame->drawn_unix_ms, 8);
     message += frame->jpeg;
-    const std::string stats = stats_message(*frame);
-    if (!send(MG_WEBSOCKET_OPCODE_BINARY, message.data(), message.size()) ||
-        !send(MG_WEBSOCKET_OPCODE_TEXT, stats.data(), stats.size()))
-      return;
+    const auto began = std::chrono::steady_clock::now();
+    if (!send(MG_WEBSOCKET_OPCODE_BINARY, message.data(), message.size())) return;
+    const double send_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - began).count();
+    const std::string stats = stats_message(*frame, send_ms);
+    if (!send(MG_WEBSOCKET_OPCODE_TEXT, stats.data(), stats.size())) return;
   }
 }
 
