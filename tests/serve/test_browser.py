@@ -2,7 +2,7 @@
 real server on lavapipe (docs/serve.md). The page loads; the picture changes over time; pause
 holds the frame counter and resume goes on; a second viewer sees the same run; a drag turns the
 view; a method switch shows in the stats; the measured
-latency (drawn to shown) and bit rate are reported. With SCREENSHOT=PATH it leaves the page's
+latency (drawn to shown) and bit rate are reported; the live charts draw. With SCREENSHOT=PATH it leaves the page's
 screenshot there (the README's picture).
 
 Usage: test_browser.py PBFLOW_BINARY (run by ctest). Prints "N passed, N failed"."""
@@ -63,6 +63,11 @@ class BrowserTest(unittest.TestCase):
         stats = self.browser.find_element("id", "stats").text
         self.assertIn("mean compression", stats)
         self.assertIn("pbf@2", stats)
+        # The live charts draw the measures: a canvas with lines on it is not blank.
+        blank = self.browser.execute_script(
+            "const c = document.getElementById('chart-compression'), empty = document.createElement('canvas');"
+            "empty.width = c.width; empty.height = c.height; return c.toDataURL() === empty.toDataURL();")
+        self.assertFalse(blank, "the compression chart is blank")
         if os.environ.get("SCREENSHOT"):
             self.browser.save_screenshot(os.environ["SCREENSHOT"])
 
