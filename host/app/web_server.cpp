@@ -69,7 +69,7 @@ std::string new_token() {
 }  // namespace
 
 struct WebServer::Viewer {
-  mg_connection* conn;
+  mg_connection* conn = nullptr;  // set when the handshake is done (ws_ready)
   bool local;  // connected from a loopback address: may steer without the token
   std::atomic<bool> closed{false};
   std::mutex mutex;
@@ -118,22 +118,28 @@ int WebServer::page(mg_connection* conn, void*) {
   return 200;
 }
 
-int WebServer::ws_connect(const mg_connection*, void* self) {
+// An accepted connection gets its viewer here, and counts from here until ws_close: a refused
+// one has none, so that only what was counted is uncounted.
+int WebServer::ws_connect(const mg_connection* conn, void* self) {
   auto* server = static_cast<WebServer*>(self);
-  return server->connected_.fetch_add(1) < server->limits_.viewers ? 0 : (server->connected_.fetch_sub(1), 1);
+  if (server->connected_.fetch_add(1) >= server->limits_.viewers) {
+    server->connected_.fetch_sub(1);
+    return 1;  // refused
+  }
+  auto viewer = std::make_shared<Viewer>();
+  viewer->local = loopback(mg_get_request_info(conn)->remote_addr);
+  viewer->replies.push_back(json{{"type", "hello"}, {"about", server->run_.description()}}.dump());
+  mg_set_user_connection_data(conn, viewer.get());
+  std::lock_guard lock(server->viewers_mutex_);
+  server->viewers_.push_back(std::move(viewer));
+  return 0;
 }
 
 void WebServer::ws_ready(mg_connection* conn, void* self) {
   auto* server = static_cast<WebServer*>(self);
-  auto viewer = std::make_shared<Viewer>();
+  auto* viewer = static_cast<Viewer*>(mg_get_user_connection_data(conn));
+  if (!viewer) return;
   viewer->conn = conn;
-  viewer->local = loopback(mg_get_request_info(conn)->remote_addr);
-  viewer->replies.push_back(json{{"type", "hello"}, {"about", server->run_.description()}}.dump());
-  mg_set_user_connection_data(conn, viewer.get());
-  {
-    std::lock_guard lock(server->viewers_mutex_);
-    server->viewers_.push_back(viewer);
-  }
   viewer->sender = std::thread([server, viewer] { server->send_frames(*viewer); });
 }
 
@@ -157,12 +163,10 @@ int WebServer::ws_data(mg_connection* conn, int bits, char* data, size_t length,
 void WebServer::ws_close(const mg_connection* conn, void* self) {
   auto* server = static_cast<WebServer*>(self);
   auto* viewer = static_cast<Viewer*>(mg_get_user_connection_data(conn));
-  if (!viewer) {
-    server->connected_.fetch_sub(1);
-    return;
-  }
+  if (!viewer) return;  // refused at the handshake: never counted
   viewer->closed = true;
   if (viewer->sender.joinable()) viewer->sender.join();
+  mg_set_user_connection_data(conn, nullptr);
   std::lock_guard lock(server->viewers_mutex_);
   server->viewers_.remove_if([&](const std::shared_ptr<Viewer>& v) { return v.get() == viewer; });
   server->connected_.fetch_sub(1);
