@@ -5,6 +5,7 @@
 #include <future>
 
 #include "capture/frame_capture.hpp"
+#include "capture/h264.hpp"
 #include "capture/jpeg.hpp"
 #include "gpu/make_solver.hpp"
 #include "gpu/memory_estimate.hpp"
@@ -149,6 +150,7 @@ void LiveRun::simulate(const RunOptions& o, std::promise<void>& ready) {
     solver->set_smoothed_positions(capture->draws_surface());
   };
   const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / scene.fps));
+  fps_ = scene.fps;
   RealtimeFactor realtime;
   uint64_t number = 0;
   double sim_time = 0;
@@ -213,9 +215,12 @@ void LiveRun::simulate(const RunOptions& o, std::promise<void>& ready) {
   }
 }
 
+// The encoder's thread: JPEG for every frame it takes, and H.264 while a viewer takes it, made
+// when the first such viewer asks (the image's size is fixed for the run).
 void LiveRun::encode() {
   capture::JpegEncoder jpeg;
-  uint64_t last = 0;
+  std::unique_ptr<capture::H264Encoder> h264;
+  uint64_t last = 0, unit = 0;
   while (!stopping_) {
     std::shared_ptr<LiveFrame> frame;
     std::shared_ptr<const capture::Image> image;
@@ -230,6 +235,18 @@ void LiveRun::encode() {
     auto encoded = std::make_shared<LiveFrame>(*frame);
     const Clock::time_point began = Clock::now();
     encoded->jpeg = jpeg.encode(*image);
+    if (h264_viewers_ > 0) {
+      if (!h264) {
+        // About 0.1 bit a pixel a frame: 720p at 60 fps within 6 Mbit/s, the rate a real network carries.
+        const double rate = std::clamp(0.1 * image->width * image->height * fps_, 2e5, 6e6);
+        h264 = std::make_unique<capture::H264Encoder>(image->width, image->height, int(std::lround(fps_)), rate);
+        keyframe_wanted_ = true;
+      }
+      capture::H264Encoder::Unit u = h264->encode(*image, keyframe_wanted_.exchange(false));
+      encoded->h264 = std::move(u.bytes);
+      encoded->keyframe = u.keyframe;
+      encoded->unit = ++unit;
+    }
     encoded->encode_ms = std::chrono::duration<double, std::milli>(Clock::now() - began).count();
     std::lock_guard lock(frames_mutex_);
     encoded_ = std::move(encoded);

@@ -26,6 +26,11 @@ struct LiveFrame {
   bool paused = false;
   std::string setting;        // "pbf@2"
   std::string jpeg;
+  // The H.264 stream's access unit for this frame, where some viewer takes H.264: `unit` counts
+  // them (a viewer that missed one waits for a keyframe), 0 where there is none.
+  std::string h264;
+  uint64_t unit = 0;
+  bool keyframe = false;
   double drawn_unix_ms = 0;   // when its image was drawn, ms since the Unix epoch (the page's Date.now())
   // The frame's cost on the wall clock: simulating it (its steps, waited for), drawing it and
   // reading it back, encoding it (on the encoder's thread, beside the next frame's work).
@@ -57,6 +62,10 @@ class LiveRun {
   // where none came. Returns at once once stop() was called.
   std::shared_ptr<const LiveFrame> next_frame(uint64_t after, std::chrono::milliseconds timeout) const;
   void stop();
+  // Viewers taking the H.264 stream: it is encoded while there is one. A viewer that joins or
+  // falls behind asks for a keyframe.
+  void count_h264_viewer(int delta) { h264_viewers_ += delta; }
+  void request_keyframe() { keyframe_wanted_ = true; }
   const std::string& description() const { return description_; }  // scene, particles, setting, device
 
  private:
@@ -64,6 +73,9 @@ class LiveRun {
   void encode();
 
   std::atomic<bool> stopping_{false};
+  std::atomic<int> h264_viewers_{0};
+  std::atomic<bool> keyframe_wanted_{false};
+  double fps_ = 60;
   std::string description_;
 
   std::mutex commands_mutex_;

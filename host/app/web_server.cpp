@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "common/input_error.hpp"
+#include "capture/h264.hpp"
 #include "capture/renderer.hpp"
 #include "common/json_input.hpp"
 
@@ -35,8 +36,9 @@ std::string page_text() {
   return "";
 }
 
-// `send_ms`: how long the viewer's last frame took to hand to its socket.
-std::string stats_message(const LiveFrame& f, double send_ms) {
+// `bytes`: the viewer's payload of the frame (JPEG or H.264); `send_ms`: how long handing it
+// to the viewer's socket took.
+std::string stats_message(const LiveFrame& f, size_t bytes, double send_ms) {
   return json{{"type", "stats"},
               {"frame", f.number},
               {"time", f.sim_time},
@@ -52,7 +54,7 @@ std::string stats_message(const LiveFrame& f, double send_ms) {
               {"draw_ms", f.draw_ms},
               {"encode_ms", f.encode_ms},
               {"send_ms", send_ms},
-              {"bytes", f.jpeg.size()}}
+              {"bytes", bytes}}
       .dump();
 }
 
@@ -71,6 +73,8 @@ std::string new_token() {
 struct WebServer::Viewer {
   mg_connection* conn = nullptr;  // set when the handshake is done (ws_ready)
   bool local;  // connected from a loopback address: may steer without the token
+  std::atomic<bool> h264{false};  // takes the H.264 stream ({"cmd": "stream"}), else JPEG
+  uint64_t last_unit = 0;         // the H.264 unit last sent; 0: waits for a keyframe
   std::atomic<bool> closed{false};
   std::mutex mutex;
   std::deque<std::string> replies;  // text messages for the sender, at most a few
@@ -128,7 +132,10 @@ int WebServer::ws_connect(const mg_connection* conn, void* self) {
   }
   auto viewer = std::make_shared<Viewer>();
   viewer->local = loopback(mg_get_request_info(conn)->remote_addr);
-  viewer->replies.push_back(json{{"type", "hello"}, {"about", server->run_.description()}}.dump());
+  viewer->replies.push_back(json{{"type", "hello"},
+                                 {"about", server->run_.description()},
+                                 {"h264_codec", capture::H264Encoder::codec_string()}}
+                                .dump());
   mg_set_user_connection_data(conn, viewer.get());
   std::lock_guard lock(server->viewers_mutex_);
   server->viewers_.push_back(std::move(viewer));
@@ -151,7 +158,7 @@ int WebServer::ws_data(mg_connection* conn, int bits, char* data, size_t length,
   if (opcode == MG_WEBSOCKET_OPCODE_PING || opcode == MG_WEBSOCKET_OPCODE_PONG) return 1;
   if (length > server->limits_.max_message) return 0;  // closes the connection
   std::string reply = opcode == MG_WEBSOCKET_OPCODE_TEXT
-                          ? server->answer(data, length, viewer->local)
+                          ? server->answer(data, length, *viewer)
                           : error_message("commands are JSON text messages (docs/serve.md)");
   if (!reply.empty()) {
     std::lock_guard lock(viewer->mutex);
@@ -166,6 +173,7 @@ void WebServer::ws_close(const mg_connection* conn, void* self) {
   if (!viewer) return;  // refused at the handshake: never counted
   viewer->closed = true;
   if (viewer->sender.joinable()) viewer->sender.join();
+  if (viewer->h264) server->run_.count_h264_viewer(-1);
   mg_set_user_connection_data(conn, nullptr);
   std::lock_guard lock(server->viewers_mutex_);
   server->viewers_.remove_if([&](const std::shared_ptr<Viewer>& v) { return v.get() == viewer; });
@@ -193,22 +201,38 @@ void WebServer::send_frames(Viewer& viewer) {
     const std::shared_ptr<const LiveFrame> frame = run_.next_frame(last, std::chrono::milliseconds(100));
     if (!frame) continue;
     last = frame->number;
-    // The frame's number and when it was drawn (ms since the Unix epoch), then the JPEG.
-    std::string message(16, '\0');
+    // The frame's number, when it was drawn (ms since the Unix epoch), what follows (0: a JPEG,
+    // 1: an H.264 keyframe, 2: an H.264 delta frame) and 4 bytes of padding; then the payload.
+    uint32_t kind = 0;
+    const std::string* payload = &frame->jpeg;
+    if (viewer.h264) {
+      if (frame->unit == 0) continue;  // the stream starts with the encoder's next frame
+      const bool in_sequence = viewer.last_unit != 0 && frame->unit == viewer.last_unit + 1;
+      if (!in_sequence && !frame->keyframe) {  // joined, or missed a unit: the next keyframe
+        viewer.last_unit = 0;
+        run_.request_keyframe();
+        continue;
+      }
+      viewer.last_unit = frame->unit;
+      kind = frame->keyframe ? 1 : 2;
+      payload = &frame->h264;
+    }
+    std::string message(24, '\0');
     const uint64_t number = frame->number;
     std::memcpy(message.data(), &number, 8);
     std::memcpy(message.data() + 8, &frame->drawn_unix_ms, 8);
-    message += frame->jpeg;
+    std::memcpy(message.data() + 16, &kind, 4);
+    message += *payload;
     const auto began = std::chrono::steady_clock::now();
     if (!send(MG_WEBSOCKET_OPCODE_BINARY, message.data(), message.size())) return;
     const double send_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - began).count();
-    const std::string stats = stats_message(*frame, send_ms);
+    const std::string stats = stats_message(*frame, payload->size(), send_ms);
     if (!send(MG_WEBSOCKET_OPCODE_TEXT, stats.data(), stats.size())) return;
   }
 }
 
-std::string WebServer::answer(const char* data, size_t length, bool local) {
+std::string WebServer::answer(const char* data, size_t length, Viewer& viewer) {
   json message;
   try {
     message = parse_user_json(std::string_view(data, length), "the command");
@@ -217,7 +241,14 @@ std::string WebServer::answer(const char* data, size_t length, bool local) {
   }
   if (!message.is_object() || !message.contains("cmd") || !message["cmd"].is_string())
     return error_message("a command is an object with a string 'cmd', e.g. {\"cmd\": \"pause\"}");
-  if (!local && !token_.empty() && message.value("token", json()) != json(token_))
+  if (message["cmd"] == "stream") {  // how this viewer takes its frames: not steering
+    const json codec = message.value("codec", json());
+    if (codec != "h264" && codec != "jpeg") return error_message("stream: 'codec' must be \"h264\" or \"jpeg\"");
+    const bool h264 = codec == "h264";
+    if (viewer.h264.exchange(h264) != h264) run_.count_h264_viewer(h264 ? 1 : -1);
+    return "";
+  }
+  if (!viewer.local && !token_.empty() && message.value("token", json()) != json(token_))
     return error_message("steering from another machine needs the token the server printed");
   const std::string cmd = message["cmd"].get<std::string>();
   auto number = [&](const char* key, double fallback, double lo, double hi) {
@@ -238,7 +269,7 @@ std::string WebServer::answer(const char* data, size_t length, bool local) {
   const auto kind = std::find_if(std::begin(kinds), std::end(kinds), [&](const auto& k) { return cmd == k.first; });
   if (kind == std::end(kinds))
     return error_message("unknown command '" + cmd.substr(0, 40) +
-                         "' (pause, resume, step, restart, setting, style, camera)");
+                         "' (pause, resume, step, restart, setting, style, camera, stream)");
   LiveCommand c{kind->second};
   try {
     if (c.kind == Kind::Setting) {

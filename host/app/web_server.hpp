@@ -47,7 +47,7 @@ class WebServer {
   static int ws_data(mg_connection* conn, int bits, char* data, size_t length, void* self);
   static void ws_close(const mg_connection* conn, void* self);
   void send_frames(Viewer& viewer);
-  std::string answer(const char* data, size_t length, bool local);  // a command's reply; empty: none
+  std::string answer(const char* data, size_t length, Viewer& viewer);  // a command's reply; empty: none
 
   LiveRun& run_;
   ServerLimits limits_;

@@ -55,15 +55,17 @@ class Client:
                                                     else bytes([0x80 | 127]) + struct.pack(">Q", n))
         self.sock.sendall(head + mask + bytes(b ^ mask[i % 4] for i, b in enumerate(payload)))
 
-    def frame(self, timeout=20):
-        """The next frame: (number, jpeg bytes), and the stats that follow it."""
+    def frame(self, timeout=20, with_kind=False):
+        """The next frame: (number, payload, the stats that follow it[, kind: 0 JPEG, 1 H.264
+        keyframe, 2 H.264 delta])."""
         end = time.time() + timeout
         while time.time() < end:
             op, data = self.receive()
             if op == 2:
-                number = struct.unpack("<Q", data[:8])[0]
+                number, _, kind = struct.unpack("<QdI", data[:20])
                 op2, stats = self.receive()
-                return number, data[16:], json.loads(stats)
+                found = (number, data[24:], json.loads(stats))
+                return found + (kind,) if with_kind else found
         raise TimeoutError("no frame")
 
 

@@ -180,6 +180,25 @@ class ServeTest(unittest.TestCase):
         self.frame_where(viewer, lambda f: not f[2]["paused"])
         viewer.sock.close()
 
+    def test_a_viewer_can_take_h264_starting_at_a_keyframe(self):
+        viewer = Client(self.server.port)
+        self.assertEqual(viewer.frame(with_kind=True)[3], 0, "JPEG until asked")
+        self.assertIn("bad codec", "bad codec " + self.error_for(viewer, {"cmd": "stream", "codec": "vp9"}))
+        viewer.send(json.dumps({"cmd": "stream", "codec": "h264"}))
+        kinds = []
+        while len(kinds) < 12:
+            number, payload, stats, kind = viewer.frame(with_kind=True)
+            if kind == 0 and not kinds:
+                continue  # JPEGs drawn before the switch
+            kinds.append(kind)
+            self.assertEqual(payload[:4], b"\x00\x00\x00\x01", "not Annex B")
+            self.assertEqual(stats["bytes"], len(payload))
+        self.assertEqual(kinds[0], 1, "the stream must start at a keyframe")
+        self.assertIn(2, kinds, "no delta frames: every frame a keyframe")
+        viewer.send(json.dumps({"cmd": "stream", "codec": "jpeg"}))
+        self.frame_where(viewer, lambda f: f[1][:3] == b"\xff\xd8\xff")
+        viewer.sock.close()
+
     def test_viewers_share_the_run_and_a_stalled_one_holds_up_no_one(self):
         first, second = Client(self.server.port), Client(self.server.port)
         a, b = first.frame()[0], second.frame()[0]
