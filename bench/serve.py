@@ -3,7 +3,7 @@
 spacings, 640x360, the fluid style, one viewer; each row the real-time factor, the frames a
 second that reach the viewer, and a frame's cost split into simulate, draw, encode and send (wall
 clock, medians over the measured seconds); then the real-time factor with 1 and 8 viewers, and
-with 8 and one stalled, at one spacing. A benchmark, not a test: it reports, it asserts nothing.
+with 8 and one stalled, at one spacing; then the stream's bit rate at 1280x720, H.264 and JPEG. A benchmark, not a test: it reports, it asserts nothing.
 
 Usage: bench/serve.py [--binary build/pbflow] [--seconds 8] [--spacings 0.04,0.03,0.025,0.02]
                       [--viewers-at 0.03] [--out bench/results/serve_lavapipe.md]"""
@@ -21,11 +21,12 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 from serve_support import Client, Server  # noqa: E402
 
 
-def measure(port, seconds, warm_up=3.0):
+def measure(port, seconds, warm_up=3.0, codec="jpeg"):
     """Stats of one viewer's frames over `seconds`, after `warm_up`."""
     viewer = Client(port, timeout=30)
     _, hello = viewer.receive()
     about = json.loads(hello)["about"]
+    viewer.send(json.dumps({"cmd": "stream", "codec": codec}))
     end_warm = time.time() + warm_up
     while time.time() < end_warm:
         viewer.frame()
@@ -36,6 +37,7 @@ def measure(port, seconds, warm_up=3.0):
     viewer.sock.close()
     med = lambda k: statistics.median(r[k] for r in rows)  # noqa: E731
     return {"about": about, "frames_per_s": len(rows) / elapsed, "rtf": rows[-1]["realtime_factor"],
+            "bytes_per_frame": statistics.mean(r["bytes"] for r in rows),
             "simulate_ms": med("simulate_ms"), "draw_ms": med("draw_ms"), "encode_ms": med("encode_ms"),
             "send_ms": med("send_ms"), "mbit_s": 8 * sum(r["bytes"] for r in rows) / elapsed / 1e6}
 
@@ -91,6 +93,17 @@ def main():
             server.stop()
         label = f"{others + 1}" + (" + 1 stalled" if stalled else "")
         lines.append(f"| {label} | {m['rtf']:.2f} | {m['frames_per_s']:.1f} |")
+        print(lines[-1], flush=True)
+    lines += ["", "The stream at 1280x720 (the dam break at 0.02 m, fluid style): bytes a frame, as a rate at "
+              "the scene's 60 fps, whatever rate this machine draws at:", "", "| codec | kB a frame | Mbit/s at 60 fps |",
+              "|---|---|---|"]
+    for codec in ("h264", "jpeg"):
+        server = Server("dam_break", ("--width", "1280", "--height", "720"))
+        try:
+            m = measure(server.port, a.seconds, codec=codec)
+        finally:
+            server.stop()
+        lines.append(f"| {codec} | {m['bytes_per_frame'] / 1e3:.1f} | {8 * 60 * m['bytes_per_frame'] / 1e6:.2f} |")
         print(lines[-1], flush=True)
     with open(a.out, "w") as f:
         f.write("\n".join(lines) + "\n")

@@ -5,8 +5,8 @@
 #include <future>
 
 #include "capture/frame_capture.hpp"
-#include "capture/h264.hpp"
-#include "capture/jpeg.hpp"
+#include "capture/stream/h264.hpp"
+#include "capture/stream/jpeg.hpp"
 #include "gpu/make_solver.hpp"
 #include "gpu/memory_estimate.hpp"
 #include "scene/derive.hpp"

@@ -12,7 +12,7 @@
 #include <sstream>
 
 #include "common/input_error.hpp"
-#include "capture/h264.hpp"
+#include "capture/stream/h264.hpp"
 #include "capture/renderer.hpp"
 #include "common/json_input.hpp"
 

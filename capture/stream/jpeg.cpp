@@ -1,4 +1,4 @@
-#include "capture/jpeg.hpp"
+#include "capture/stream/jpeg.hpp"
 
 #include <turbojpeg.h>
 

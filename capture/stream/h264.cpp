@@ -1,4 +1,4 @@
-#include "capture/h264.hpp"
+#include "capture/stream/h264.hpp"
 
 extern "C" {
 #include <libavcodec/avcodec.h>
