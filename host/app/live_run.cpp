@@ -8,7 +8,6 @@
 #include "capture/stream/h264.hpp"
 #include "capture/stream/jpeg.hpp"
 #include "gpu/make_solver.hpp"
-#include "gpu/memory_estimate.hpp"
 #include "scene/derive.hpp"
 #include "scene/parse.hpp"
 #include "scene/seeding.hpp"
@@ -114,8 +113,7 @@ void LiveRun::simulate(const RunOptions& o, std::promise<void>& ready) {
     const Derived d = derive(scene);
     ctx = make_context(o.device, o.validate);
     const vk::DeviceInfo* device = ctx ? &ctx->info() : nullptr;
-    check_memory(memory_need(d, particle_estimate(scene), device, {double(o.width) * o.height, o.fluid_resolution == "full"}),
-                 device);
+    check_run_memory(o, scene, d, device);
     solver = make_solver(ctx.get(), d, initial_particles(scene));
     capture = make_frame_capture(o, scene, *solver, ctx.get());
     solver->set_smoothed_positions(capture->draws_surface());

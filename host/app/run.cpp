@@ -61,6 +61,16 @@ std::unique_ptr<capture::FrameCapture> make_frame_capture(const RunOptions& o, c
   return std::make_unique<capture::FrameCapture>(c, solver, vk);
 }
 
+MemoryNeed check_run_memory(const RunOptions& o, const Scene& scene, const Derived& d, const vk::DeviceInfo* device) {
+  const bool full_surface = o.fluid_resolution == "full";
+  const MemoryNeed need =
+      memory_need(d, particle_estimate(scene), device, {o.render ? double(o.width) * o.height : 0.0, full_surface});
+  MemoryAdvice advice;
+  if (full_surface) advice.picture += ", or leave out --fluid-resolution full";
+  check_memory(need, device, advice);
+  return need;
+}
+
 namespace {
 
 class Progress {
@@ -151,12 +161,7 @@ int run(const RunOptions& o) {
   if (!o.video.empty()) check_video_outside(o.video, out);
   std::unique_ptr<vk::Context> ctx = make_context(o.device, o.validate);
   const vk::DeviceInfo* device = ctx ? &ctx->info() : nullptr;
-  const bool full_surface = o.fluid_resolution == "full";
-  const MemoryNeed need =
-      memory_need(d, particle_estimate(scene), device, {o.render ? double(o.width) * o.height : 0.0, full_surface});
-  MemoryAdvice advice;
-  if (full_surface) advice.picture += ", or leave out --fluid-resolution full";
-  check_memory(need, device, advice);
+  const MemoryNeed need = check_run_memory(o, scene, d, device);
   std::vector<glm::dvec3> x0 = initial_particles(scene);
   std::unique_ptr<Solver> solver = make_solver(ctx.get(), d, x0);
   const capture::ExportFormat export_format = capture::parse_export_format(o.export_format);

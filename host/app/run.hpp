@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "gpu/memory_estimate.hpp"
 #include "sim/params.hpp"
 #include "sim/solver.hpp"
 
@@ -11,6 +12,7 @@ namespace pbflow {
 
 namespace vk {
 class Context;
+struct DeviceInfo;
 }
 
 struct RunOptions {
@@ -46,6 +48,10 @@ struct Scene;
 // where `o` names one). Throws InputError for a bad size or style.
 std::unique_ptr<capture::FrameCapture> make_frame_capture(const RunOptions& o, const Scene& scene, const Solver& solver,
                                                           const vk::Context* vk);
+
+// What the run of `o` needs, checked against `device` (null: the reference solver) and the
+// host before anything is allocated: InputError with the numbers and the option to change.
+MemoryNeed check_run_memory(const RunOptions& o, const Scene& scene, const Derived& d, const vk::DeviceInfo* device);
 
 // Runs the scene; returns the exit status (docs/design.md). Throws InputError for bad input.
 int run(const RunOptions& o);
