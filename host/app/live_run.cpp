@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <future>
+#include <iostream>
 
 #include "capture/frame_capture.hpp"
 #include "capture/stream/h264.hpp"
@@ -123,11 +124,35 @@ void LiveRun::simulate(const RunOptions& o, std::promise<void>& ready) {
     description_ = scene.name + ", " + std::to_string(solver->particle_count()) + " particles, " +
                    method_name(scene.solver.method) + "@" + std::to_string(scene.solver.iterations) + ", " +
                    std::to_string(scene.solver.substeps) + " substeps per frame, on " + solver->device_name();
+    fps_ = scene.fps;  // before the encoder's thread starts, which reads it
     ready.set_value();
   } catch (...) {
     ready.set_exception(std::current_exception());
     return;
   }
+  try {
+    run_frames(o, scene, ctx.get(), solver, capture, start);
+  } catch (const std::exception& e) {
+    fail(e.what());
+  }
+}
+
+void LiveRun::fail(const std::string& why) {
+  {
+    std::lock_guard lock(frames_mutex_);
+    failure_ = why;
+  }
+  stop();
+}
+
+std::string LiveRun::failure() const {
+  std::lock_guard lock(frames_mutex_);
+  return failure_;
+}
+
+// The frames, at the scene's clock, and the viewers' commands between them.
+void LiveRun::run_frames(const RunOptions& o, Scene& scene, const vk::Context* ctx, std::unique_ptr<Solver>& solver,
+                         std::unique_ptr<capture::FrameCapture>& capture, const ParticleState& start) {
   RunOptions current = o;  // as the viewers have changed it
   std::string setting = std::string(method_name(scene.solver.method)) + "@" + std::to_string(scene.solver.iterations);
   // Another method or iteration count, or another style: the solver or the renderer made anew
@@ -139,16 +164,15 @@ void LiveRun::simulate(const RunOptions& o, std::promise<void>& ready) {
     capture.reset();
     if (new_solver) {
       scene = load_scene(current.scene, scene_overrides(current));
-      solver = make_solver(ctx.get(), derive(scene), initial_particles(scene));
+      solver = make_solver(ctx, derive(scene), initial_particles(scene));
       solver->upload(now);
       setting = std::string(method_name(scene.solver.method)) + "@" + std::to_string(scene.solver.iterations);
     }
-    capture = make_frame_capture(current, scene, *solver, ctx.get());
+    capture = make_frame_capture(current, scene, *solver, ctx);
     capture->set_camera(camera);
     solver->set_smoothed_positions(capture->draws_surface());
   };
   const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / scene.fps));
-  fps_ = scene.fps;
   RealtimeFactor realtime;
   uint64_t number = 0;
   double sim_time = 0;
@@ -216,8 +240,17 @@ void LiveRun::simulate(const RunOptions& o, std::promise<void>& ready) {
 // The encoder's thread: JPEG for every frame it takes, and H.264 while a viewer takes it, made
 // when the first such viewer asks (the image's size is fixed for the run).
 void LiveRun::encode() {
+  try {
+    encode_frames();
+  } catch (const std::exception& e) {
+    fail(e.what());
+  }
+}
+
+void LiveRun::encode_frames() {
   capture::JpegEncoder jpeg;
   std::unique_ptr<capture::H264Encoder> h264;
+  bool h264_failed = false;
   uint64_t last = 0, unit = 0;
   while (!stopping_) {
     std::shared_ptr<LiveFrame> frame;
@@ -233,13 +266,22 @@ void LiveRun::encode() {
     auto encoded = std::make_shared<LiveFrame>(*frame);
     const Clock::time_point began = Clock::now();
     encoded->jpeg = jpeg.encode(*image);
-    if (h264_viewers_ > 0) {
+    if (h264_viewers_ > 0 && !h264_failed) {
       if (!h264) {
         // About 0.1 bit a pixel a frame: 720p at 60 fps within 6 Mbit/s, the rate a real network carries.
         const double rate = std::clamp(0.1 * image->width * image->height * fps_, 2e5, 6e6);
-        h264 = std::make_unique<capture::H264Encoder>(image->width, image->height, int(std::lround(fps_)), rate);
+        try {
+          h264 = std::make_unique<capture::H264Encoder>(image->width, image->height,
+                                                        std::max(1, int(std::lround(fps_))), rate);
+        } catch (const std::exception& e) {  // the viewers that asked for it get JPEG
+          std::cerr << "pbflow: no H.264 stream: " << e.what() << "\n";
+          h264_failed = true;
+          h264_broken_ = true;
+        }
         keyframe_wanted_ = true;
       }
+    }
+    if (h264 && h264_viewers_ > 0) {
       capture::H264Encoder::Unit u = h264->encode(*image, keyframe_wanted_.exchange(false));
       encoded->h264 = std::move(u.bytes);
       encoded->keyframe = u.keyframe;

@@ -17,6 +17,13 @@
 
 namespace pbflow {
 
+namespace vk {
+class Context;
+}
+namespace capture {
+class FrameCapture;
+}
+
 // A frame as viewers get it: the JPEG and the measures it was drawn with.
 struct LiveFrame {
   uint64_t number = 0;        // frames drawn since the start (a restart goes on counting)
@@ -65,16 +72,24 @@ class LiveRun {
   // Viewers taking the H.264 stream: it is encoded while there is one. A viewer that joins or
   // falls behind asks for a keyframe.
   void count_h264_viewer(int delta) { h264_viewers_ += delta; }
+  bool h264_available() const { return !h264_broken_; }  // false once the encoder could not start
+  // Why the run stopped by itself (a failure on its threads); empty while it runs or was stopped.
+  std::string failure() const;
   void request_keyframe() { keyframe_wanted_ = true; }
   const std::string& description() const { return description_; }  // scene, particles, setting, device
 
  private:
   void simulate(const RunOptions& options, std::promise<void>& ready);
+  void run_frames(const RunOptions& o, Scene& scene, const vk::Context* ctx, std::unique_ptr<Solver>& solver,
+                  std::unique_ptr<capture::FrameCapture>& capture, const ParticleState& start);
   void encode();
+  void encode_frames();
+  void fail(const std::string& why);  // a thread's failure: recorded, and the run stops
 
   std::atomic<bool> stopping_{false};
   std::atomic<int> h264_viewers_{0};
-  std::atomic<bool> keyframe_wanted_{false};
+  std::atomic<bool> keyframe_wanted_{false}, h264_broken_{false};
+  std::string failure_;  // under frames_mutex_
   double fps_ = 60;
   std::string description_;
 

@@ -23,8 +23,12 @@ int serve(const ServeOptions& o) {
   if (!server.token().empty())
     std::cerr << "pbflow: listening on " << o.listen << ", which other machines can reach: they may watch, and steer "
               << "with the token " << server.token() << "\n";
-  while (!interrupt.signal()) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  while (!interrupt.signal() && run.failure().empty()) std::this_thread::sleep_for(std::chrono::milliseconds(50));
   run.stop();
+  if (const std::string why = run.failure(); !why.empty()) {
+    std::cerr << "pbflow: the live run stopped: " << why << "\n";
+    return 1;
+  }
   std::cerr << "pbflow: stopped by " << (interrupt.signal() == SIGINT ? "SIGINT" : "SIGTERM") << "\n";
   return 0;
 }

@@ -205,7 +205,7 @@ void WebServer::send_frames(Viewer& viewer) {
     // 1: an H.264 keyframe, 2: an H.264 delta frame) and 4 bytes of padding; then the payload.
     uint32_t kind = 0;
     const std::string* payload = &frame->jpeg;
-    if (viewer.h264) {
+    if (viewer.h264 && run_.h264_available()) {
       if (frame->unit == 0) continue;  // the stream starts with the encoder's next frame
       const bool in_sequence = viewer.last_unit != 0 && frame->unit == viewer.last_unit + 1;
       if (!in_sequence && !frame->keyframe) {  // joined, or missed a unit: the next keyframe
