@@ -41,6 +41,11 @@ class RealtimeFactor {
   Clock::time_point since_ = Clock::now();
 };
 
+// A scene's method and iterations as the page shows them: "pbf@2".
+std::string setting_name(const Scene& scene) {
+  return std::string(method_name(scene.solver.method)) + "@" + std::to_string(scene.solver.iterations);
+}
+
 // The camera moved as a viewer's drag and wheel ask: orbit about the target (the pitch kept off
 // the poles), the eye's distance scaled, the target panned in the view's plane.
 Camera moved(Camera c, const LiveCommand& m) {
@@ -122,7 +127,7 @@ void LiveRun::simulate(const RunOptions& o, std::promise<void>& ready) {
     if (scene.settle) settle(*solver, d);
     start = solver->download();
     description_ = scene.name + ", " + std::to_string(solver->particle_count()) + " particles, " +
-                   method_name(scene.solver.method) + "@" + std::to_string(scene.solver.iterations) + ", " +
+                   setting_name(scene) + ", " +
                    std::to_string(scene.solver.substeps) + " substeps per frame, on " + solver->device_name();
     fps_ = scene.fps;  // before the encoder's thread starts, which reads it
     ready.set_value();
@@ -154,7 +159,7 @@ std::string LiveRun::failure() const {
 void LiveRun::run_frames(const RunOptions& o, Scene& scene, const vk::Context* ctx, std::unique_ptr<Solver>& solver,
                          std::unique_ptr<capture::FrameCapture>& capture, const ParticleState& start) {
   RunOptions current = o;  // as the viewers have changed it
-  std::string setting = std::string(method_name(scene.solver.method)) + "@" + std::to_string(scene.solver.iterations);
+  std::string setting = setting_name(scene);
   // Another method or iteration count, or another style: the solver or the renderer made anew
   // on this thread, the particles carried over. The renderer shares the solver's buffers, so
   // it goes first and comes back after.
@@ -166,7 +171,7 @@ void LiveRun::run_frames(const RunOptions& o, Scene& scene, const vk::Context* c
       scene = load_scene(current.scene, scene_overrides(current));
       solver = make_solver(ctx, derive(scene), initial_particles(scene));
       solver->upload(now);
-      setting = std::string(method_name(scene.solver.method)) + "@" + std::to_string(scene.solver.iterations);
+      setting = setting_name(scene);
     }
     capture = make_frame_capture(current, scene, *solver, ctx);
     capture->set_camera(camera);

@@ -3,6 +3,7 @@
 #include <civetweb.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <condition_variable>
 #include <cstring>
@@ -122,14 +123,12 @@ int WebServer::page(mg_connection* conn, void*) {
   return 200;
 }
 
-// An accepted connection gets its viewer here, and counts from here until ws_close: a refused
-// one has none, so that only what was counted is uncounted.
+// An accepted connection gets its viewer here, in the list from here until ws_close: the list
+// is the count the limit holds, and a refused connection is never in it.
 int WebServer::ws_connect(const mg_connection* conn, void* self) {
   auto* server = static_cast<WebServer*>(self);
-  if (server->connected_.fetch_add(1) >= server->limits_.viewers) {
-    server->connected_.fetch_sub(1);
-    return 1;  // refused
-  }
+  std::lock_guard lock(server->viewers_mutex_);
+  if (server->viewers_.size() >= size_t(server->limits_.viewers)) return 1;  // refused
   auto viewer = std::make_shared<Viewer>();
   viewer->local = loopback(mg_get_request_info(conn)->remote_addr);
   viewer->replies.push_back(json{{"type", "hello"},
@@ -137,7 +136,6 @@ int WebServer::ws_connect(const mg_connection* conn, void* self) {
                                  {"h264_codec", capture::H264Encoder::codec_string()}}
                                 .dump());
   mg_set_user_connection_data(conn, viewer.get());
-  std::lock_guard lock(server->viewers_mutex_);
   server->viewers_.push_back(std::move(viewer));
   return 0;
 }
@@ -177,7 +175,6 @@ void WebServer::ws_close(const mg_connection* conn, void* self) {
   mg_set_user_connection_data(conn, nullptr);
   std::lock_guard lock(server->viewers_mutex_);
   server->viewers_.remove_if([&](const std::shared_ptr<Viewer>& v) { return v.get() == viewer; });
-  server->connected_.fetch_sub(1);
 }
 
 // A viewer's own thread: its replies, then the newest frame past the last it sent. A viewer

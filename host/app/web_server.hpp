@@ -4,7 +4,6 @@
 // else is served: no file is ever read from disk. Each viewer has a thread of its own that
 // sends the newest frame when the last has gone out, so a slow or stalled viewer drops frames
 // and holds at most one, and never holds up the run or another viewer (docs/serve.md).
-#include <atomic>
 #include <list>
 #include <memory>
 #include <mutex>
@@ -55,8 +54,7 @@ class WebServer {
   int port_ = 0;
   std::string token_;
   std::mutex viewers_mutex_;
-  std::list<std::shared_ptr<Viewer>> viewers_;
-  std::atomic<int> connected_{0};
+  std::list<std::shared_ptr<Viewer>> viewers_;  // the connected viewers: at most limits_.viewers
 };
 
 }  // namespace pbflow
