@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "capture/frame_writer.hpp"
 #include "capture/gl_context.hpp"
@@ -24,7 +25,11 @@ struct CaptureOptions {
 class FrameCapture {
  public:
   // Makes the GL context and checks everything it can before any frame is written.
-  FrameCapture(const CaptureOptions& options, const Solver& solver, const vk::Context* vk);
+  FrameCapture(const CaptureOptions& options, const Solver& solver, const vk::Context* vk)
+      : FrameCapture(options, std::vector<const Solver*>{&solver}, vk) {}
+  // Several solvers of one scene drawn side by side, each in a panel of the view's size, one
+  // camera for all (the live view's comparison): images of panels x the view's width.
+  FrameCapture(const CaptureOptions& options, const std::vector<const Solver*>& solvers, const vk::Context* vk);
   ~FrameCapture();
 
   // Draws the solver's frame and starts writing it to `png`; `written` runs once the file is
@@ -33,6 +38,7 @@ class FrameCapture {
   // Draws the solver's frame and returns the image (the renderer's own, valid until the next
   // draw): what the live view encodes, and what write() writes.
   const Image& draw(const Solver& solver);
+  const Image& draw(const std::vector<const Solver*>& solvers);  // one a panel, as constructed
   void set_camera(const Camera& camera) { renderer_.set_camera(camera); }
   const Camera& camera() const { return renderer_.view().camera; }
   void finish();  // waits for the frames' files, then completes the video
@@ -49,7 +55,8 @@ class FrameCapture {
   CaptureOptions options_;
   gl::Context gl_;
   Renderer renderer_;
-  std::unique_ptr<ParticleTransfer> transfer_;
+  std::vector<std::unique_ptr<ParticleTransfer>> transfers_;  // one a panel
+  Image panels_;  // where there are several: each panel's image copied in beside the last
   std::unique_ptr<VideoEncoder> video_;
   FrameWriter writer_{FrameWriter::default_in_flight()};
   double seconds_ = 0, drawing_seconds_ = 0, gpu_drawing_seconds_ = 0;

@@ -9,29 +9,43 @@
 #include <future>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
+#include <vector>
 
+#include "app/frame_budget.hpp"
 #include "app/run.hpp"
 #include "capture/renderer.hpp"
+#include "vk/context.hpp"
 
 namespace pbflow {
 
-namespace vk {
-class Context;
-}
-namespace capture {
-class FrameCapture;
-}
+struct LiveOptions {
+  RunOptions run;                    // the scene and image options, as `pbflow run` takes them
+  std::vector<LiveSetting> compare;  // --compare: these settings side by side from one start; empty: one run
+  double frame_budget_ms = 0;        // --frame-budget: hold a frame within this by choosing accuracy; 0: off
+};
+// At most this many settings side by side.
+inline constexpr size_t kMaxPanels = 4;
+
+// One panel of a frame: its setting and the measures of its solver.
+struct LivePanel {
+  LiveSetting setting;  // substeps resolved
+  FrameStats stats;
+};
 
 // A frame as viewers get it: the JPEG and the measures it was drawn with.
 struct LiveFrame {
   uint64_t number = 0;        // frames drawn since the start (a restart goes on counting)
   double sim_time = 0;        // s of simulated time since the last (re)start
-  FrameStats stats;           // of this frame
+  std::vector<LivePanel> panels;  // one, or one a setting under --compare, left to right
   double realtime_factor = 0;  // simulated over wall seconds, over the last second or so
   bool paused = false;
-  std::string setting;        // "pbf@2"
+  std::string scene;          // the scene's name
+  std::string about;          // scene, particles, setting, device
+  double budget_ms = 0;       // the frame budget held; 0: none
+  std::shared_ptr<const std::vector<FrontPoint>> front;  // the measured front it chooses from, where held
   std::string jpeg;
   // The H.264 stream's access unit for this frame, where some viewer takes H.264: `unit` counts
   // them (a viewer that missed one waits for a keyframe), 0 where there is none.
@@ -46,25 +60,30 @@ struct LiveFrame {
 
 // What a viewer can ask of the run (docs/serve.md, "Protocol"), checked by the server.
 struct LiveCommand {
-  enum class Kind { Pause, Resume, Step, Restart, Setting, Style, Camera } kind;
-  std::string method;      // Setting: "pbf" or "ldc"
-  int iterations = 0;      // Setting
+  enum class Kind { Pause, Resume, Step, Restart, Setting, Style, Camera, Scene, Budget } kind;
+  LiveSetting setting;     // Setting: method and iterations (the scene's substeps)
   std::string style;       // Style: a capture::Style's name
   double orbit_x = 0, orbit_y = 0;  // Camera: radians about the up axis and the camera's right
   double zoom = 1;                  // Camera: the eye's distance from the target times this
   double pan_x = 0, pan_y = 0;      // Camera: the target moved by these fractions of that distance
+  std::string scene;       // Scene: a built-in scene's name, checked with check_scene()
+  double budget_ms = 0;    // Budget: 0 turns it off
 };
 
 class LiveRun {
  public:
-  // Loads the scene, makes the solver and renderer on the run's thread and starts it; throws
+  // Loads the scene, makes the solvers and renderer on the run's thread and starts it; throws
   // InputError (bad scene or options) or the failure that stopped the set-up.
-  explicit LiveRun(const RunOptions& options);
+  explicit LiveRun(const LiveOptions& options);
   ~LiveRun();  // stops both threads
   LiveRun(const LiveRun&) = delete;
   LiveRun& operator=(const LiveRun&) = delete;
 
   void command(LiveCommand c);
+  // Whether the built-in scene `name` can take this run's place (its keys, the run's --param
+  // entries, the memory it needs): InputError naming the problem where not.
+  void check_scene(const std::string& name) const;
+  size_t panels() const { return panels_; }  // settings side by side: 1 unless --compare
   // The newest encoded frame past `after` (a frame number), waiting up to `timeout`; null
   // where none came. Returns at once once stop() was called.
   std::shared_ptr<const LiveFrame> next_frame(uint64_t after, std::chrono::milliseconds timeout) const;
@@ -76,22 +95,25 @@ class LiveRun {
   // Why the run stopped by itself (a failure on its threads); empty while it runs or was stopped.
   std::string failure() const;
   void request_keyframe() { keyframe_wanted_ = true; }
-  const std::string& description() const { return description_; }  // scene, particles, setting, device
+  std::string description() const;  // scene, particles, setting, device
 
  private:
-  void simulate(const RunOptions& options, std::promise<void>& ready);
-  void run_frames(const RunOptions& o, Scene& scene, const vk::Context* ctx, std::unique_ptr<Solver>& solver,
-                  std::unique_ptr<capture::FrameCapture>& capture, const ParticleState& start);
+  struct Stage;
+  void simulate(const LiveOptions& options, std::promise<void>& ready);
+  void run_frames(Stage& stage, const vk::Context* ctx, double budget_ms);
+  std::vector<FrontPoint> measure_front(Stage& stage, const vk::Context* ctx);
   void encode();
   void encode_frames();
   void fail(const std::string& why);  // a thread's failure: recorded, and the run stops
 
+  const RunOptions options_;  // as given: what check_scene() checks against
+  const size_t panels_;
+  std::optional<vk::DeviceInfo> device_;  // the solver's; none for the reference solver
   std::atomic<bool> stopping_{false};
   std::atomic<int> h264_viewers_{0};
   std::atomic<bool> keyframe_wanted_{false}, h264_broken_{false};
-  std::string failure_;  // under frames_mutex_
-  double fps_ = 60;
-  std::string description_;
+  std::string failure_, description_;  // under frames_mutex_
+  std::atomic<double> fps_{60};  // the scene's: the H.264 stream's rate
 
   std::mutex commands_mutex_;
   std::condition_variable commands_changed_;

@@ -161,10 +161,26 @@ int main(int argc, char** argv) {
   run_cmd->add_flag("--verbose", run.verbose, "say how frames are rendered (EGL platform, GL, particle path)");
 
   pbflow::ServeOptions serve;
-  serve.run.width = 640;  // a live view's default: what lavapipe holds near real time (docs/serve.md)
-  serve.run.height = 360;
+  serve.live.run.width = 640;  // a live view's default: what lavapipe holds near real time (docs/serve.md)
+  serve.live.run.height = 360;
   CLI::App* serve_cmd = app.add_subcommand("serve", "run a scene live and watch it in a browser (docs/serve.md)");
-  add_scene_options(serve_cmd, serve.run);
+  add_scene_options(serve_cmd, serve.live.run);
+  serve_cmd
+      ->add_option_function<std::vector<std::string>>(
+          "--compare",
+          [&](const std::vector<std::string>& settings) {
+            for (const std::string& s : settings) try {
+                serve.live.compare.push_back(pbflow::parse_live_setting(s));
+              } catch (const pbflow::InputError& e) {
+                throw CLI::ValidationError("--compare", e.what());
+              }
+          },
+          "settings side by side from one start, e.g. pbf@1,ldc@1,pbf@2 (each panel --width x --height, "
+          "480x270 unless given)")
+      ->delimiter(',');
+  serve_cmd->add_option("--frame-budget", serve.live.frame_budget_ms,
+                        "hold a frame within MS milliseconds by choosing the most accurate setting that fits")
+      ->check(kFinite & CLI::Range(0.0, 10000.0));
   serve_cmd->add_option("--listen", serve.listen, "ADDR:PORT to serve on (another address than 127.0.0.1 is reachable "
                                                   "from other machines)")
       ->capture_default_str();
@@ -224,6 +240,8 @@ int main(int argc, char** argv) {
   }
   run.render = !no_render;
   bench.charts = !no_charts;
+  if (!serve.live.compare.empty() && serve_cmd->count("--width") == 0) serve.live.run.width = 480;
+  if (!serve.live.compare.empty() && serve_cmd->count("--height") == 0) serve.live.run.height = 270;
 
   const int status = run_command(app, run, serve, bench, scaling, budget_minutes, scaling_method);
   // What was printed must have reached its reader: `pbflow keys > /dev/full` is a failure.

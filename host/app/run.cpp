@@ -36,8 +36,9 @@ std::vector<std::string> scene_overrides(const RunOptions& o) {
   return all;
 }
 
-std::unique_ptr<capture::FrameCapture> make_frame_capture(const RunOptions& o, const Scene& scene, const Solver& solver,
-                                                    const vk::Context* vk) {
+std::unique_ptr<capture::FrameCapture> make_frame_capture(const RunOptions& o, const Scene& scene,
+                                                          const std::vector<const Solver*>& solvers,
+                                                          const vk::Context* vk) {
   if (o.width < 16 || o.height < 16 || o.width > 16384 || o.height > 16384)
     throw InputError("--width and --height must be between 16 and 16384 pixels");
   capture::CaptureOptions c;
@@ -58,13 +59,16 @@ std::unique_ptr<capture::FrameCapture> make_frame_capture(const RunOptions& o, c
   c.fps = scene.fps;
   c.allow_shared = !o.readback;
   c.debug = o.validate;
-  return std::make_unique<capture::FrameCapture>(c, solver, vk);
+  return std::make_unique<capture::FrameCapture>(c, solvers, vk);
 }
 
-MemoryNeed check_run_memory(const RunOptions& o, const Scene& scene, const Derived& d, const vk::DeviceInfo* device) {
+MemoryNeed check_run_memory(const RunOptions& o, const Scene& scene, const Derived& d, const vk::DeviceInfo* device,
+                            size_t solvers) {
   const bool full_surface = o.fluid_resolution == "full";
-  const MemoryNeed need =
-      memory_need(d, particle_estimate(scene), device, {o.render ? double(o.width) * o.height : 0.0, full_surface});
+  const double pixels = o.render ? double(o.width) * o.height * double(solvers) : 0.0;
+  MemoryNeed need = memory_need(d, particle_estimate(scene), device, {pixels, full_surface});
+  need.device *= solvers;  // each solver's buffers and host arrays, once each
+  need.host = need.picture + (need.host - need.picture) * solvers;
   MemoryAdvice advice;
   if (full_surface) advice.picture += ", or leave out --fluid-resolution full";
   check_memory(need, device, advice);
@@ -166,7 +170,7 @@ int run(const RunOptions& o) {
   std::unique_ptr<Solver> solver = make_solver(ctx.get(), d, x0);
   const capture::ExportFormat export_format = capture::parse_export_format(o.export_format);
   std::unique_ptr<capture::FrameCapture> capture;
-  if (o.render) capture = make_frame_capture(o, scene, *solver, ctx.get());
+  if (o.render) capture = make_frame_capture(o, scene, {solver.get()}, ctx.get());
   if (capture) solver->set_smoothed_positions(capture->draws_surface());
 
   // Everything is checked: from here the run owns DIR and replaces the previous run's files.

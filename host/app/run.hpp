@@ -44,14 +44,18 @@ class FrameCapture;
 }
 struct Scene;
 
-// The renderer of `o`'s image options for `scene`, drawing `solver`'s frames (and its video,
-// where `o` names one). Throws InputError for a bad size or style.
-std::unique_ptr<capture::FrameCapture> make_frame_capture(const RunOptions& o, const Scene& scene, const Solver& solver,
+// The renderer of `o`'s image options for `scene`, drawing the solvers' frames (several: side
+// by side, each in a panel of `o`'s size) and its video, where `o` names one. Throws InputError
+// for a bad size or style.
+std::unique_ptr<capture::FrameCapture> make_frame_capture(const RunOptions& o, const Scene& scene,
+                                                          const std::vector<const Solver*>& solvers,
                                                           const vk::Context* vk);
 
 // What the run of `o` needs, checked against `device` (null: the reference solver) and the
 // host before anything is allocated: InputError with the numbers and the option to change.
-MemoryNeed check_run_memory(const RunOptions& o, const Scene& scene, const Derived& d, const vk::DeviceInfo* device);
+// `solvers`: that many of the scene side by side (the live view's comparison).
+MemoryNeed check_run_memory(const RunOptions& o, const Scene& scene, const Derived& d, const vk::DeviceInfo* device,
+                            size_t solvers = 1);
 
 // Runs the scene; returns the exit status (docs/design.md). Throws InputError for bad input.
 int run(const RunOptions& o);

@@ -13,12 +13,13 @@ namespace pbflow {
 
 int serve(const ServeOptions& o) {
   InterruptGuard interrupt;
-  if (!o.run.video.empty() || !o.run.export_format.empty() || !o.run.render)
+  if (!o.live.run.video.empty() || !o.live.run.export_format.empty() || !o.live.run.render)
     throw InputError("serve draws its frames for the browser: --video, --export and --no-render are for `pbflow run`");
-  LiveRun run(o.run);
+  LiveRun run(o.live);
   WebServer server(o.listen, run);
   const std::string host = o.listen.substr(0, o.listen.rfind(':'));
-  std::cerr << "pbflow: " << run.description() << ", drawn at " << o.run.width << "x" << o.run.height << "\n"
+  std::cerr << "pbflow: " << run.description() << ", drawn at " << o.live.run.width * run.panels() << "x"
+            << o.live.run.height << "\n"
             << "pbflow: open http://" << host << ":" << server.port() << "/ (Ctrl-C stops)\n";
   if (!server.token().empty())
     std::cerr << "pbflow: listening on " << o.listen << ", which other machines can reach: they may watch, and steer "

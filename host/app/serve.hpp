@@ -2,12 +2,12 @@
 // `pbflow serve`: a scene run live and watched in a browser (docs/serve.md).
 #include <string>
 
-#include "app/run.hpp"
+#include "app/live_run.hpp"
 
 namespace pbflow {
 
 struct ServeOptions {
-  RunOptions run;  // the scene and image options, as `pbflow run` takes them
+  LiveOptions live;  // the scene and image options as `pbflow run` takes them, --compare, --frame-budget
   std::string listen = "127.0.0.1:8080";
 };
 

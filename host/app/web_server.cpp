@@ -16,6 +16,7 @@
 #include "capture/stream/h264.hpp"
 #include "capture/renderer.hpp"
 #include "common/json_input.hpp"
+#include "scene/parse.hpp"
 
 namespace pbflow {
 
@@ -24,8 +25,6 @@ const std::vector<std::pair<std::string_view, std::string_view>>& web_pages_text
 namespace {
 
 using nlohmann::json;
-// A live run's iterations per step: enough for every setting on the accuracy-against-cost front.
-constexpr double kMaxLiveIterations = 16;
 
 bool loopback(const char* address) {
   return address && (std::strncmp(address, "127.", 4) == 0 || std::strcmp(address, "::1") == 0);
@@ -37,26 +36,46 @@ std::string page_text() {
   return "";
 }
 
+json measures(const FrameStats& s) {
+  return {{"mean_compression", s.mean_compression}, {"max_compression", s.max_compression},
+          {"kinetic_energy", s.kinetic_energy},     {"potential_energy", s.potential_energy},
+          {"step_ms", s.step_ms}};
+}
+
 // `bytes`: the viewer's payload of the frame (JPEG or H.264); `send_ms`: how long handing it
-// to the viewer's socket took.
+// to the viewer's socket took. The first panel's measures stand at the top level.
 std::string stats_message(const LiveFrame& f, size_t bytes, double send_ms) {
-  return json{{"type", "stats"},
-              {"frame", f.number},
-              {"time", f.sim_time},
-              {"paused", f.paused},
-              {"setting", f.setting},
-              {"realtime_factor", f.realtime_factor},
-              {"mean_compression", f.stats.mean_compression},
-              {"max_compression", f.stats.max_compression},
-              {"kinetic_energy", f.stats.kinetic_energy},
-              {"potential_energy", f.stats.potential_energy},
-              {"step_ms", f.stats.step_ms},
-              {"simulate_ms", f.simulate_ms},
-              {"draw_ms", f.draw_ms},
-              {"encode_ms", f.encode_ms},
-              {"send_ms", send_ms},
-              {"bytes", bytes}}
-      .dump();
+  json m = measures(f.panels[0].stats);
+  m.update({{"type", "stats"},
+            {"frame", f.number},
+            {"time", f.sim_time},
+            {"paused", f.paused},
+            {"scene", f.scene},
+            {"about", f.about},
+            {"setting", f.panels[0].setting.name()},
+            {"substeps", f.panels[0].setting.substeps},
+            {"realtime_factor", f.realtime_factor},
+            {"simulate_ms", f.simulate_ms},
+            {"draw_ms", f.draw_ms},
+            {"encode_ms", f.encode_ms},
+            {"send_ms", send_ms},
+            {"bytes", bytes},
+            {"budget_ms", f.budget_ms}});
+  if (f.panels.size() > 1) {
+    m["panels"] = json::array();
+    for (const LivePanel& p : f.panels) {
+      json panel = measures(p.stats);
+      panel["setting"] = p.setting.name();
+      m["panels"].push_back(std::move(panel));
+    }
+  }
+  if (f.front) {
+    m["front"] = json::array();
+    for (const FrontPoint& p : *f.front)
+      m["front"].push_back({{"setting", p.setting.name()}, {"substeps", p.setting.substeps},
+                            {"simulate_ms", p.simulate_ms}, {"mean_compression", p.mean_compression}});
+  }
+  return m.dump();
 }
 
 std::string error_message(const std::string& text) { return json{{"type", "error"}, {"message", text}}.dump(); }
@@ -131,8 +150,12 @@ int WebServer::ws_connect(const mg_connection* conn, void* self) {
   if (server->viewers_.size() >= size_t(server->limits_.viewers)) return 1;  // refused
   auto viewer = std::make_shared<Viewer>();
   viewer->local = loopback(mg_get_request_info(conn)->remote_addr);
+  json scenes = json::array();
+  for (const BuiltinScene& scene : builtin_scenes()) scenes.push_back(scene.name);
   viewer->replies.push_back(json{{"type", "hello"},
                                  {"about", server->run_.description()},
+                                 {"scenes", std::move(scenes)},
+                                 {"panels", server->run_.panels()},
                                  {"h264_codec", capture::H264Encoder::codec_string()}}
                                 .dump());
   mg_set_user_connection_data(conn, viewer.get());
@@ -262,19 +285,33 @@ std::string WebServer::answer(const char* data, size_t length, Viewer& viewer) {
   static const std::pair<const char*, Kind> kinds[] = {{"pause", Kind::Pause},     {"resume", Kind::Resume},
                                                        {"step", Kind::Step},       {"restart", Kind::Restart},
                                                        {"setting", Kind::Setting}, {"style", Kind::Style},
-                                                       {"camera", Kind::Camera}};
+                                                       {"camera", Kind::Camera},   {"scene", Kind::Scene},
+                                                       {"budget", Kind::Budget}};
   const auto kind = std::find_if(std::begin(kinds), std::end(kinds), [&](const auto& k) { return cmd == k.first; });
   if (kind == std::end(kinds))
     return error_message("unknown command '" + cmd.substr(0, 40) +
-                         "' (pause, resume, step, restart, setting, style, camera, stream)");
+                         "' (pause, resume, step, restart, setting, style, camera, scene, budget, stream)");
   LiveCommand c{kind->second};
   try {
+    if ((c.kind == Kind::Setting || c.kind == Kind::Budget) && run_.panels() > 1)
+      throw InputError("each panel of --compare keeps its setting");
     if (c.kind == Kind::Setting) {
-      c.method = message.contains("method") && message["method"].is_string() ? message["method"].get<std::string>() : "";
-      if (c.method != "pbf" && c.method != "ldc") throw InputError("'method' must be \"pbf\" or \"ldc\"");
+      c.setting.method = message.value("method", json()).is_string() ? message["method"].get<std::string>() : "";
+      if (c.setting.method != "pbf" && c.setting.method != "ldc")
+        throw InputError("'method' must be \"pbf\" or \"ldc\"");
       const double iterations = number("iterations", 2, 1, kMaxLiveIterations);
       if (iterations != std::floor(iterations)) throw InputError("'iterations' must be a whole number");
-      c.iterations = int(iterations);
+      c.setting.iterations = int(iterations);
+    } else if (c.kind == Kind::Scene) {
+      c.scene = message.value("name", json()).is_string() ? message["name"].get<std::string>() : "";
+      const std::vector<BuiltinScene> scenes = builtin_scenes();
+      std::string names;
+      for (const BuiltinScene& b : scenes) names += (names.empty() ? "" : ", ") + b.name;
+      if (std::none_of(scenes.begin(), scenes.end(), [&](const BuiltinScene& b) { return b.name == c.scene; }))
+        throw InputError("'name' must be a built-in scene: " + names);
+      run_.check_scene(c.scene);
+    } else if (c.kind == Kind::Budget) {
+      c.budget_ms = number("ms", 0, 0, 10000);
     } else if (c.kind == Kind::Style) {
       c.style = message.value("style", json()).is_string() ? message["style"].get<std::string>() : "";
       capture::parse_style(c.style);  // InputError naming the styles

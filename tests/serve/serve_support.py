@@ -55,6 +55,15 @@ class Client:
                                                     else bytes([0x80 | 127]) + struct.pack(">Q", n))
         self.sock.sendall(head + mask + bytes(b ^ mask[i % 4] for i, b in enumerate(payload)))
 
+    def error_for(self, command, limit=300):
+        """The error message the server answers `command` (a dict, sent as JSON) with."""
+        self.send(json.dumps(command))
+        for _ in range(limit):
+            op, data = self.receive()
+            if op == 1 and json.loads(data).get("type") == "error":
+                return json.loads(data)["message"]
+        raise AssertionError(f"no error for {command}")
+
     def frame(self, timeout=20, with_kind=False):
         """The next frame: (number, payload, the stats that follow it[, kind: 0 JPEG, 1 H.264
         keyframe, 2 H.264 delta])."""

@@ -21,6 +21,7 @@ if len(sys.argv) > 1:
 from selenium import webdriver  # noqa: E402
 from selenium.webdriver.chrome.service import Service  # noqa: E402
 from selenium.webdriver.common.action_chains import ActionChains  # noqa: E402
+from selenium.webdriver.common.keys import Keys  # noqa: E402
 from selenium.webdriver.support.ui import Select  # noqa: E402
 
 
@@ -34,16 +35,22 @@ def wait_for(predicate, timeout=60, what="a condition"):
     raise AssertionError(f"timed out waiting for {what}")
 
 
+def open_page(port):
+    """Debian's Chromium, headless, on the server's page."""
+    options = webdriver.ChromeOptions()
+    for flag in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage", "--window-size=960,720"):
+        options.add_argument(flag)
+    options.binary_location = "/usr/bin/chromium"
+    browser = webdriver.Chrome(service=Service("/usr/bin/chromedriver"), options=options)
+    browser.get(f"http://127.0.0.1:{port}/")
+    return browser
+
+
 class BrowserTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         cls.server = Server("dam_break", ("--param", "particle_spacing=0.04", "--width", "480", "--height", "270"))
-        options = webdriver.ChromeOptions()
-        for flag in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage", "--window-size=960,720"):
-            options.add_argument(flag)
-        options.binary_location = "/usr/bin/chromium"
-        cls.browser = webdriver.Chrome(service=Service("/usr/bin/chromedriver"), options=options)
-        cls.browser.get(f"http://127.0.0.1:{cls.server.port}/")
+        cls.browser = open_page(cls.server.port)
 
     @classmethod
     def tearDownClass(cls):
@@ -104,6 +111,23 @@ class BrowserTest(unittest.TestCase):
         Select(self.browser.find_element("id", "iterations")).select_by_visible_text("1")
         wait_for(lambda: "ldc@1" in self.browser.find_element("id", "stats").text, what="ldc@1 in the stats")
 
+    def test_7_another_scene_from_the_page(self):
+        Select(self.browser.find_element("id", "scene")).select_by_visible_text("hydrostatic")
+        wait_for(lambda: "hydrostatic" in self.browser.find_element("id", "about").text, what="hydrostatic running")
+        Select(self.browser.find_element("id", "scene")).select_by_visible_text("dam_break")
+        wait_for(lambda: "dam_break" in self.browser.find_element("id", "about").text, what="dam_break again")
+
+    def test_8_a_frame_budget_from_the_page_shows_its_setting_and_front(self):
+        budget = self.browser.find_element("id", "budget")
+        budget.clear()
+        budget.send_keys("40", Keys.TAB)
+        text = wait_for(lambda: (lambda t: "frame budget 40 ms" in t and t)(self.browser.find_element("id", "stats").text),
+                        what="the budget's front in the stats")
+        self.assertRegex(text, r"(pbf|ldc)@\d/\d+ [\d.]+ ms [\d.]+ %")
+        budget.clear()
+        budget.send_keys("0", Keys.TAB)
+        wait_for(lambda: "frame budget" not in self.browser.find_element("id", "stats").text, what="the budget off")
+
     def test_4_latency_and_bit_rate_are_reported(self):
         self.browser.execute_script("window.pbflowLive.bytes = 0; window.pbflowLive.since = performance.now();"
                                     "window.pbflowLive.latencyMs = [];")
@@ -118,6 +142,28 @@ class BrowserTest(unittest.TestCase):
               f"{sorted(latency)[int(0.9 * (len(latency) - 1))]:.0f} ms; "
               f"{8 * self.live('bytes') / seconds / 1e6:.2f} Mbit/s")
         self.assertTrue(all(x >= -5 for x in latency), "a frame shown before it was drawn: clocks disagree")
+
+
+class CompareBrowserTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.server = Server("dam_break", ("--param", "particle_spacing=0.05", "--style", "particles", "--width", "160",
+                                          "--height", "90", "--compare", "pbf@1,ldc@1,pbf@2"))
+        cls.browser = open_page(cls.server.port)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.browser.quit()
+        cls.server.stop()
+
+    def test_each_panel_is_labelled_with_its_setting_and_compression(self):
+        # Read in one call: the page replaces the labels with every frame.
+        labels = wait_for(lambda: self.browser.execute_script(
+            "return [...document.querySelectorAll('#labels div')].map((e) => e.textContent);"), what="the panels' labels")
+        self.assertEqual([label.split()[0] for label in labels], ["pbf@1", "ldc@1", "pbf@2"])
+        for label in labels:
+            self.assertRegex(label, r"[\d.]+ %$")
+        self.assertFalse(self.browser.find_element("id", "method").is_enabled(), "a panel's setting is fixed")
 
 
 if __name__ == "__main__":

@@ -137,14 +137,6 @@ class ServeTest(unittest.TestCase):
         viewer.sock.close()
         self.assert_still_serving()
 
-    def error_for(self, viewer, command):
-        viewer.send(json.dumps(command))
-        for _ in range(300):
-            op, data = viewer.receive()
-            if op == 1 and json.loads(data).get("type") == "error":
-                return json.loads(data)["message"]
-        self.fail(f"no error for {command}")
-
     def frame_where(self, viewer, predicate, limit=200):
         for _ in range(limit):
             frame = viewer.frame()
@@ -174,16 +166,52 @@ class ServeTest(unittest.TestCase):
                                 ({"cmd": "setting", "method": "sph", "iterations": 2}, "'method'"),
                                 ({"cmd": "setting", "method": "pbf", "iterations": 1.5}, "whole number"),
                                 ({"cmd": "setting", "method": "pbf", "iterations": 17}, "'iterations'")):
-            self.assertIn(expect, self.error_for(viewer, command))
+            self.assertIn(expect, viewer.error_for(command))
         viewer.send(json.dumps({"cmd": "style", "style": "particles"}))
         viewer.send(json.dumps({"cmd": "resume"}))
         self.frame_where(viewer, lambda f: not f[2]["paused"])
         viewer.sock.close()
 
+    def test_another_scene_from_a_command_and_only_a_built_in_one(self):
+        viewer = Client(self.server.port)
+        viewer.send(json.dumps({"cmd": "scene", "name": "drop"}))
+        dropped = self.frame_where(viewer, lambda f: f[2]["scene"] == "drop")
+        self.assertIn("drop", dropped[2]["about"])
+        self.assertLess(dropped[2]["time"], 0.5, "a new scene starts from its start")
+        for command, expect in (({"cmd": "scene", "name": "/etc/passwd"}, "'name' must be a built-in scene: dam_break"),
+                                ({"cmd": "scene", "name": "../scenes/dam_break.json"}, "built-in scene"),
+                                ({"cmd": "scene", "name": 5}, "built-in scene"),
+                                ({"cmd": "scene"}, "built-in scene")):
+            self.assertIn(expect, viewer.error_for(command))
+        viewer.send(json.dumps({"cmd": "scene", "name": "hydrostatic"}))
+        self.frame_where(viewer, lambda f: f[2]["scene"] == "hydrostatic")
+        viewer.sock.close()
+
+    def test_a_frame_budget_chooses_from_the_front_it_measured(self):
+        viewer = Client(self.server.port)
+        for command, expect in (({"cmd": "budget", "ms": -1}, "'ms' must be a number in [0, 10000]"),
+                                ({"cmd": "budget", "ms": "fast"}, "'ms'"),
+                                ({"cmd": "budget", "ms": 1e9}, "'ms'")):
+            self.assertIn(expect, viewer.error_for(command))
+        viewer.send(json.dumps({"cmd": "budget", "ms": 50}))
+        held = self.frame_where(viewer, lambda f: f[2]["budget_ms"] == 50)[2]
+        front = held["front"]
+        self.assertGreaterEqual(len(front), 2)
+        for cheaper, dearer in zip(front, front[1:]):  # dearer and more accurate in turn
+            self.assertGreater(dearer["simulate_ms"], cheaper["simulate_ms"])
+            self.assertLess(dearer["mean_compression"], cheaper["mean_compression"])
+        self.assertIn((held["setting"], held["substeps"]), [(p["setting"], p["substeps"]) for p in front])
+        # A setting chosen by a viewer gives the choice back: the budget is off.
+        viewer.send(json.dumps({"cmd": "setting", "method": "pbf", "iterations": 2}))
+        back = self.frame_where(viewer, lambda f: f[2]["budget_ms"] == 0)[2]
+        self.assertNotIn("front", back)
+        self.frame_where(viewer, lambda f: f[2]["setting"] == "pbf@2" and f[2]["substeps"] == 2)
+        viewer.sock.close()
+
     def test_a_viewer_can_take_h264_starting_at_a_keyframe(self):
         viewer = Client(self.server.port)
         self.assertEqual(viewer.frame(with_kind=True)[3], 0, "JPEG until asked")
-        self.assertIn("bad codec", "bad codec " + self.error_for(viewer, {"cmd": "stream", "codec": "vp9"}))
+        self.assertIn("bad codec", "bad codec " + viewer.error_for({"cmd": "stream", "codec": "vp9"}))
         viewer.send(json.dumps({"cmd": "stream", "codec": "h264"}))
         kinds = []
         while len(kinds) < 12:
@@ -250,6 +278,64 @@ class ServeTest(unittest.TestCase):
         viewer.sock.close()
 
 
+def jpeg_size(data):
+    """(width, height) from a JPEG's start-of-frame marker."""
+    at = 2
+    while at < len(data):
+        marker, length = data[at + 1], int.from_bytes(data[at + 2:at + 4], "big")
+        if marker in (0xC0, 0xC1, 0xC2):
+            return int.from_bytes(data[at + 7:at + 9], "big"), int.from_bytes(data[at + 5:at + 7], "big")
+        at += 2 + length
+    raise ValueError("no start-of-frame marker")
+
+
+class CompareTest(unittest.TestCase):
+    """--compare: settings side by side from one start, one picture, each panel's measures."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.server = Server("dam_break", ("--param", "particle_spacing=0.05", "--style", "particles",
+                                          "--width", "96", "--height", "64", "--compare", "pbf@1,ldc@1,pbf@3"))
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.server.stop()
+
+    def test_each_panel_shows_its_setting_in_one_picture(self):
+        viewer = Client(self.server.port)
+        for _ in range(20):
+            number, image, stats = viewer.frame()
+        self.assertEqual(jpeg_size(image), (3 * 96, 64))
+        panels = stats["panels"]
+        self.assertEqual([p["setting"] for p in panels], ["pbf@1", "ldc@1", "pbf@3"])
+        # One start, one scene: the more iterations, the less compression once the column falls.
+        self.assertGreater(panels[0]["mean_compression"], panels[2]["mean_compression"])
+        self.assertEqual(stats["setting"], "pbf@1")
+        viewer.sock.close()
+
+    def test_restart_and_a_new_scene_take_every_panel_and_settings_stay(self):
+        viewer = Client(self.server.port)
+        viewer.send(json.dumps({"cmd": "restart"}))
+        restarted = None
+        for _ in range(100):
+            restarted = viewer.frame()[2]
+            if restarted["time"] == 0:
+                break
+        self.assertEqual(restarted["time"], 0)
+        starts = {round(p["potential_energy"], 9) for p in restarted["panels"]}
+        self.assertEqual(len(starts), 1, "the panels did not restart from one start")
+        for command in ({"cmd": "setting", "method": "pbf", "iterations": 2}, {"cmd": "budget", "ms": 30}):
+            self.assertIn("each panel of --compare keeps its setting", viewer.error_for(command))
+        viewer.send(json.dumps({"cmd": "scene", "name": "hydrostatic"}))
+        for _ in range(200):
+            stats = viewer.frame()[2]
+            if stats["scene"] == "hydrostatic":
+                break
+        self.assertEqual(stats["scene"], "hydrostatic")
+        self.assertEqual([p["setting"] for p in stats["panels"]], ["pbf@1", "ldc@1", "pbf@3"])
+        viewer.sock.close()
+
+
 class ServeLifetimeTest(unittest.TestCase):
     def test_sigint_and_sigterm_stop_it_cleanly(self):
         for sig in (signal.SIGINT, signal.SIGTERM):
@@ -259,6 +345,18 @@ class ServeLifetimeTest(unittest.TestCase):
             start = time.time()
             self.assertEqual(server.stop(sig), 0)
             self.assertLess(time.time() - start, 20)
+
+    def test_bad_compare_and_budget_options_are_one_line(self):
+        for options, expect in ((["--compare", "pbf@0"], "from 1 to 16"),
+                                (["--compare", "sph@2"], "is not a setting"),
+                                (["--compare", "pbf@1,pbf@2,pbf@3,pbf@4,ldc@1"], "at most 4"),
+                                (["--compare", "pbf@1,pbf@2", "--frame-budget", "20"], "--frame-budget"),
+                                (["--frame-budget", "-3"], "--frame-budget")):
+            answer = subprocess.run([os.environ["PBFLOW_BINARY"], "serve", "hydrostatic", "--param", "particle_spacing=0.05",
+                                     "--listen", "127.0.0.1:0", *options], capture_output=True, text=True, timeout=120)
+            self.assertEqual(answer.returncode, 2, answer.stderr)
+            self.assertIn(expect, answer.stderr)
+            self.assertEqual(len(answer.stderr.strip().splitlines()), 1, answer.stderr)
 
     def test_a_bad_listen_address_or_a_port_in_use_is_one_line(self):
         server = Server()
