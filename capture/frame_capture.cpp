@@ -9,7 +9,7 @@ namespace pbflow::capture {
 
 FrameCapture::FrameCapture(const CaptureOptions& options, const std::vector<const Solver*>& solvers,
                            const vk::Context* vk)
-    : options_(options), gl_(gl::Context::Options{options.debug}), renderer_(options.view) {
+    : options_(options), gl_(gl::Context::Options{options.debug, options.device_uuid}), renderer_(options.view) {
   for (const Solver* solver : solvers)
     transfers_.push_back(make_particle_transfer(*solver, vk, gl_, options.allow_shared));
   // llvmpipe compiles a GL program's shaders at its first draw where the solver's pipelines

@@ -3,6 +3,7 @@
 // one is asked for, and hand the frame's PNG to the writer's threads.
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,7 @@ struct CaptureOptions {
   double fps = 60;
   bool allow_shared = true;  // false forces the read-back path
   bool debug = false;        // GL debug context; errors() reports what it saw
+  std::optional<gl::Context::Uuid> device_uuid;  // the solver's Vulkan device: drawn on that one (gl::Context)
 };
 
 class FrameCapture {

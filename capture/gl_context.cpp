@@ -49,8 +49,22 @@ Context::Context(const Options& options) : debug_(options.debug) {
     candidates.emplace_back(eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr),
                             "EGL surfaceless platform");
   candidates.insert(candidates.end(), software.begin(), software.end());
-  for (auto& [display, platform] : candidates)
-    if (display != EGL_NO_DISPLAY && try_display(display, platform)) break;
+  // The solver's device where asked: a display that says another UUID is let go; the first
+  // that cannot say is kept in reserve, taken where none says the solver's.
+  std::string others;
+  std::optional<std::pair<EGLDisplay, std::string>> unknown;
+  for (auto& [display, platform] : candidates) {
+    if (display == EGL_NO_DISPLAY || !try_display(display, platform)) continue;
+    const std::optional<Uuid> uuid = options.device_uuid ? device_uuid() : std::nullopt;
+    if (!options.device_uuid || uuid == options.device_uuid) break;
+    if (uuid) others += (others.empty() ? "" : "; ") + description_ + renderer_name();
+    else if (!unknown) unknown.emplace(display, platform);
+    release();
+  }
+  if (context_ == EGL_NO_CONTEXT && unknown) try_display(unknown->first, unknown->second);
+  if (context_ == EGL_NO_CONTEXT && !others.empty())
+    throw Error("no EGL device is the Vulkan device the solver runs on (EGL offers " + others +
+                "): pick a device both can use with --device (pbflow devices)");
   if (context_ == EGL_NO_CONTEXT)
     throw Error("no EGL display offers an OpenGL 4.5 core context (" + std::to_string(candidates.size()) +
                 " tried; install libegl-mesa0 and libgl1-mesa-dri, or a GPU driver with EGL)");
@@ -59,8 +73,7 @@ Context::Context(const Options& options) : debug_(options.debug) {
     glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
     glDebugMessageCallback(on_debug_message, &messages_);
   }
-  description_ += std::string(", ") + reinterpret_cast<const char*>(glGetString(GL_RENDERER)) + ", OpenGL " +
-                  reinterpret_cast<const char*>(glGetString(GL_VERSION));
+  description_ += renderer_name() + ", OpenGL " + reinterpret_cast<const char*>(glGetString(GL_VERSION));
 }
 
 bool Context::try_display(EGLDisplay display, const std::string& platform) {
@@ -109,9 +122,13 @@ void Context::release() noexcept {
 
 bool Context::has_extension(const char* name) const { return epoxy_has_gl_extension(name); }
 
-std::optional<std::array<uint8_t, 16>> Context::device_uuid() const {
+std::string Context::renderer_name() const {
+  return std::string(", ") + reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+}
+
+std::optional<Context::Uuid> Context::device_uuid() const {
   if (!has_extension("GL_EXT_memory_object")) return std::nullopt;
-  std::array<uint8_t, 16> uuid{};
+  Uuid uuid{};
   glGetUnsignedBytei_vEXT(GL_DEVICE_UUID_EXT, 0, uuid.data());
   return uuid;
 }

@@ -345,5 +345,28 @@ TEST_F(RenderTest, ZeroCopyAndReadBackGiveTheSameImage) {
   EXPECT_EQ(differing, 0) << "zero-copy and read-back images differ";
 }
 
+// The renderer draws on the device the solver runs on: asked for the Vulkan device's UUID the
+// context is made on it (llvmpipe for lavapipe here, as zero-copy needs), and asked for one
+// no EGL device has it says so rather than draw elsewhere.
+TEST(GlDevice, TheContextIsMadeOnTheSolversDevice) {
+  const gl::Context::Uuid wanted = test::gpu().device_uuid();
+  gl::Context matched(gl::Context::Options{true, wanted});
+  ASSERT_TRUE(matched.device_uuid());
+  EXPECT_EQ(*matched.device_uuid(), wanted);
+}
+
+TEST(GlDevice, NoDeviceWithTheSolversUuidIsAnError) {
+  gl::Context::Uuid nowhere;
+  nowhere.fill(0xab);
+  try {
+    gl::Context context(gl::Context::Options{true, nowhere});
+    FAIL() << "made a context on " << context.description();
+  } catch (const gl::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("no EGL device is the Vulkan device the solver runs on"), std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("llvmpipe"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace pbflow

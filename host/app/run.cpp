@@ -59,6 +59,7 @@ std::unique_ptr<capture::FrameCapture> make_frame_capture(const RunOptions& o, c
   c.fps = scene.fps;
   c.allow_shared = !o.readback;
   c.debug = o.validate;
+  if (vk) c.device_uuid = vk->device_uuid();
   return std::make_unique<capture::FrameCapture>(c, solvers, vk);
 }
 
