@@ -81,11 +81,13 @@ void OutputFile::close() {
   if (closed != 0) throw std::runtime_error("cannot write " + path_.string() + ": " + std::strerror(errno));
 }
 
-int draw_charts(const std::string& out) {
+void draw_charts(const std::string& out) {
+  // A chart that cannot be drawn is a warning: the CSVs, minutes of work, are written and stand.
   const std::string python = python_with_matplotlib();
   if (python.empty()) {
-    std::cerr << "pbflow: no charts: python3 with matplotlib is missing (apt-get install python3-matplotlib)\n";
-    return 1;
+    std::cerr << "pbflow: warning: no charts: python3 with matplotlib is missing (apt-get install python3-matplotlib); "
+              << "the CSVs in " << out << " are complete\n";
+    return;
   }
   // The embedded script goes beside its charts, so that they can be remade from the CSVs.
   const std::filesystem::path script = std::filesystem::path(out) / "charts.py";
@@ -93,12 +95,9 @@ int draw_charts(const std::string& out) {
   for (const auto& [name, text] : bench_scripts_text())
     if (name == "charts") file.write(std::string(text));
   file.close();
-  if (run_child({python, script.string(), out}) != 0) {
-    std::cerr << "pbflow: the chart script failed: " << python << " " << script << " " << std::filesystem::path(out)
-              << "\n";
-    return 1;
-  }
-  return 0;
+  if (run_child({python, script.string(), out}) != 0)
+    std::cerr << "pbflow: warning: the chart script failed (the CSVs in " << out << " are complete; run "
+              << python << " " << script.string() << " " << out << " to see why)\n";
 }
 
 }  // namespace pbflow::bench

@@ -182,7 +182,8 @@ int run_scaling(const ScalingOptions& o) {
   std::printf("fit: %.4g ms + %.4g ms per million particles; log-log slope over the larger half %.3f (1: linear)\n",
               line.a, line.b * 1e6, slope);
   std::cout << "scaling: " << (fs::path(o.out) / "scaling.csv").string() << "\n";
-  return o.charts ? draw_charts(o.out) : 0;
+  if (o.charts) draw_charts(o.out);
+  return 0;
 }
 
 }  // namespace pbflow::bench

@@ -234,7 +234,8 @@ int run_study(const StudyOptions& options) {
   series_csv.close();
   std::cout << "runs: " << (fs::path(o.out) / "runs.csv").string()
             << "\nseries: " << (fs::path(o.out) / "series.csv").string() << "\n";
-  return o.charts ? draw_charts(o.out) : 0;
+  if (o.charts) draw_charts(o.out);
+  return 0;
 }
 
 }  // namespace pbflow::bench

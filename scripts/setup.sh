@@ -1,10 +1,9 @@
 #!/usr/bin/env bash
 # Installs pbflow's Debian 12 packages (only when one is missing) and builds build/pbflow.
 # Usage: scripts/setup.sh            -> packages + Release build
-#        scripts/setup.sh --test     -> also what only the tests need (ffmpeg, to test --video;
-#                                       python3-vtk9, to read .vtp files with VTK's own reader;
-#                                       chromium, its driver and selenium, to test `pbflow serve`
-#                                       in a real browser)
+#        scripts/setup.sh --test     -> also what only the tests need (python3-vtk9, to read .vtp
+#                                       files with VTK's own reader; chromium, its driver and
+#                                       selenium, to test `pbflow serve` in a real browser)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -14,10 +13,10 @@ packages=(
   libglm-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libepoxy-dev libpng-dev
   nlohmann-json3-dev libcli11-dev googletest libgtest-dev
   libcivetweb-dev libturbojpeg0-dev libavcodec-dev libswscale-dev libavutil-dev
-  python3-matplotlib
+  python3-matplotlib ffmpeg
 )
 if [[ "${1:-}" == "--test" ]]; then
-  packages+=(ffmpeg python3-vtk9 chromium chromium-driver python3-selenium)
+  packages+=(python3-vtk9 chromium chromium-driver python3-selenium)
 fi
 
 scripts/install-packages.sh "${packages[@]}"

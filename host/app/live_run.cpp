@@ -117,11 +117,16 @@ struct LiveRun::Stage {
     const Camera camera = capture->camera();
     const ParticleState now = lanes[0].solver->download();
     capture.reset();
+    make_first(s, ctx);
+    lanes[0].solver->upload(now);
+    draw_anew(ctx, camera);
+  }
+  // The first lane's solver made anew under `s`, at the scene's start; the renderer, which
+  // shares its buffers, must be gone.
+  void make_first(const LiveSetting& s, const vk::Context* ctx) {
     scene = lane_scene(options, s);
     lanes[0].solver.reset();  // before the next is made: one solver's memory at a time
     lanes[0] = {setting_of(scene), make_solver(ctx, derive(scene), initial_particles(scene))};
-    lanes[0].solver->upload(now);
-    draw_anew(ctx, camera);
   }
   void draw_anew(const vk::Context* ctx, const Camera& camera) {
     capture.reset();
@@ -235,26 +240,33 @@ std::string LiveRun::failure() const {
 
 // The speed-accuracy front from where the run is: each candidate setting run for a few frames
 // from the first lane's particles now (one frame first, unmeasured, for its first-use costs),
-// then the run goes on from those particles under the setting it had.
+// then the run goes on from those particles under the setting it had. The renderer is let go
+// while it measures.
 std::vector<FrontPoint> LiveRun::measure_front(Stage& stage, const vk::Context* ctx) {
-  constexpr int kTrialFrames = 4;
+  constexpr int kTrialFrames = 6;
   const ParticleState now = stage.lanes[0].solver->download();
   const LiveSetting was = stage.lanes[0].setting;
+  const Camera camera = stage.capture->camera();
+  const bool smoothed = stage.capture->draws_surface();  // a live frame's cost includes it
+  stage.capture.reset();
   std::vector<FrontPoint> measured;
   for (const LiveSetting& candidate : budget_candidates(stage.scene_substeps)) {
     if (stopping_) break;
-    stage.change_setting(candidate, ctx);
-    stage.lanes[0].solver->advance(candidate.substeps);
+    stage.make_first(candidate, ctx);
+    Solver& solver = *stage.lanes[0].solver;
+    solver.set_smoothed_positions(smoothed);
+    solver.upload(now);
+    solver.advance(candidate.substeps);
     FrontPoint p{stage.lanes[0].setting};
     const Clock::time_point began = Clock::now();
     for (int frame = 0; frame < kTrialFrames; ++frame)
-      p.mean_compression += stage.lanes[0].solver->advance(candidate.substeps).mean_compression / kTrialFrames;
+      p.mean_compression += solver.advance(candidate.substeps).mean_compression / kTrialFrames;
     p.simulate_ms = ms_since(began) / kTrialFrames;
     measured.push_back(p);
-    stage.lanes[0].solver->upload(now);
   }
-  stage.change_setting(was, ctx);
+  stage.make_first(was, ctx);
   stage.lanes[0].solver->upload(now);
+  stage.draw_anew(ctx, camera);
   return measured;
 }
 

@@ -78,29 +78,47 @@ MemoryNeed check_run_memory(const RunOptions& o, const Scene& scene, const Deriv
 
 namespace {
 
+// The run's progress on stderr: on a terminal one line redrawn in place; elsewhere (a CI log,
+// a pipe) a line every 10 s, so that a long run is not silent until its end. None with --quiet.
 class Progress {
  public:
-  Progress(int frames, bool enabled) : frames_(frames), enabled_(enabled && isatty(STDERR_FILENO)) {}
+  Progress(int frames, bool enabled) : frames_(frames), enabled_(enabled), terminal_(isatty(STDERR_FILENO)) {}
   void update(int frame, double sim_time, double elapsed_s) {
-    if (!enabled_) return;
+    if (!due()) return;
     double rate = frame / std::max(elapsed_s, 1e-9);
     double left = (frames_ - 1 - frame) / std::max(rate, 1e-9);
-    std::fprintf(stderr, "\rframe %d/%d  t = %.2f s  %.1f frames/s  %.0f s left   ", frame + 1, frames_, sim_time,
-                 rate, left);
+    say("frame %d/%d  t = %.2f s  %.1f frames/s  %.0f s left", frame + 1, frames_, sim_time, rate, left);
   }
   void relaxing(int projection) {
-    if (enabled_) std::fprintf(stderr, "\rrelaxing the seed: %d/%d   ", projection, kSeedRelax);
+    if (due()) say("relaxing the seed: %d/%d", projection, kSeedRelax);
   }
   void settling(int step) {
-    if (enabled_) std::fprintf(stderr, "\rsettling: step %d   ", step);
+    if (due()) say("settling: step %d", step);
   }
   void done() {
-    if (enabled_) std::fprintf(stderr, "\r%*s\r", 70, "");
+    if (enabled_ && terminal_) std::fprintf(stderr, "\r%*s\r", 70, "");
   }
 
  private:
+  static constexpr double kLogSeconds = 10;  // between lines where stderr is not a terminal
+  bool due() {
+    if (!enabled_) return false;
+    if (terminal_) return true;
+    const auto now = std::chrono::steady_clock::now();
+    if (std::chrono::duration<double>(now - last_).count() < kLogSeconds) return false;
+    last_ = now;
+    return true;
+  }
+  template <typename... Args>
+  void say(const char* format, Args... args) {
+    char line[160];
+    std::snprintf(line, sizeof line, format, args...);
+    std::fprintf(stderr, terminal_ ? "\r%s   " : "pbflow: %s\n", line);
+  }
+
   int frames_;
-  bool enabled_;
+  bool enabled_, terminal_;
+  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
 };
 
 // What DIR/run.json records of a run besides its files and status. "chosen": what pbflow
@@ -119,6 +137,7 @@ nlohmann::json describe_run(const RunOptions& o, const Scene& scene, const Deriv
   auto vec = [](const glm::dvec3& v) { return nlohmann::json::array({v.x, v.y, v.z}); };
   if (!camera.contains("eye")) chosen["camera.eye"] = vec(scene.camera.eye);  // framing_camera
   if (!camera.contains("target")) chosen["camera.target"] = vec(scene.camera.target);
+  if (!stated.contains("seed")) chosen["seed"] = scene.seed;  // the start's jitter: the run is its seed's
   return {{"scene_name", scene.name},
           {"scene", stated},
           {"chosen", chosen},

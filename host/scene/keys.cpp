@@ -35,6 +35,11 @@ const SceneKey kKeys[] = {
     {"settle", K::Boolean, "false", 0.0, {}, "",
      "start at rest in the solver's own equilibrium (sim/settle.hpp): for a tank, not for a drop in the air", "",
      &Scene::settle},
+    // One fixed default: every run of a scene starts alike unless asked otherwise.
+    {"seed", K::Whole, "20261126", 20261126.0, KeyRange{0, 1e9}, "",
+     "random seed of the start's jitter (each particle moved up to a quarter spacing per axis): another seed, "
+     "another start of the same fluid",
+     "", &Scene::seed},
     {"fps", K::Number, "60", 60.0, KeyRange{1e-3, 1e5}, "", "output rate: frame k shows time k/fps", "", &Scene::fps},
     {"frames", K::Whole, "240", 240.0, KeyRange{1, double(kMaxFrames)}, "", "frames written, frame 0 the initial state", "",
      &Scene::frames},

@@ -50,6 +50,7 @@ struct Scene {
   // The fluid starts at rest in the solver's own equilibrium (host/settle.hpp): for a tank,
   // not for a drop in the air (every particle settles along gravity).
   bool settle = false;
+  int seed;  // of the start's jitter (scene/seeding.hpp)
   double fps;
   int frames;
   SolverParams solver;

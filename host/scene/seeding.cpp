@@ -10,7 +10,7 @@ namespace {
 // kept out of the moved points.
 std::vector<glm::dvec3> seed(const Scene& scene, double jitter) {
   const double s = scene.particle_spacing;
-  std::mt19937_64 random(20261126);
+  std::mt19937_64 random(uint64_t(scene.seed));
   std::uniform_real_distribution<double> offset(-jitter * s, jitter * s);
   auto moved = [&](glm::dvec3 x) {
     for (int axis = 0; axis < 3; ++axis) x[axis] += offset(random);

@@ -14,8 +14,8 @@ namespace pbflow {
 // grown by half a spacing would push it out.
 std::vector<glm::dvec3> lattice_particles(const Scene& scene);
 
-// Each lattice point moved by up to kSeedJitter spacings along each axis (uniform, one fixed
-// seed: every run of a scene starts alike). A lattice's order outlives the flow: its columns
+// Each lattice point moved by up to kSeedJitter spacings along each axis (uniform, from the
+// scene's `seed` key: one seed, one start). A lattice's order outlives the flow: its columns
 // drew stripes on the water's faces, and the drop's mirror symmetry a seam that no particle
 // crossed (docs/rendering.md). A solver starts from this seed relaxed (sim/settle.hpp).
 inline constexpr double kSeedJitter = 0.25;
