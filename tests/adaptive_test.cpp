@@ -35,7 +35,8 @@ TEST_F(AdaptiveTest, GpuRunsTheIterationsTheReferenceRuns) {
   EXPECT_LT(e.max_abs, 1e-4);  // metres
 }
 
-TEST_F(AdaptiveTest, TighterTargetsCostMoreIterationsAndCompressLess) {
+using AdaptiveTestSlow = AdaptiveTest;  // the `slow` label (tests/CMakeLists.txt)
+TEST_F(AdaptiveTestSlow, TighterTargetsCostMoreIterationsAndCompressLess) {
   double last_iterations = 0, last_compression = 1e9;
   for (double target : {0.02, 0.005, 0.001}) {
     Scene s = scene(target, 41);

@@ -13,6 +13,7 @@
 
 #include "bench/scaling.hpp"
 #include "bench/study.hpp"
+#include "support.hpp"
 #include "capture/png.hpp"
 #include "sim/solver.hpp"
 
@@ -53,7 +54,8 @@ void expect_charts(const fs::path& dir) {
   }
 }
 
-TEST(Bench, QuickStudyFinishesEveryRunWithItsColumnsAndCharts) {
+TEST(BenchSlow, QuickStudyFinishesEveryRunWithItsColumnsAndCharts) {
+  PBFLOW_NEEDS_PYTHON("matplotlib", "scripts/setup.sh installs python3-matplotlib");
   fs::path dir = fs::temp_directory_path() / "pbflow_test_bench";
   fs::remove_all(dir);
   std::string cmd = std::string(PBFLOW_BINARY) + " bench --quick --out " + dir.string() + " > /dev/null 2>&1";
@@ -132,9 +134,13 @@ fs::path charts_from_fixture(const std::string& name) {
   return dir;
 }
 
-TEST(Bench, ChartScriptDrawsFromAFixture) { expect_charts(charts_from_fixture("bench")); }
+TEST(Bench, ChartScriptDrawsFromAFixture) {
+  PBFLOW_NEEDS_PYTHON("matplotlib", "scripts/setup.sh installs python3-matplotlib");
+  expect_charts(charts_from_fixture("bench"));
+}
 
 TEST(Bench, ChartScriptDrawsStabilityMapsFromAFixture) {
+  PBFLOW_NEEDS_PYTHON("matplotlib", "scripts/setup.sh installs python3-matplotlib");
   fs::path dir = charts_from_fixture("stability");
   for (const char* map : {"stability_pbf.png", "stability_ldc.png"}) {
     capture::Image image = capture::read_png(dir / map);
@@ -147,6 +153,7 @@ TEST(Bench, ChartScriptDrawsStabilityMapsFromAFixture) {
 // A study over substeps (the H200's iterations-or-substeps study): the front per scene and
 // count with the energy gain below it, the maps, and cheapest.md's rows.
 TEST(Bench, ChartScriptDrawsTheFrontOverSubstepsFromAFixture) {
+  PBFLOW_NEEDS_PYTHON("matplotlib", "scripts/setup.sh installs python3-matplotlib");
   fs::path dir = charts_from_fixture("pareto");
   capture::Image front = capture::read_png(dir / "pareto.png");
   EXPECT_GT(front.width, 1000) << "a panel per particle count";
@@ -161,7 +168,8 @@ TEST(Bench, ChartScriptDrawsTheFrontOverSubstepsFromAFixture) {
 // --scaling at three small counts: a row per count with the promised columns, per-pass
 // times that make up the step, device memory per particle that does not depend on the
 // count, one fit shared by every row, the printed table and the chart. Nothing about speed.
-TEST(Bench, ScalingMeasuresEveryCountWithItsSplitAndFit) {
+TEST(BenchSlow, ScalingMeasuresEveryCountWithItsSplitAndFit) {
+  PBFLOW_NEEDS_PYTHON("matplotlib", "scripts/setup.sh installs python3-matplotlib");
   fs::path dir = fs::temp_directory_path() / "pbflow_test_scaling";
   fs::remove_all(dir);
   fs::create_directories(dir);
@@ -199,7 +207,7 @@ TEST(Bench, ScalingMeasuresEveryCountWithItsSplitAndFit) {
   EXPECT_GT(capture::read_png(dir / "scaling.png").width, 300);
 }
 
-TEST(Bench, ScalingRefusesWhatItCannotMeasure) {
+TEST(BenchSlow, ScalingRefusesWhatItCannotMeasure) {
   for (const char* args : {"--counts 4000,2000", "--scenes dam_break,drop", "--iterations 1,2", "--stability"}) {
     fs::path dir = fs::temp_directory_path() / "pbflow_test_scaling_bad";
     fs::remove_all(dir);

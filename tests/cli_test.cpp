@@ -164,7 +164,7 @@ TEST(Cli, BadRenderOptionsExitWithStatus2AndWriteNothing) {
 }
 
 TEST(Cli, VideoHoldsEveryFrame) {
-  if (pbflow::capture::find_ffmpeg().empty()) GTEST_SKIP() << "ffmpeg is not installed (scripts/setup.sh --test installs it)";
+  if (pbflow::capture::find_ffmpeg().empty()) GTEST_SKIP() << "ffmpeg is not installed (scripts/setup.sh installs it)";
   fs::path dir = fresh_dir("video");
   Result r = run_pbflow("run --frames 5 --width 160 --height 96 --quiet --param particle_spacing=0.04 --out " +
                     dir.string() + " --video " + (dir / "clip" / "dam.mp4").string());
@@ -185,7 +185,7 @@ TEST(Cli, VideoHoldsEveryFrame) {
 // Files beside the video that merely look like its temporary, and another run's video of
 // the same name in progress, are never pbflow's to remove.
 TEST(Cli, AVideoRunRemovesNothingBesideItsVideo) {
-  if (pbflow::capture::find_ffmpeg().empty()) GTEST_SKIP() << "ffmpeg is not installed (scripts/setup.sh --test installs it)";
+  if (pbflow::capture::find_ffmpeg().empty()) GTEST_SKIP() << "ffmpeg is not installed (scripts/setup.sh installs it)";
   fs::path dir = fresh_dir("video_neighbours");
   fs::create_directories(dir / "clip");
   const std::vector<std::string> mine = {"dam.mp4.part1234.mp4", "dam.mp4.partial-notes.txt", "dam.mp4.part"};

@@ -83,7 +83,7 @@ TEST_P(EnergyTest, TankNeverGainsEnergy) {
   EXPECT_LE(r.gain, 0.01);
 }
 
-INSTANTIATE_TEST_SUITE_P(RealTimeStep, EnergyTest,
+INSTANTIATE_TEST_SUITE_P(RealTimeStepSlow, EnergyTest,
                          testing::Values(Setting{"pbf", 1, 2}, Setting{"pbf", 2, 2}, Setting{"pbf", 3, 2},
                                          Setting{"pbf", 4, 2}, Setting{"ldc", 1, 2}, Setting{"ldc", 2, 2}),
                          name);
@@ -93,7 +93,8 @@ INSTANTIATE_TEST_SUITE_P(RealTimeStep, EnergyTest,
 // against 0.55 % without, neither making energy. From a lattice seed the unsmoothed run also
 // gained 3.6 % of its potential energy; from the jittered seed it gains none. The scene at
 // full size: smaller tanks at that spacing read alike either way.
-TEST_F(EnergyTestBase, SmoothedLambdaHoldsTheFinerDamBreakDenser) {
+using EnergyTestSlow = EnergyTestBase;  // minutes: the `slow` label (tests/CMakeLists.txt)
+TEST_F(EnergyTestSlow, SmoothedLambdaHoldsTheFinerDamBreakDenser) {
   Scene smoothed = load_scene("dam_break", overrides({"pbf", 2, 2}));
   smoothed.particle_spacing = 0.0137;
   ASSERT_GT(derive(smoothed).solver.lambda_smoothing, 0);
@@ -111,7 +112,7 @@ TEST_F(EnergyTestBase, SmoothedLambdaHoldsTheFinerDamBreakDenser) {
 // Smaller steps are at least as sound: the unrelaxed solver with the tensile term blew
 // up within 10 steps at 16-24 substeps, tank at rest included; ldc@1 at 16 and 32
 // substeps gained 2.2 % and 1.5 % in the tank before the dashpot.
-INSTANTIATE_TEST_SUITE_P(SmallerSteps, EnergyTest,
+INSTANTIATE_TEST_SUITE_P(SmallerStepsSlow, EnergyTest,
                          testing::Values(Setting{"pbf", 1, 4}, Setting{"ldc", 1, 8}, Setting{"pbf", 2, 8},
                                          Setting{"ldc", 1, 16}, Setting{"ldc", 2, 16}, Setting{"ldc", 1, 32},
                                          Setting{"pbf", 1, 32}),

@@ -139,6 +139,7 @@ TEST(Export, PlyAndVtpReadBackToTheParticlesWritten) {
 // VTK's own reader (tests/tools/read_vtp.py, Debian's python3-vtk9) sees every particle as a
 // vertex cell, so ParaView shows them at its defaults, with each array's range as written.
 TEST(Export, VtpOpensInVtksOwnReaderWithAVertexPerParticle) {
+  PBFLOW_NEEDS_PYTHON("vtk", "scripts/setup.sh --test installs python3-vtk9");
   fs::path dir = test::fresh_dir("export_vtk");
   fs::create_directories(dir);
   Rows expected;

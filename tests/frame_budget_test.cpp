@@ -37,11 +37,11 @@ TEST(FrameBudget, TakesTheMostAccurateSettingThatFits) {
 }
 
 TEST(FrameBudget, GoesDearerOnlyWithHeadroom) {
-  // From pbf@2, pbf@3 (18 ms) is taken only within 90 % of the budget: 18 <= 18 at 20, not at 19.9.
-  EXPECT_EQ(FrameBudget(20, measured(), pbf(2)).choose(1.0, 0), pbf(3));
-  EXPECT_EQ(FrameBudget(19.9, measured(), pbf(2)).choose(1.0, 0), pbf(2));
-  // Staying costs no headroom: pbf@3 holds at 19.9 once taken.
-  EXPECT_EQ(FrameBudget(19.9, measured(), pbf(3)).choose(1.0, 0), pbf(3));
+  // From pbf@2, pbf@3 (18 ms) is taken only within 80 % of the budget: 18 <= 18 at 22.5, not at 22.
+  EXPECT_EQ(FrameBudget(22.5, measured(), pbf(2)).choose(1.0, 0), pbf(3));
+  EXPECT_EQ(FrameBudget(22, measured(), pbf(2)).choose(1.0, 0), pbf(2));
+  // Staying costs no headroom: pbf@3 holds at 22 once taken.
+  EXPECT_EQ(FrameBudget(22, measured(), pbf(3)).choose(1.0, 0), pbf(3));
 }
 
 TEST(FrameBudget, DecidesOnceASecondFromWhatTheFramesCost) {
@@ -54,8 +54,8 @@ TEST(FrameBudget, DecidesOnceASecondFromWhatTheFramesCost) {
   ASSERT_TRUE(chosen);
   EXPECT_EQ(*chosen, pbf(1));  // at twice the cost only pbf@1's 10 ms fits
   EXPECT_EQ(budget.current(), pbf(1));
-  budget.add(10, 0);  // as measured again: pbf@3 fits within the headroom
-  EXPECT_EQ(budget.decide(start + std::chrono::milliseconds(3000)), pbf(3));
+  budget.add(10, 0);  // as measured again: pbf@2 fits within the headroom (14 <= 16), pbf@3 not
+  EXPECT_EQ(budget.decide(start + std::chrono::milliseconds(3000)), pbf(2));
   EXPECT_FALSE(budget.decide(start + std::chrono::milliseconds(4500)));  // no frame since: no evidence, no change
 }
 

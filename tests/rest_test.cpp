@@ -160,7 +160,7 @@ TEST_P(RestTest, TankLosesEnergyAndSettles) {
         << "a particle left the tank";
 }
 
-INSTANTIATE_TEST_SUITE_P(RealStep, RestTest,
+INSTANTIATE_TEST_SUITE_P(RealStepSlow, RestTest,
                          ::testing::Values(Setting{"ldc", 1, 0.02}, Setting{"pbf", 1, 0.02}, Setting{"pbf", 2, 0.01},
                                            Setting{"pbf", 3, 0.01}),
                          [](const auto& info) {
@@ -217,7 +217,7 @@ TEST_P(DeepOrFineTest, ColumnHeldStillAndUnsqueezed) {
 }
 
 INSTANTIATE_TEST_SUITE_P(
-    Columns, DeepOrFineTest,
+    ColumnsSlow, DeepOrFineTest,
     ::testing::Values(Column{"fine_pbf2", 0.0154, 0.4, "pbf", 2}, Column{"fine_pbf3", 0.0154, 0.4, "pbf", 3},
                       Column{"deep_pbf2", 0.02, 1.0, "pbf", 2}, Column{"deep_ldc2", 0.02, 1.0, "ldc", 2},
                       Column{"fine_ldc1", 0.0154, 0.4, "ldc", 1}, Column{"deep_ldc1", 0.02, 1.0, "ldc", 1}),

@@ -336,7 +336,7 @@ TEST(RunDirectory, ARunTooLargeForTheMemoryIsRefusedWithTheNumbers) {
 // Neighbour lists past the device's storage buffer range are left out, not refused: the
 // passes then walk their cells. llvmpipe's range is 128 MiB, one list of 72 entries for
 // ~460k particles.
-TEST(RunDirectory, ListsPastTheBufferRangeAreLeftOutAndTheRunFits) {
+TEST(RunDirectorySlow, ListsPastTheBufferRangeAreLeftOutAndTheRunFits) {
   const pbflow::Derived d = pbflow::derive(pbflow::load_scene("dam_break"));
   pbflow::vk::DeviceInfo device;
   device.max_storage_buffer_range = 128ull << 20;

@@ -1,5 +1,7 @@
 #include "support.hpp"
 
+#include "common/child_process.hpp"
+
 #include <fcntl.h>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -133,6 +135,10 @@ CliResult run_pbflow(const std::vector<std::string>& args, const std::string& st
   const std::filesystem::path log =
       std::filesystem::temp_directory_path() / ("pbflow_argv_" + std::to_string(getpid()) + ".log");
   return finish_pbflow(spawn_pbflow(args, log, {}, stdout_path), log);
+}
+
+bool python_has(const std::string& module) {
+  return run_child({"/usr/bin/python3", "-c", "import " + module}, /*quiet=*/true) == 0;
 }
 
 std::filesystem::path fresh_dir(const std::string& name) {

@@ -65,7 +65,15 @@ pid_t spawn_pbflow(const std::vector<std::string>& args, const std::filesystem::
                    const std::vector<std::string>& env = {}, const std::string& stdout_path = "");
 CliResult finish_pbflow(pid_t pid, const std::filesystem::path& log);
 
+// Whether Debian's python3 imports `module` (matplotlib for the charts, vtk for .vtp files).
+bool python_has(const std::string& module);
+
 // An empty path under the temporary directory: pbflow_test_NAME, removed if it exists.
 std::filesystem::path fresh_dir(const std::string& name);
 
 }  // namespace pbflow::test
+
+// At a test's start: skips it, with one line saying why, where Debian's python3 cannot import
+// `module`; `install` says what installs it.
+#define PBFLOW_NEEDS_PYTHON(module, install) \
+  if (!pbflow::test::python_has(module)) GTEST_SKIP() << "python3 cannot import " module " (" install ")"

@@ -144,7 +144,7 @@ TEST_P(SafeRegionTest, EveryBuiltinSceneStaysHealthyFor300Steps) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Methods, SafeRegionTest, ::testing::Values("pbf", "ldc"));
+INSTANTIATE_TEST_SUITE_P(MethodsSlow, SafeRegionTest, ::testing::Values("pbf", "ldc"));
 
 }  // namespace
 }  // namespace pbflow

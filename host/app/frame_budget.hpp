@@ -45,7 +45,10 @@ class FrameBudget {
  public:
   using Clock = std::chrono::steady_clock;
   static constexpr double kDecideSeconds = 1.0;  // how often the setting may change
-  static constexpr double kHeadroom = 0.9;       // a dearer setting is taken only within this share of the budget
+  // A dearer setting is taken only within this share of the budget: a point's trial cost is
+  // noisy by 10-15 % on a busy machine, and a margin below that let the run flip between two
+  // neighbours each second (each flip a new solver).
+  static constexpr double kHeadroom = 0.8;
 
   // `measured`: every candidate's trial; `current`: the setting the run has now (one of them).
   FrameBudget(double budget_ms, std::vector<FrontPoint> measured, LiveSetting current);

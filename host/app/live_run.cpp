@@ -288,6 +288,11 @@ void LiveRun::run_frames(Stage& stage, const vk::Context* ctx, double budget_ms)
     budget.reset();
     front.reset();
     if (ms <= 0) return;
+    if (other_ms == 0) {  // no frame drawn yet: the first choice needs what drawing costs
+      const Clock::time_point began = Clock::now();
+      stage.capture->draw(stage.solvers());
+      other_ms = ms_since(began);
+    }
     budget.emplace(ms, measure_front(stage, ctx), stage.lanes[0].setting);
     front = std::make_shared<const std::vector<FrontPoint>>(budget->front());
     if (const std::optional<LiveSetting> chosen = budget->decide_now(other_ms)) stage.change_setting(*chosen, ctx);

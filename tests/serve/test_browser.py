@@ -18,6 +18,18 @@ from serve_support import Client, Server  # noqa: E402
 if len(sys.argv) > 1:
     os.environ["PBFLOW_BINARY"] = sys.argv.pop(1)
 
+# What the test needs beyond pbflow: where any is missing it says so in one line and exits 77,
+# which ctest reports as skipped.
+MISSING = [path for path in ("/usr/bin/chromium", "/usr/bin/chromedriver") if not os.path.exists(path)]
+try:
+    import selenium  # noqa: F401
+except ImportError:
+    MISSING.append("python3-selenium")
+if MISSING:
+    print(f"skipped: {', '.join(MISSING)} missing (scripts/setup.sh --test installs chromium, chromium-driver and "
+          "python3-selenium)")
+    sys.exit(77)
+
 from selenium import webdriver  # noqa: E402
 from selenium.webdriver.chrome.service import Service  # noqa: E402
 from selenium.webdriver.common.action_chains import ActionChains  # noqa: E402
