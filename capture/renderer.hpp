@@ -50,7 +50,7 @@ class Renderer {
 
   // Draws `count` particles from `buffer` (frame layout); count 0 draws the empty tank.
   // The image is the renderer's own, valid until the next call: every frame's pixels
-  // fill the same memory, which page faults made dear to allocate anew (host/main.cpp).
+  // fill the same memory, which page faults made dear to allocate anew (host/app/main.cpp).
   const Image& render(GLuint buffer, uint32_t count);
   const View& view() const { return view_; }
   void set_camera(const Camera& camera);  // the next render() draws from here

@@ -1,5 +1,5 @@
 // Shared by every particle pass: the simulation constants (mirrors SimConstants in
-// host/params.hpp), the SPH kernels (mirrors host/kernels.hpp) and the grid lookup.
+// host/sim/params.hpp), the SPH kernels (mirrors host/sim/kernels.hpp) and the grid lookup.
 
 layout(push_constant) uniform Sim {
   vec3 domain_min; float h;
@@ -47,7 +47,7 @@ float position_weight(vec3 d) {
 }
 
 // The walls are mirrors: the fluid behind a wall is the fluid in front of it, reflected
-// (ghost particles; host/reference_solver.hpp says why). A neighbour j of particle i has
+// (ghost particles; host/sim/reference_solver.hpp says why). A neighbour j of particle i has
 // an image behind every wall within h of i (the nearer wall of each axis), and one behind
 // each pair and the triple of them at edges and corners: image k (a bit mask of axes,
 // 1..7) reflects j across the walls of the axes in k. A lattice continued this way is

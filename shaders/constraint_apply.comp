@@ -1,7 +1,7 @@
 #version 450
 // dp_i = (m/rho0) sum_j (lambda_i + lambda_j) grad W_spiky(x*_i - x*_j); x*_i += relax dp_i,
 // then out of walls and obstacles. The pass's relax keeps every density mode's gain per
-// step at most one (host/stability.hpp): an unrelaxed Jacobi pass overshoots and makes energy.
+// step at most one (host/sim/stability.hpp): an unrelaxed Jacobi pass overshoots and makes energy.
 // Macklin & Mueller's tensile term is not here: it pushes a fixed distance a step whatever
 // dt, so smaller steps were less stable with it (the tank at rest blew up at 16 substeps),
 // and the constraint is one-sided (C >= 0), so the negative pressures it was made for do

@@ -6,7 +6,7 @@
 // keeps the worst mode (~5 spacings long, gain 2.8 unrelaxed) sound scales the long modes,
 // which hold the compression, down with it. Averaging twice multiplies each mode's gain by
 // F(k)^2, F the weighted mean of cos(k.o): near 1 for long modes, small for the worst one,
-// never negative; a pair of passes can then be 2.8x bolder (host/stability.cpp).
+// never negative; a pair of passes can then be 2.8x bolder (host/sim/stability.cpp).
 // The weight is nearly flat inside h (a flat one smooths most) and reaches 0 at h: an
 // unweighted mean jumps when a neighbour crosses h, and on a lattice at h = 2 spacings
 // the six axis neighbours sit exactly there (float rounding then decided the mean).

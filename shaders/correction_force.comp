@@ -49,7 +49,7 @@ void main() {
     f += (ldc_density(j) - rho_i) * pair_term(xj - xi);
   }
   // The force's stiffness grows with the neighbours inside h, by up to (rho/rho0)^2 on a
-  // squeezed lattice (host/stability.hpp): K, a fraction of what the step carries at rho0,
+  // squeezed lattice (host/sim/stability.hpp): K, a fraction of what the step carries at rho0,
   // is capped where that would pass kLdcCap of the limit. Uncapped, ldc@1 at 0.5 passed the
   // limit at ~50 % compression, and the dam break at 0.01 m oscillated and blew up.
   float squeeze = max(density_of(i), sim.rho0) / sim.rho0;

@@ -9,7 +9,7 @@
 // after the counts (count[n] entries from count[n + 1] on), and the readers' cell-walking
 // variant redoes it in an indirect dispatch whose group counts this pass raises
 // (neighbours.glsl). Where there are no lists (capacity 0: they would not fit the device,
-// host/memory_estimate.hpp) this pass does not run.
+// host/gpu/memory_estimate.hpp) this pass does not run.
 // Near a wall the list goes on with the neighbours' images within h (common.glsl,
 // image_entry), each neighbour's after each other, in the order the cell walkers yield them.
 // Layout, for the readers' coalesced uvec4 fetches: entries go in groups of four, group g

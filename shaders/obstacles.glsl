@@ -1,11 +1,11 @@
-// Static obstacles (host/obstacles.hpp, already grown by half a spacing), for the
+// Static obstacles (host/sim/obstacles.hpp, already grown by half a spacing), for the
 // passes that keep particles out of solids. The includer defines OBSTACLES_BINDING.
 // Layout: obstacle_data[0].x = count; then per obstacle two vec4: box (min, 0)
 // (max, 0), sphere (centre, 1) (radius, 0, 0, 0).
 
 layout(std430, binding = OBSTACLES_BINDING) readonly buffer Obstacles { vec4 obstacle_data[]; };
 
-// Where the move from -> to first enters an obstacle (host/obstacles.cpp, stop_at): a
+// Where the move from -> to first enters an obstacle (host/sim/obstacles.cpp, stop_at): a
 // fast particle stops at the first surface it meets instead of tunnelling through. A
 // start within 1e-3 h of an obstacle touches it and is left to the projection.
 vec3 stop_at_solids(vec3 from, vec3 to) {

@@ -1,7 +1,7 @@
 #version 450
 // Exclusive prefix sum, in place, of push.blocks consecutive blocks of 1024 values per
 // workgroup, carried from block to block; the group's total goes to sums[group]. A grid
-// of up to 32 blocks scans in one group (host/gpu_grid.cpp); a larger one scans a block
+// of up to 32 blocks scans in one group (host/gpu/gpu_grid.cpp); a larger one scans a block
 // per group, then the sums recursively, then adds them back (scan_add.comp).
 // Shaped for llvmpipe, where the scan was most of the grid build: every storage access
 // runs lane by lane, so each thread moves its 16 values as four uvec4; a barrier switches

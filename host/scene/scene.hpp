@@ -47,7 +47,7 @@ struct Scene {
   std::vector<Ball> fluid_spheres;
   std::vector<Obstacle> obstacles;
   glm::dvec3 gravity;
-  // The fluid starts at rest in the solver's own equilibrium (host/settle.hpp): for a tank,
+  // The fluid starts at rest in the solver's own equilibrium (host/sim/settle.hpp): for a tank,
   // not for a drop in the air (every particle settles along gravity).
   bool settle = false;
   int seed;  // of the start's jitter (scene/seeding.hpp)

@@ -61,7 +61,7 @@ struct Derived {
   // Kernel radii a particle falling through the whole domain moves in one step: past 1 it
   // passes neighbours it never saw, outside the lattice model that sizes the passes.
   double travel;
-  // The largest gain of one unrelaxed Jacobi pass over all density modes (host/stability.hpp),
+  // The largest gain of one unrelaxed Jacobi pass over all density modes (host/sim/stability.hpp),
   // as a lone pass runs it and as a pair's passes run it (lambda smoothed first, if the scene smooths).
   double jacobi_gain_max, paired_gain_max;
   // One constraint iteration: its under-relaxation, and whether lambda is smoothed before it.
