@@ -289,10 +289,16 @@ void GpuSolver::neighbour_lists(const vk::Buffer& x) {
   cmd_.dispatch(n_);
 }
 
-void GpuSolver::grid_at_positions() { sort_by_cells(X, V); }
+void GpuSolver::grid_at_positions() {
+  sort_by_cells(X, V);
+  neighbour_lists(at(X));
+}
 
 // v is not carried: velocity_update() recomputes it from x and x_pred.
-void GpuSolver::grid_at_predictions() { sort_by_cells(XPred, X); }
+void GpuSolver::grid_at_predictions() {
+  sort_by_cells(XPred, X);
+  neighbour_lists(at(XPred));
+}
 
 void GpuSolver::sort_by_cells(Slot keyed, Slot carried) {
   grid_.build(cmd_, sim_, {&at(keyed), &at(carried), &id_[id_current_]},
@@ -300,9 +306,6 @@ void GpuSolver::sort_by_cells(Slot keyed, Slot carried) {
   swap_roles(keyed, Spare0);
   swap_roles(carried, Spare1);
   id_current_ = 1 - id_current_;
-  end_of(PassGroup::Grid);
-  neighbour_lists(at(keyed));
-  end_of(PassGroup::Lists);
 }
 
 void GpuSolver::density() {
@@ -416,10 +419,9 @@ void GpuSolver::reduce_measures(const vk::Buffer& into) {
 }
 
 void GpuSolver::adaptive_iterations() {
-  // Extra iterations come in pairs: constraint_apply swaps two arrays' roles on the host
-  // whether or not the GPU runs it, so only an even number keeps x_pred where the host
-  // expects it. Each pair runs if check_converged, from the last lambda pass's densities,
-  // finds the mean compression above the target.
+  // Extra iterations come kAdaptiveStride at a time (sim/step_plan.hpp says why). Each
+  // group runs if check_converged, from the last lambda pass's densities, finds the mean
+  // compression above the target.
   const SolverParams& p = d_.solver;
   const auto full = cmd_.groups(n_, lambda_.lists.workgroup_size());
   const uint32_t args[3] = {full[0], full[1], 1};
@@ -433,11 +435,7 @@ void GpuSolver::adaptive_iterations() {
     cmd_.bind("overflow", overflow_groups_);
     cmd_.bind("overflow_gated", overflow_gated_);
     cmd_.dispatch(1);
-    for (const Derived::ConstraintPass& pass : d_.constraint_schedule(kAdaptiveStride)) {
-      constraint_lambda(&indirect_);
-      if (pass.smoothed) constraint_smooth(&indirect_);
-      constraint_apply(pass.relax, &indirect_);
-    }
+    for (const PlannedPass& pass : constraint_plan(d_, kAdaptiveStride, false)) record(pass, &indirect_);
   }
 }
 
@@ -477,48 +475,35 @@ void GpuSolver::end_of(PassGroup group) {
   segments_.push_back(group);
 }
 
+// One step: the plan's passes (sim/step_plan.hpp) in order, each group's timed segment closed
+// where the next pass belongs to another.
 void GpuSolver::record_step() {
-  if (correction_pass_) {
-    if (!density_current_) {
-      density_at_positions();
-      end_of(PassGroup::Density);
-    }
-    correction_and_predict();
-    end_of(PassGroup::Correction);
-  } else {
-    predict();
-    end_of(PassGroup::Predict);
-  }
-  grid_at_predictions();
-  constraint_passes(d_.solver.iterations);
-  if (d_.solver.target_compression > 0) adaptive_iterations();
-  end_of(PassGroup::Constraints);
-  velocity_update();
-  const bool viscosity = viscosity_pass_ || vorticity_pass_;
-  if (viscosity) {
-    end_of(PassGroup::Velocity);
-    if (viscosity_pass_) viscosity_vorticity();
-    if (vorticity_pass_) vorticity_force();
+  const std::vector<PlannedPass> plan = step_plan(d_, density_current_);
+  for (size_t k = 0; k < plan.size(); ++k) {
+    record(plan[k]);
+    const bool last = k + 1 == plan.size();
+    if (last) watch();  // counted with the step's last group, so that the groups cover the whole step
+    if (last || plan[k + 1].group != plan[k].group) end_of(plan[k].group);
   }
   density_current_ = viscosity_pass_;  // the viscosity pass leaves rho at x
   lists_built_ = true;
-  watch();
-  // The watch counts with the step's last group, so that the groups cover the whole step.
-  end_of(viscosity ? PassGroup::Viscosity : PassGroup::Velocity);
 }
 
-void GpuSolver::constraint_passes(int passes) {
-  bool first = true;
-  for (const Derived::ConstraintPass& pass : d_.constraint_schedule(passes)) {
-    constraint_lambda();
-    if (first && d_.coarse.strength > 0) {  // from the first pass's rho
-      end_of(PassGroup::Constraints);
-      coarse_correction();
-      end_of(PassGroup::Coarse);
-    }
-    first = false;
-    if (pass.smoothed) constraint_smooth();
-    constraint_apply(pass.relax);
+void GpuSolver::record(const PlannedPass& p, const vk::Buffer* indirect) {
+  switch (p.pass) {
+    case Pass::Density: density_at_positions(); break;
+    case Pass::CorrectionPredict: correction_and_predict(); break;
+    case Pass::Predict: predict(); break;
+    case Pass::Grid: sort_by_cells(XPred, X); break;  // v is not carried: the velocity pass recomputes it
+    case Pass::Lists: neighbour_lists(at(XPred)); break;
+    case Pass::Lambda: constraint_lambda(indirect); break;
+    case Pass::Coarse: coarse_correction(); break;
+    case Pass::Smooth: constraint_smooth(indirect); break;
+    case Pass::Apply: constraint_apply(p.relax, indirect); break;
+    case Pass::Adaptive: adaptive_iterations(); break;
+    case Pass::Velocity: velocity_update(); break;
+    case Pass::Viscosity: viscosity_vorticity(); break;
+    case Pass::Vorticity: vorticity_force(); break;
   }
 }
 
@@ -527,8 +512,7 @@ void GpuSolver::relax() {
   const VkBufferCopy all{0, 0, at(X).bytes()};
   vkCmdCopyBuffer(cmd_.handle(), at(X).handle(), at(XPred).handle(), 1, &all);  // x* = x
   vk::memory_barrier(cmd_.handle());
-  grid_at_predictions();
-  constraint_passes(1);  // one pass whatever the step runs: Solver::relax says why
+  for (const PlannedPass& pass : relax_plan(d_)) record(pass);  // one iteration whatever the step runs: Solver::relax says why
   swap_roles(X, XPred);
   cmd_.fill(at(V), 0);  // the sort left v in the old order: it is zero anyway
   finish();

@@ -12,6 +12,7 @@
 #include "sim/obstacles.hpp"
 #include "sim/params.hpp"
 #include "sim/solver.hpp"
+#include "sim/step_plan.hpp"
 #include "vk/buffer.hpp"
 #include "vk/commands.hpp"
 #include "vk/program.hpp"
@@ -55,8 +56,9 @@ class GpuSolver : public Solver {
   // spare slot, which no pass writes again before the next frame's first grid build, and
   // the particles' drawn shapes.
   void smoothed_positions();
-  void record_step();        // one step, then the divergence watch
-  void constraint_passes(int passes);  // the schedule of `passes` at x_pred, the coarse correction in its first pass
+  void record_step();        // one step (sim/step_plan.hpp), then the divergence watch
+  // One pass of a plan; `indirect`: the constraint passes' dispatch, where an adaptive pair is gated.
+  void record(const PlannedPass& pass, const vk::Buffer* indirect = nullptr);
   void record_measures();  // grid and density at x, then the reductions
 
   // Timestamps after every pass group, reported in FrameStats::pass_ms (benchmarks).
@@ -92,7 +94,6 @@ class GpuSolver : public Solver {
   void run_particle_pass(const vk::Buffer* indirect);
   void reduce_measures(const vk::Buffer& into);  // (mean c, max c, kinetic energy, max speed) of rho_, v
   void adaptive_iterations();                    // iteration pairs until the target (check_converged)
-  static constexpr int kAdaptiveStride = 2;
 
   const vk::Context& ctx_;
   Derived d_;

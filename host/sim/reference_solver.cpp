@@ -363,49 +363,46 @@ void ReferenceSolver::vorticity_force() {
   }
 }
 
-void ReferenceSolver::constraint_passes(int passes) {
-  bool first = true;
-  for (const Derived::ConstraintPass& pass : d_.constraint_schedule(passes)) {
-    constraint_lambda();
-    if (first && d_.coarse.strength > 0) coarse_correction();  // from the first pass's rho
-    first = false;
-    if (pass.smoothed) constraint_smooth();
-    constraint_apply(pass.relax);
-  }
-}
-
 void ReferenceSolver::relax() {
   state.x_pred = state.x;
-  build_grid(state.x_pred);
-  constraint_passes(1);  // one pass whatever the step runs: Solver::relax says why
+  for (const PlannedPass& pass : relax_plan(d_)) run(pass);  // one iteration whatever the step runs: Solver::relax says why
   state.x = state.x_pred;
   for (dvec3& v : state.v) v = dvec3(0.0);
 }
 
+// One step: the plan's passes (sim/step_plan.hpp) in order, as the GPU records them.
 void ReferenceSolver::step() {
+  iterations_run_ += d_.solver.iterations;
+  for (const PlannedPass& pass : step_plan(d_)) run(pass);
+}
+
+void ReferenceSolver::run(const PlannedPass& p) {
+  switch (p.pass) {
+    case Pass::Density: density_at_positions(); break;
+    case Pass::CorrectionPredict: correction(), predict(); break;
+    case Pass::Predict: predict(); break;
+    case Pass::Grid: build_grid(state.x_pred); break;
+    case Pass::Lists: break;  // the reference walks its cells
+    case Pass::Lambda: constraint_lambda(); break;
+    case Pass::Coarse: coarse_correction(); break;
+    case Pass::Smooth: constraint_smooth(); break;
+    case Pass::Apply: constraint_apply(p.relax); break;
+    case Pass::Adaptive: adaptive_iterations(); break;
+    case Pass::Velocity: velocity_update(); break;
+    case Pass::Viscosity: viscosity_vorticity(); break;
+    case Pass::Vorticity: vorticity_force(); break;
+  }
+}
+
+// As the GPU's check (check_converged.comp), from the last lambda pass's densities, a group
+// of kAdaptiveStride iterations at a time (GpuSolver::adaptive_iterations).
+void ReferenceSolver::adaptive_iterations() {
   const SolverParams& p = d_.solver;
-  if (p.method == Method::Ldc) {
-    density_at_positions();
-    correction();
+  for (int run = p.iterations; run + kAdaptiveStride <= p.max_iterations && mean_compression() > p.target_compression;
+       run += kAdaptiveStride) {
+    for (const PlannedPass& pass : constraint_plan(d_, kAdaptiveStride, false)) this->run(pass);
+    iterations_run_ += kAdaptiveStride;
   }
-  predict();
-  build_grid(state.x_pred);
-  constraint_passes(d_.solver.iterations);
-  int run = p.iterations;
-  // Adaptive: as the GPU's check (check_converged.comp), from the last lambda pass's
-  // densities, a pair of iterations at a time (GpuSolver::adaptive_iterations says why).
-  while (p.target_compression > 0 && run + 2 <= p.max_iterations && mean_compression() > p.target_compression) {
-    for (const Derived::ConstraintPass& pass : d_.constraint_schedule(2)) {
-      constraint_lambda();
-      if (pass.smoothed) constraint_smooth();
-      constraint_apply(pass.relax);
-    }
-    run += 2;
-  }
-  iterations_run_ += run;
-  velocity_update();
-  if (p.viscosity_pass()) viscosity_vorticity();
-  if (p.vorticity > 0) vorticity_force();
 }
 
 void ReferenceSolver::watch_step(int step, Divergence& watch) const {

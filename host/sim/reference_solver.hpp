@@ -7,6 +7,7 @@
 
 #include "sim/params.hpp"
 #include "sim/solver.hpp"
+#include "sim/step_plan.hpp"
 
 namespace pbflow {
 
@@ -23,7 +24,8 @@ class ReferenceSolver : public Solver {
   std::string device_name() const override { return "cpu (C++ reference)"; }
 
   void step();
-  void constraint_passes(int passes);  // the schedule of `passes` at x_pred, the coarse correction in its first pass
+  void run(const PlannedPass& pass);  // one pass of a plan (sim/step_plan.hpp)
+  void adaptive_iterations();         // iteration groups until the target, as the GPU's
   FrameStats measure();  // density at x (from the last step's lists, as the GPU), then the measures
 
   // The passes of one step (docs/design.md), public so that tests can run them one by one.
