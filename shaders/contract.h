@@ -11,6 +11,20 @@
 // the iterations run so far this frame, at this word.
 #define INDIRECT_ITERATIONS_WORD 3
 
+// watch.comp's buffer, in 32-bit words (the host reads it as WatchWords, host/gpu/buffer_plan.hpp):
+// the failures seen this frame (WATCH_* bits), the step within the frame of the first (all ones:
+// none), the particles per failure at that step from WATCH_COUNTS on (not finite, too fast,
+// outside, in the order of the bits), and the step being watched, written by the host before each
+// dispatch.
+#define WATCH_FLAGS 0
+#define WATCH_FIRST_STEP 1
+#define WATCH_COUNTS 2
+#define WATCH_STEP 5
+#define WATCH_WORDS 6
+#define WATCH_NOT_FINITE 1u
+#define WATCH_TOO_FAST 2u
+#define WATCH_OUTSIDE 4u
+
 // The coarse correction (coarse_deposit, coarse_prepare, coarse_sweep, coarse_gradient and
 // coarse_apply.comp; the reference's coarse_correction): nodes COARSE_CELL spacings apart; a
 // node is fluid where the particles deposited there fill more than COARSE_FILL of its cell;

@@ -1,6 +1,7 @@
 #version 450
 // Combines the partials of reduce_stats.comp (two vec4 a group) into what the host reads:
-// (mean compression, max compression, kinetic energy, max speed), (potential energy, 0, 0, 0).
+// (mean compression, max compression, kinetic energy, max speed), (potential energy, 0, 0, 0):
+// the first fields of the host's FrameResult (host/gpu/buffer_plan.hpp).
 layout(local_size_x = 256) in;
 
 layout(std430, binding = 0) readonly buffer Partials { vec4 partials[]; };

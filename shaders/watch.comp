@@ -5,18 +5,12 @@
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x_id = 0) in;
 #include "common.glsl"
+#include "contract.h"
 
 layout(std430, binding = 0) readonly buffer X { vec4 x[]; };
 layout(std430, binding = 1) readonly buffer V { vec4 v[]; };
-layout(std430, binding = 2) buffer Watch {
-  uint flags;       // WATCH_* bits seen this frame
-  uint first_step;  // step (within the frame) of the first failure; 0xffffffff: none
-  uint counts[3];   // particles per failure at the first failing step
-  uint step;        // the step being watched, written by the host before each dispatch
-};
+layout(std430, binding = 2) buffer Watch { uint watch[WATCH_WORDS]; };  // its words: contract.h
 layout(constant_id = 1) const float SPEED_LIMIT = 1e30;  // m/s, from the scene (GpuSolver)
-
-const uint WATCH_NOT_FINITE = 1u, WATCH_TOO_FAST = 2u, WATCH_OUTSIDE = 4u;
 
 bool finite(vec3 a) { return !any(isnan(a)) && !any(isinf(a)); }
 
@@ -28,8 +22,9 @@ void main() {
   if (!finite(xi) || !finite(vi)) bad = WATCH_NOT_FINITE;
   else if (dot(vi, vi) > SPEED_LIMIT * SPEED_LIMIT) bad = WATCH_TOO_FAST;
   else if (any(lessThan(xi, sim.domain_min)) || any(greaterThan(xi, sim.domain_max))) bad = WATCH_OUTSIDE;
-  if (bad == 0u || first_step < step) return;  // an earlier step failed already: its counts stand
-  atomicOr(flags, bad);
-  atomicMin(first_step, step);
-  atomicAdd(counts[findLSB(bad)], 1u);
+  const uint step = watch[WATCH_STEP];
+  if (bad == 0u || watch[WATCH_FIRST_STEP] < step) return;  // an earlier step failed already: its counts stand
+  atomicOr(watch[WATCH_FLAGS], bad);
+  atomicMin(watch[WATCH_FIRST_STEP], step);
+  atomicAdd(watch[WATCH_COUNTS + findLSB(bad)], 1u);
 }

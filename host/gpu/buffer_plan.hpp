@@ -2,20 +2,35 @@
 // The device buffers of a GPU run and their sizes in bytes, from the scene alone. GpuSolver
 // and GpuGrid allocate from this plan and the memory estimate sums it, so that the estimate
 // is what a run holds (tests/memory_test.cpp measures both).
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
+#include "shaders/contract.h"
 #include "sim/params.hpp"
 
 namespace pbflow {
 
-// The frame's read-back, one host-visible buffer: reduce_final.comp's two vec4 (mean
-// compression, max compression, kinetic energy, max speed; potential energy), the adaptive
-// iteration count copied from check_converged's indirect buffer, and watch.comp's words.
+// watch.comp's buffer, a field at each of shaders/contract.h's words; as the host resets it
+// before a frame.
+struct WatchWords {
+  uint32_t flags = 0;
+  uint32_t first_step = ~0u;  // none yet
+  uint32_t counts[3] = {0, 0, 0};  // not finite, too fast, outside
+  uint32_t step = 0;
+};
+static_assert(offsetof(WatchWords, flags) == WATCH_FLAGS * 4 && offsetof(WatchWords, first_step) == WATCH_FIRST_STEP * 4 &&
+              offsetof(WatchWords, counts) == WATCH_COUNTS * 4 && offsetof(WatchWords, step) == WATCH_STEP * 4 &&
+              sizeof(WatchWords) == WATCH_WORDS * 4);
+
+// The frame's read-back, one host-visible buffer: reduce_final.comp's two vec4 (its Result
+// block), the adaptive iteration count copied from check_converged's indirect buffer, and
+// watch.comp's words.
 struct FrameResult {
-  glm::vec4 measures, energy;
+  float mean_compression, max_compression, kinetic_energy, max_speed;  // reduce_final's `result`
+  float potential_energy, unused_energy[3];                            // and its `energy`
   uint32_t iterations, unused[3];
-  uint32_t watch_flags, watch_first_step, watch_counts[3];
+  WatchWords watch;
 };
 
 // The grid's counting sort (gpu_grid.hpp): each particle's cell and rank, and the scan's levels.

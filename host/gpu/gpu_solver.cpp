@@ -522,7 +522,7 @@ void GpuSolver::relax() {
 }
 
 void GpuSolver::watch() {
-  cmd_.update(watch_buf_, &step_in_frame_, sizeof step_in_frame_, 5 * sizeof(uint32_t));
+  cmd_.update(watch_buf_, &step_in_frame_, sizeof step_in_frame_, offsetof(WatchWords, step));
   bind_particle_pass(watch_);
   cmd_.bind("x", at(X));
   cmd_.bind("v", at(V));
@@ -552,7 +552,7 @@ void GpuSolver::record_measures() {
     VkBufferCopy count{INDIRECT_ITERATIONS_WORD * sizeof(uint32_t), offsetof(FrameResult, iterations), sizeof(uint32_t)};
     vkCmdCopyBuffer(cmd_.handle(), indirect_.handle(), result_.handle(), 1, &count);
   }
-  VkBufferCopy watch{0, offsetof(FrameResult, watch_flags), 5 * sizeof(uint32_t)};  // and what the watch saw
+  VkBufferCopy watch{0, offsetof(FrameResult, watch), sizeof(WatchWords)};  // and what the watch saw
   vkCmdCopyBuffer(cmd_.handle(), watch_buf_.handle(), result_.handle(), 1, &watch);
   vk::memory_barrier(cmd_.handle());
 }
@@ -560,12 +560,13 @@ void GpuSolver::record_measures() {
 FrameStats GpuSolver::read_measures() const {
   const auto& r = *static_cast<const FrameResult*>(result_.mapped());
   FrameStats s;
-  s.mean_compression = r.measures.x;
-  s.max_compression = r.measures.y;
-  s.kinetic_energy = r.measures.z;
-  s.max_speed = r.measures.w;
-  s.potential_energy = r.energy.x;
-  if (r.watch_flags) s.divergence = {int(r.watch_first_step), r.watch_counts[0], r.watch_counts[1], r.watch_counts[2]};
+  s.mean_compression = r.mean_compression;
+  s.max_compression = r.max_compression;
+  s.kinetic_energy = r.kinetic_energy;
+  s.max_speed = r.max_speed;
+  s.potential_energy = r.potential_energy;
+  const WatchWords& w = r.watch;
+  if (w.flags) s.divergence = {int(w.first_step), w.counts[0], w.counts[1], w.counts[2]};
   return s;
 }
 
@@ -578,8 +579,8 @@ FrameStats GpuSolver::advance(int steps) {
   segments_.clear();
   begin();
   smoothed_current_ = false;  // the steps' sorts reuse the spare slot
-  const uint32_t watch_reset[6] = {0, ~0u, 0, 0, 0, 0};
-  cmd_.update(watch_buf_, watch_reset, sizeof watch_reset);
+  const WatchWords watch_reset;
+  cmd_.update(watch_buf_, &watch_reset, sizeof watch_reset);
   step_in_frame_ = 0;
   if (d_.solver.target_compression > 0) {
     const uint32_t zero[4] = {0, 0, 0, 0};  // the frame's count of adaptive iterations
