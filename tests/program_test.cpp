@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "sim/params.hpp"
 #include "support.hpp"
 #include "vk/buffer.hpp"
 #include "vk/check.hpp"
@@ -69,16 +70,30 @@ class ProgramContract : public test::GpuTest {};
 TEST_F(ProgramContract, AConstantTheShaderLacksOrOmitsIsRefusedByName) {
   const std::array<vk::Constant, 1> typo{{{"SPEED_LIMT", 0u}}};
   try {
-    vk::Program(test::gpu(), "watch", 64, 0, typo);
+    vk::Program(test::gpu(), "watch", sizeof(SimConstants), 0, typo);
     FAIL() << "a constant the shader does not declare was accepted";
   } catch (const vk::Error& e) {
     EXPECT_NE(std::string(e.what()).find("SPEED_LIMT"), std::string::npos) << e.what();
   }
   try {
-    vk::Program(test::gpu(), "watch", 64);
+    vk::Program(test::gpu(), "watch", sizeof(SimConstants));
     FAIL() << "a constant the shader declares was left unset";
   } catch (const vk::Error& e) {
     EXPECT_NE(std::string(e.what()).find("SPEED_LIMIT"), std::string::npos) << e.what();
+  }
+}
+
+// The push-constant block's size comes from the shader: a host struct of another size is
+// refused at the program's creation, naming both sizes.
+TEST_F(ProgramContract, APushStructOfAnotherSizeThanTheShadersBlockIsRefused) {
+  EXPECT_EQ(vk::reflect_layout(shaders::spirv("watch")).push_bytes, sizeof(SimConstants));
+  EXPECT_EQ(vk::reflect_layout(shaders::spirv("scan_add")).push_bytes, sizeof(uint32_t));
+  try {
+    vk::Program(test::gpu(), "scan_add", 2 * sizeof(uint32_t), 64);
+    FAIL() << "a push struct of 8 bytes was accepted for a 4-byte block";
+  } catch (const vk::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("push-constant block is 4 bytes and the host's 8"), std::string::npos)
+        << e.what();
   }
 }
 

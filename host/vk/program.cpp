@@ -20,6 +20,13 @@ Program::Program(const Context& ctx, std::string_view shader, uint32_t push_byte
   const std::span<const uint32_t> words = shaders::spirv(shader);
   ShaderLayout layout = reflect_layout(words);
   bindings_ = std::move(layout.bindings);
+  // The shader's push block is the size; the host's struct must match it, and every device must hold it.
+  if (layout.push_bytes > kGuaranteedPushBytes)
+    throw Error("program " + name_ + ": its push-constant block takes " + std::to_string(layout.push_bytes) +
+                " bytes, past the " + std::to_string(kGuaranteedPushBytes) + " every Vulkan device holds");
+  if (layout.push_bytes != 0 && layout.push_bytes != push_bytes)
+    throw Error("program " + name_ + ": the shader's push-constant block is " + std::to_string(layout.push_bytes) +
+                " bytes and the host's " + std::to_string(push_bytes) + ": the GLSL block and its C++ mirror disagree");
   if (bindings_.size() > kMaxBindings) throw Error("program " + name_ + " has more than " + std::to_string(kMaxBindings) + " bindings");
   // Constant 0 is local_size_x; the shader's own constants follow by id, each set by name.
   std::vector<VkSpecializationMapEntry> entries{{0, 0, sizeof(uint32_t)}};

@@ -29,10 +29,12 @@ struct Constant {
 class Program {
  public:
   static constexpr size_t kMaxBindings = 12;
+  static constexpr uint32_t kGuaranteedPushBytes = 128;  // maxPushConstantsSize's least (Vulkan 1.x)
 
   Program() = default;
   // shader: name of shaders/<shader>.comp, whose bindings and constants are read from its
-  // SPIR-V (vk/spirv_layout.hpp); push_bytes: size of the push-constant block;
+  // SPIR-V (vk/spirv_layout.hpp); push_bytes: size of the host's push-constant struct, which
+  // must be the shader's block's (read from the SPIR-V; checked, as its 128-byte limit is);
   // workgroup_size: local_size_x (specialisation constant 0), 0 for the device's choice;
   // constants: every other constant the shader declares, by name. A constant the shader
   // lacks, or one it declares and `constants` omits, throws: the two sides never drift.

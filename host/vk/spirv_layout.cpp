@@ -14,16 +14,48 @@ namespace {
 // The few SPIR-V opcodes, decorations and enumerants the layout needs (SPIR-V 1.5 spec, 3.x).
 enum Op : uint32_t {
   OpName = 5,
+  OpTypeInt = 21,
+  OpTypeFloat = 22,
+  OpTypeVector = 23,
   OpTypeImage = 25,
+  OpTypeArray = 28,
+  OpTypeStruct = 30,
   OpTypePointer = 32,
+  OpConstant = 43,
   OpSpecConstantTrue = 48,
   OpSpecConstantFalse = 49,
   OpSpecConstant = 50,
   OpVariable = 59,
   OpDecorate = 71,
+  OpMemberDecorate = 72,
 };
-enum Decoration : uint32_t { SpecId = 1, Binding = 33, DescriptorSet = 34 };
-enum StorageClass : uint32_t { UniformConstant = 0, StorageBuffer = 12 };
+enum Decoration : uint32_t { SpecId = 1, ArrayStride = 6, Binding = 33, DescriptorSet = 34, Offset = 35 };
+enum StorageClass : uint32_t { UniformConstant = 0, PushConstant = 9, StorageBuffer = 12 };
+
+// The types a push-constant block is made of, enough to size it: scalars, vectors, arrays and
+// structs with their members' offsets.
+struct Types {
+  std::map<uint32_t, uint32_t> scalar_bytes, constant;
+  std::map<uint32_t, std::pair<uint32_t, uint32_t>> vector, array;  // component/element type, count/length id
+  std::map<uint32_t, std::vector<uint32_t>> members;
+  std::map<uint32_t, std::map<uint32_t, uint32_t>> offsets;  // struct -> member -> byte offset
+  std::map<uint32_t, uint32_t> stride;
+
+  uint32_t bytes(uint32_t type) const {
+    if (auto s = scalar_bytes.find(type); s != scalar_bytes.end()) return s->second;
+    if (auto v = vector.find(type); v != vector.end()) return v->second.second * bytes(v->second.first);
+    if (auto a = array.find(type); a != array.end()) {
+      const auto given = stride.find(type);
+      return constant.at(a->second.second) * (given != stride.end() ? given->second : bytes(a->second.first));
+    }
+    if (auto m = members.find(type); m != members.end()) {
+      uint32_t end = 0;
+      for (uint32_t k = 0; k < m->second.size(); ++k) end = std::max(end, offsets.at(type).at(k) + bytes(m->second[k]));
+      return end;
+    }
+    throw Error("shader layout: a push-constant member of a type the programs do not use");
+  }
+};
 constexpr uint32_t kMagic = 0x07230203, kDimBuffer = 5, kSampledStorage = 2, kHeaderWords = 5;
 
 VkFormat texel_format(uint32_t spirv_format) {
@@ -63,6 +95,7 @@ ShaderLayout reflect_layout(std::span<const uint32_t> spirv) {
   };
   std::vector<Variable> variables;
   std::vector<uint32_t> spec_constants;
+  Types types;
   for (size_t at = kHeaderWords; at < spirv.size();) {
     const uint32_t count = spirv[at] >> 16, op = spirv[at] & 0xffff;
     if (count == 0 || at + count > spirv.size()) throw Error("shader layout: truncated SPIR-V");
@@ -73,7 +106,17 @@ ShaderLayout reflect_layout(std::span<const uint32_t> spirv) {
         if (arg[1] == Binding) slot[arg[0]] = arg[2];
         if (arg[1] == DescriptorSet) set[arg[0]] = arg[2];
         if (arg[1] == SpecId) spec_id[arg[0]] = arg[2];
+        if (arg[1] == ArrayStride) types.stride[arg[0]] = arg[2];
         break;
+      case OpMemberDecorate:
+        if (arg[2] == Offset) types.offsets[arg[0]][arg[1]] = arg[3];
+        break;
+      case OpTypeInt:
+      case OpTypeFloat: types.scalar_bytes[arg[0]] = arg[1] / 8; break;
+      case OpTypeVector: types.vector[arg[0]] = {arg[1], arg[2]}; break;
+      case OpTypeArray: types.array[arg[0]] = {arg[1], arg[2]}; break;
+      case OpTypeStruct: types.members[arg[0]].assign(arg.begin() + 1, arg.end()); break;
+      case OpConstant: types.constant[arg[1]] = arg[2]; break;
       case OpTypeImage:  // result, sampled type, dim, depth, arrayed, ms, sampled, format
         if (arg[2] == kDimBuffer && arg[6] == kSampledStorage) texel_images[arg[0]] = texel_format(arg[7]);
         break;
@@ -89,6 +132,7 @@ ShaderLayout reflect_layout(std::span<const uint32_t> spirv) {
 
   ShaderLayout layout;
   for (const auto [pointer_type, id, storage] : variables) {
+    if (storage == PushConstant) layout.push_bytes = types.bytes(pointee[pointer_type]);
     if (!slot.count(id)) continue;
     if (set[id] != 0) throw Error("shader layout: a descriptor set other than 0");
     ShaderLayout::Binding b{slot[id], names[id], VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_FORMAT_UNDEFINED};

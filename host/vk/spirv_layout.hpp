@@ -27,6 +27,7 @@ struct ShaderLayout {
   };
   std::vector<Binding> bindings;    // by slot
   std::vector<Constant> constants;  // by id; the workgroup size (local_size_x_id = 0) is not one of them
+  uint32_t push_bytes = 0;          // the push-constant block's size: its last member's end; 0 where none is used
 };
 
 // Throws vk::Error on words that are not SPIR-V, on a descriptor set other than 0 and on a
