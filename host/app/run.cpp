@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <sstream>
 
@@ -173,6 +174,144 @@ std::string signal_name(int signal) { return signal == SIGINT ? "SIGINT" : "SIGT
 
 }  // namespace
 
+namespace {
+
+// The run's first line: scene, particles, setting (and what pbflow chose), device.
+void announce(const RunOptions& o, const Scene& scene, const Derived& d, const nlohmann::json& chosen,
+              const Solver& solver, const capture::FrameCapture* capture) {
+  const bool chose_substeps = chosen.contains("solver.substeps");
+  const bool chose_setting = chosen.contains("solver.method") || chosen.contains("solver.iterations");
+  const bool pairs = d.solver.iterations >= 2 || d.solver.target_compression > 0;  // adaptive runs add pairs
+  const std::string averages = pairs ? " (lambda averaged " + std::to_string(d.solver.lambda_smoothing) + "x)" : "";
+  std::cerr << "pbflow: " << scene.name << ", " << solver.particle_count() << " particles, "
+            << method_name(scene.solver.method) << " with " << scene.solver.iterations << " iteration(s)"
+            << (chose_setting ? " (chosen)" : "") << averages << ", " << scene.solver.substeps << " substeps per frame"
+            << (chose_substeps ? " (chosen)" : "") << ", on " << solver.device_name() << "\n";
+  if (capture && o.verbose) std::cerr << "pbflow: rendering with " << capture->description() << "\n";
+}
+
+// The start: the jittered seed relaxed, and a tank settled where the scene asks.
+void prepare_start(Solver& solver, const Scene& scene, const Derived& d, bool quiet, Progress& progress,
+                   const InterruptGuard& interrupt) {
+  relax_seed(solver, [&](int projection) {
+    if (projection == 1) pause_point("relax");
+    progress.relaxing(projection);
+    return !interrupt.signal();
+  });
+  progress.done();
+  if (!scene.settle) return;
+  SettleReport r = settle(solver, d, [&](int step) {
+    progress.settling(step);
+    return !interrupt.signal();
+  });
+  progress.done();
+  if (!interrupt.signal() && (!quiet || !r.converged))
+    std::cerr << "pbflow: settled into the solver's equilibrium in " << r.steps << " steps (potential energy "
+              << (r.potential_drop >= 0 ? "-" : "+") << std::abs(r.potential_drop) << " J)"
+              << (r.converged ? "" : "; still moving at the step limit") << "\n";
+}
+
+// What the frames add up to, for the summary and the exit status.
+struct RunTotals {
+  int frames = 0;  // complete
+  double sum_mean = 0, worst = 0, sum_step_ms = 0;
+  EnergyGain energy;
+  std::string diverged;  // the message, where the watch stopped the run
+};
+
+// The frames: each simulated, its files written, then its stats row (a row stands for a frame
+// whole on disk). Stops at a divergence (nothing of that frame written) or an interrupt.
+RunTotals simulate_frames(const Scene& scene, const Derived& d, Solver& solver, capture::FrameCapture* capture,
+                          capture::ExportFormat export_format, RunDirectory& dir, StatsCsv& csv, Progress& progress,
+                          const InterruptGuard& interrupt, const std::function<double()>& wall) {
+  RunTotals totals;
+  int& frame = totals.frames;
+  for (; frame < scene.frames && !interrupt.signal(); ++frame) {
+    FrameStats s = solver.advance(frame == 0 ? 0 : scene.solver.substeps);
+    double t = frame / scene.fps;
+    if (s.divergence.any()) {
+      long step = long(frame - 1) * scene.solver.substeps + s.divergence.first_step + 1;
+      std::ostringstream m;
+      m << "the simulation diverged at step " << step << " (t = " << step * d.dt << " s, frame " << frame
+        << "): " << s.divergence.describe(d.speed_limit) << "; " << frames_complete(frame) << "; "
+        << divergence_advice(scene, d);
+      totals.diverged = m.str();
+      break;
+    }
+    // The PNG is written on the capture's threads: its row follows when the file is whole.
+    if (export_format != capture::ExportFormat::None)
+      capture::write_particles(dir.particle_path(frame), export_format, solver.read_frame());
+    auto row = [&csv, &dir, frame, t, s] {
+      csv.write(frame, t, s);
+      dir.frames_done(frame + 1);
+    };
+    if (capture)
+      capture->write(dir.frame_path(frame), solver, row);
+    else
+      row();
+    totals.energy.add(s);
+    totals.sum_mean += s.mean_compression;
+    totals.worst = std::max(totals.worst, s.max_compression);
+    totals.sum_step_ms += s.step_ms;
+    progress.update(frame, t, wall());
+  }
+  if (capture) capture->finish();  // the frames' files and rows, the video: also when stopped early
+  progress.done();
+  return totals;
+}
+
+// The summary on stdout: throughput, compression, energy, real-time factor, where things are.
+void print_summary(const RunOptions& o, const Scene& scene, const RunTotals& totals, size_t particles,
+                   const capture::FrameCapture* capture, double wall, const RunDirectory& dir) {
+  const long steps = long(scene.frames - 1) * scene.solver.substeps;
+  const double solver_s = totals.sum_step_ms / 1000.0 * scene.solver.substeps;
+  const double render_s = capture ? capture->seconds() : 0.0, simulated_s = (scene.frames - 1) / scene.fps;
+  std::cout << "particles " << particles << ", steps " << steps << ", wall " << wall << " s, "
+            << (steps > 0 ? double(particles) * steps / solver_s : 0.0) << " particle-steps/s (solver time "
+            << solver_s << " s), mean compression " << totals.sum_mean / scene.frames << ", max compression "
+            << totals.worst << "\nenergy change " << 100 * totals.energy.last()
+            << " % of the initial potential energy (largest gain " << 100 * totals.energy.largest()
+            << " %)\nreal-time factor " << simulated_s / std::max(wall - render_s, 1e-9) << " simulating";
+  if (capture)
+    std::cout << ", " << simulated_s / wall << " with rendering (" << 1000.0 * render_s / scene.frames
+              << " ms per frame, " << 1000.0 * capture->drawing_seconds() / scene.frames << " of it drawing, "
+              << 1000.0 * capture->gpu_drawing_seconds() / scene.frames << " of that on the GPU)\nframes: "
+              << (std::filesystem::path(o.out) / "frames").string() << "/";
+  if (!o.video.empty()) std::cout << "\nvideo: " << o.video;
+  std::cout << "\nstats: " << dir.stats_path().string() << "\n";
+}
+
+// Where the frames stopped early: the manifest says why and the exit status is returned (3
+// diverged, 128 + the signal); 0 where they did not.
+int stopped_early(const RunTotals& totals, const InterruptGuard& interrupt, RunDirectory& dir, double wall) {
+  if (!totals.diverged.empty()) {
+    std::cerr << "pbflow: " << totals.diverged << "\n";
+    dir.end("diverged", totals.diverged, wall);
+    return 3;
+  }
+  if (int signal = interrupt.signal()) {
+    std::string m = "interrupted by " + signal_name(signal) + "; " + frames_complete(totals.frames);
+    std::cerr << "pbflow: " << m << "\n";
+    dir.end("interrupted", m, wall);
+    return 128 + signal;
+  }
+  return 0;
+}
+
+// The run's end: complete, or failed where the validation layer or GL reported anything.
+int finish(const vk::Context* ctx, const capture::FrameCapture* capture, RunDirectory& dir, double wall) {
+  std::string problem;
+  if (ctx && !ctx->validation_messages().empty())
+    problem = std::to_string(ctx->validation_messages().size()) + " Vulkan validation message(s)";
+  else if (capture && !capture->gl_errors().empty())
+    problem = "OpenGL error: " + capture->gl_errors().front();
+  dir.end(problem.empty() ? "complete" : "failed", problem, wall);
+  if (!problem.empty()) std::cerr << "pbflow: " << problem << "\n";
+  return problem.empty() ? 0 : 1;
+}
+
+}  // namespace
+
 int run(const RunOptions& o) {
   // Before anything in --out changes: from here a SIGINT or SIGTERM stops the run between
   // steps, and never in the middle of replacing the previous run.
@@ -186,8 +325,7 @@ int run(const RunOptions& o) {
   std::unique_ptr<vk::Context> ctx = make_context(o.device, o.validate);
   const vk::DeviceInfo* device = ctx ? &ctx->info() : nullptr;
   const MemoryNeed need = check_run_memory(o, scene, d, device);
-  std::vector<glm::dvec3> x0 = initial_particles(scene);
-  std::unique_ptr<Solver> solver = make_solver(ctx.get(), d, x0);
+  std::unique_ptr<Solver> solver = make_solver(ctx.get(), d, initial_particles(scene));
   const capture::ExportFormat export_format = capture::parse_export_format(o.export_format);
   std::unique_ptr<capture::FrameCapture> capture;
   if (o.render) capture = make_frame_capture(o, scene, {solver.get()}, ctx.get());
@@ -195,119 +333,33 @@ int run(const RunOptions& o) {
 
   // Everything is checked: from here the run owns DIR and replaces the previous run's files.
   RunDirectory dir(out, RunFiles{scene.frames, bool(capture),
-                                    export_format == capture::ExportFormat::None ? "" : capture::export_extension(export_format)});
+                                 export_format == capture::ExportFormat::None ? "" : capture::export_extension(export_format)});
   nlohmann::json about = describe_run(o, scene, d, *solver);
-  const bool chose_substeps = about["chosen"].contains("solver.substeps");  // for the first line
-  const bool chose_setting = about["chosen"].contains("solver.method") || about["chosen"].contains("solver.iterations");
+  const nlohmann::json chosen = about["chosen"];
   about["memory_estimate"] = {{"host_bytes", host_bytes(need, device)}, {"device_bytes", need.device}};
   if (!dir.begin(std::move(about), [&] { return interrupt.signal() != 0; })) {
     std::cerr << "pbflow: interrupted by " << signal_name(interrupt.signal()) << " before the run began; "
               << out.string() << " holds the previous run as it was\n";
     return 128 + interrupt.signal();
   }
-  auto start = std::chrono::steady_clock::now();
-  auto wall = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
-  int frame = 0;
+  const auto start = std::chrono::steady_clock::now();
+  const std::function<double()> wall = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  RunTotals totals;
   try {
     StatsCsv csv(dir.stats_path());
     if (std::string w = time_step_warning(scene, d); !w.empty()) std::cerr << "pbflow: " << w << "\n";
-    if (!o.quiet) {
-      const bool pairs = d.solver.iterations >= 2 || d.solver.target_compression > 0;  // adaptive runs add pairs
-      const std::string averages =
-          pairs ? " (lambda averaged " + std::to_string(d.solver.lambda_smoothing) + "x)" : "";
-      std::cerr << "pbflow: " << scene.name << ", " << x0.size() << " particles, " << method_name(scene.solver.method)
-                << " with " << scene.solver.iterations << " iteration(s)" << (chose_setting ? " (chosen)" : "")
-                << averages
-                << ", " << scene.solver.substeps << " substeps per frame" << (chose_substeps ? " (chosen)" : "")
-                << ", on " << solver->device_name() << "\n";
-      if (capture && o.verbose) std::cerr << "pbflow: rendering with " << capture->description() << "\n";
-    }
-
+    if (!o.quiet) announce(o, scene, d, chosen, *solver, capture.get());
     Progress progress(scene.frames, !o.quiet);
-    relax_seed(*solver, [&](int projection) {
-      if (projection == 1) pause_point("relax");
-      progress.relaxing(projection);
-      return !interrupt.signal();
-    });
-    progress.done();
-    if (scene.settle) {
-      SettleReport r = settle(*solver, d, [&](int step) {
-        progress.settling(step);
-        return !interrupt.signal();
-      });
-      progress.done();
-      if (!interrupt.signal() && (!o.quiet || !r.converged))
-        std::cerr << "pbflow: settled into the solver's equilibrium in " << r.steps << " steps (potential energy "
-                  << (r.potential_drop >= 0 ? "-" : "+") << std::abs(r.potential_drop) << " J)" << (r.converged ? "" : "; still moving at the step limit") << "\n";
-    }
-    double sum_mean = 0, worst = 0, sum_step_ms = 0;
-    EnergyGain energy;
-    std::string diverged;  // the message, when the watch stopped the run
-    for (; frame < scene.frames && !interrupt.signal(); ++frame) {
-      FrameStats s = solver->advance(frame == 0 ? 0 : scene.solver.substeps);
-      double t = frame / scene.fps;
-      if (s.divergence.any()) {  // nothing of this frame is written: no NaN image, no garbage row
-        long step = long(frame - 1) * scene.solver.substeps + s.divergence.first_step + 1;
-        std::ostringstream m;
-        m << "the simulation diverged at step " << step << " (t = " << step * d.dt << " s, frame " << frame
-          << "): " << s.divergence.describe(d.speed_limit) << "; " << frames_complete(frame) << "; "
-          << divergence_advice(scene, d);
-        diverged = m.str();
-        break;
-      }
-      // The frame's files first, its stats row last: a row stands for a frame whole on disk.
-      // The PNG is written on the capture's threads: its row follows when the file is whole.
-      if (export_format != capture::ExportFormat::None)
-        capture::write_particles(dir.particle_path(frame), export_format, solver->read_frame());
-      auto row = [&csv, &dir, frame, t, s] {
-        csv.write(frame, t, s);
-        dir.frames_done(frame + 1);
-      };
-      if (capture)
-        capture->write(dir.frame_path(frame), *solver, row);
-      else
-        row();
-      energy.add(s);
-      sum_mean += s.mean_compression;
-      worst = std::max(worst, s.max_compression);
-      sum_step_ms += s.step_ms;
-      progress.update(frame, t, wall());
-    }
-    if (capture) capture->finish();  // the frames' files and rows, the video: also when stopped early
-    progress.done();
-    if (!diverged.empty()) {
-      std::cerr << "pbflow: " << diverged << "\n";
-      dir.end("diverged", diverged, wall());
-      return 3;
-    }
-    if (int signal = interrupt.signal()) {
-      std::string m = "interrupted by " + signal_name(signal) + "; " + frames_complete(frame);
-      std::cerr << "pbflow: " << m << "\n";
-      dir.end("interrupted", m, wall());
-      return 128 + signal;
-    }
-    if (energy.largest() > 0.01)
-      std::cerr << "pbflow: warning: the run gained energy (" << 100 * energy.largest()
+    prepare_start(*solver, scene, d, o.quiet, progress, interrupt);
+    totals = simulate_frames(scene, d, *solver, capture.get(), export_format, dir, csv, progress, interrupt, wall);
+    if (const int status = stopped_early(totals, interrupt, dir, wall()); status != 0) return status;
+    if (totals.energy.largest() > 0.01)
+      std::cerr << "pbflow: warning: the run gained energy (" << 100 * totals.energy.largest()
                 << " % of the initial potential energy at most; a sound solver loses it): fewer "
                    "solver.substeps per iteration, more iterations or a smaller solver.ldc_strength\n";
-    long steps = long(scene.frames - 1) * scene.solver.substeps;
-    if (!o.quiet) {
-      double solver_s = sum_step_ms / 1000.0 * scene.solver.substeps;
-      double render_s = capture ? capture->seconds() : 0.0, simulated_s = (scene.frames - 1) / scene.fps;
-      std::cout << "particles " << x0.size() << ", steps " << steps << ", wall " << wall() << " s, "
-                << (steps > 0 ? double(x0.size()) * steps / solver_s : 0.0) << " particle-steps/s (solver time "
-                << solver_s << " s), mean compression " << sum_mean / scene.frames << ", max compression " << worst
-                << "\nenergy change " << 100 * energy.last() << " % of the initial potential energy (largest gain "
-                << 100 * energy.largest() << " %)\nreal-time factor " << simulated_s / std::max(wall() - render_s, 1e-9)
-                << " simulating";
-      if (capture)
-        std::cout << ", " << simulated_s / wall() << " with rendering (" << 1000.0 * render_s / scene.frames
-                  << " ms per frame, " << 1000.0 * capture->drawing_seconds() / scene.frames
-                  << " of it drawing, " << 1000.0 * capture->gpu_drawing_seconds() / scene.frames
-                  << " of that on the GPU)\nframes: " << (out / "frames").string() << "/";
-      if (!o.video.empty()) std::cout << "\nvideo: " << o.video;
-      std::cout << "\nstats: " << dir.stats_path().string() << "\n";
-    }
+    if (!o.quiet) print_summary(o, scene, totals, solver->particle_count(), capture.get(), wall(), dir);
   } catch (const std::exception& e) {
     try {
       dir.end("failed", e.what(), wall());
@@ -315,14 +367,7 @@ int run(const RunOptions& o) {
     }
     throw;
   }
-  std::string problem;
-  if (ctx && !ctx->validation_messages().empty())
-    problem = std::to_string(ctx->validation_messages().size()) + " Vulkan validation message(s)";
-  else if (capture && !capture->gl_errors().empty())
-    problem = "OpenGL error: " + capture->gl_errors().front();
-  dir.end(problem.empty() ? "complete" : "failed", problem, wall());
-  if (!problem.empty()) std::cerr << "pbflow: " << problem << "\n";
-  return problem.empty() ? 0 : 1;
+  return finish(ctx.get(), capture.get(), dir, wall());
 }
 
 }  // namespace pbflow
