@@ -105,8 +105,18 @@ void check_utf8(int argc, char** argv) {
   }
 }
 
-int run_command(CLI::App& app, const pbflow::RunOptions& run, const pbflow::ServeOptions& serve, const pbflow::bench::StudyOptions& bench, bool scaling,
-                double budget_minutes, const std::string& scaling_method);
+// Every subcommand's options, as the command line fills them.
+struct Commands {
+  pbflow::RunOptions run;
+  bool no_render = false;
+  pbflow::ServeOptions serve;
+  pbflow::bench::StudyOptions bench;
+  bool scaling = false, no_charts = false;
+  double budget_minutes = pbflow::bench::ScalingOptions{}.budget_minutes;
+  std::string scaling_method;
+};
+
+int run_command(CLI::App& app, const Commands& c);
 
 // The options `run` and `serve` share: the scene, its setting, the device and the image.
 void add_scene_options(CLI::App* cmd, pbflow::RunOptions& o) {
@@ -132,46 +142,36 @@ void add_scene_options(CLI::App* cmd, pbflow::RunOptions& o) {
       ->capture_default_str();
 }
 
-}  // namespace
 
-int main(int argc, char** argv) {
-  std::signal(SIGPIPE, SIG_IGN);  // a dying ffmpeg shows as a failed write, not a silent exit
-  std::signal(SIGXFSZ, SIG_IGN);  // past a file size limit a write fails (EFBIG) and is reported
-  // Freed memory stays with the process: the libraries that draw and write a frame
-  // allocate and free a few megabytes each time, and handing them back to the kernel made
-  // every frame fault them in again, ~800 page faults a 720p frame; on a 2-core llvmpipe
-  // machine a fluid frame drew in 60 ms with this against 72 ms without.
-  mallopt(M_TRIM_THRESHOLD, 512 << 20);
-  CLI::App app{"pbflow: position based fluids with local density correction, on Vulkan compute"};
-  app.set_version_flag("--version", std::string("pbflow ") + PBFLOW_VERSION);
-  app.require_subcommand(0, 1);
-
-  pbflow::RunOptions run;
+// `pbflow run`: the scene options and where and how a run writes its frames.
+void add_run_command(CLI::App& app, Commands& c) {
   CLI::App* run_cmd = app.add_subcommand("run", "simulate a scene (default: dam_break)");
-  add_scene_options(run_cmd, run);
-  run_cmd->add_option("--frames", run.frames, "frames to write (frame 0 is the initial state)")
+  add_scene_options(run_cmd, c.run);
+  run_cmd->add_option("--frames", c.run.frames, "frames to write (frame 0 is the initial state)")
       ->check(CLI::Range(1, pbflow::kMaxFrames));
-  run_cmd->add_option("--out", run.out, "output directory")->capture_default_str();
-  run_cmd->add_flag("--quiet", run.quiet, "no progress line or summary");
-  bool no_render = false;
-  run_cmd->add_flag("--no-render", no_render, "simulate only, write no images");
-  run_cmd->add_option("--video", run.video, "also encode the frames into this .mp4 (needs ffmpeg)");
-  run_cmd->add_flag("--readback", run.readback, "read particles back through the host even where zero-copy works");
-  run_cmd->add_option("--export", run.export_format, "particle files per frame: ply | vtk (.vtp)")
+  run_cmd->add_option("--out", c.run.out, "output directory")->capture_default_str();
+  run_cmd->add_flag("--quiet", c.run.quiet, "no progress line or summary");
+  run_cmd->add_flag("--no-render", c.no_render, "simulate only, write no images");
+  run_cmd->add_option("--video", c.run.video, "also encode the frames into this .mp4 (needs ffmpeg)");
+  run_cmd->add_flag("--readback", c.run.readback, "read particles back through the host even where zero-copy works");
+  run_cmd->add_option("--export", c.run.export_format, "particle files per frame: ply | vtk (.vtp)")
       ->check(CLI::IsMember({"ply", "vtk"}));
-  run_cmd->add_flag("--verbose", run.verbose, "say how frames are rendered (EGL platform, GL, particle path)");
+  run_cmd->add_flag("--verbose", c.run.verbose, "say how frames are rendered (EGL platform, GL, particle path)");
 
-  pbflow::ServeOptions serve;
-  serve.live.run.width = 640;  // a live view's default: what lavapipe holds near real time (docs/serve.md)
-  serve.live.run.height = 360;
+}
+
+// `pbflow serve`: the scene options, the live view's own, and where it listens.
+void add_serve_command(CLI::App& app, Commands& c) {
+  c.serve.live.run.width = 640;  // a live view's default: what lavapipe holds near real time (docs/serve.md)
+  c.serve.live.run.height = 360;
   CLI::App* serve_cmd = app.add_subcommand("serve", "run a scene live and watch it in a browser (docs/serve.md)");
-  add_scene_options(serve_cmd, serve.live.run);
+  add_scene_options(serve_cmd, c.serve.live.run);
   serve_cmd
       ->add_option_function<std::vector<std::string>>(
           "--compare",
-          [&](const std::vector<std::string>& settings) {
+          [&c](const std::vector<std::string>& settings) {
             for (const std::string& s : settings) try {
-                serve.live.compare.push_back(pbflow::parse_live_setting(s));
+                c.serve.live.compare.push_back(pbflow::parse_live_setting(s));
               } catch (const pbflow::InputError& e) {
                 throw CLI::ValidationError("--compare", e.what());
               }
@@ -179,48 +179,65 @@ int main(int argc, char** argv) {
           "settings side by side from one start, e.g. pbf@1,ldc@1,pbf@2 (each panel --width x --height, "
           "480x270 unless given)")
       ->delimiter(',');
-  serve_cmd->add_option("--frame-budget", serve.live.frame_budget_ms,
+  serve_cmd->add_option("--frame-budget", c.serve.live.frame_budget_ms,
                         "hold a frame within MS milliseconds by choosing the most accurate setting that fits")
       ->check(kFinite & CLI::Range(0.0, 10000.0));
-  serve_cmd->add_option("--listen", serve.listen, "ADDR:PORT to serve on (another address than 127.0.0.1 is reachable "
+  serve_cmd->add_option("--listen", c.serve.listen, "ADDR:PORT to serve on (another address than 127.0.0.1 is reachable "
                                                   "from other machines)")
       ->capture_default_str();
 
-  pbflow::bench::StudyOptions bench;
+}
+
+// `pbflow bench`: the study's grid of settings, or the scaling run.
+void add_bench_command(CLI::App& app, Commands& c) {
   CLI::App* bench_cmd = app.add_subcommand("bench", "the speed-accuracy study: CSV and charts (bench/study.hpp)");
-  bench_cmd->add_flag("--quick", bench.quick, "a small subset: 4000 particles, 1 to 3 iterations, 1 s");
-  bench_cmd->add_option("--out", bench.out, "output directory")->capture_default_str();
-  bench_cmd->add_option("--device", bench.device, "auto | cpu | INDEX")->capture_default_str();
-  bench_cmd->add_option("--counts", bench.counts, "particle counts, e.g. 10000,40000")->delimiter(',');
-  bench_cmd->add_option("--iterations", bench.iterations, "iteration counts, e.g. 1,2,3")->delimiter(',');
-  bench_cmd->add_option("--seconds", bench.seconds, "simulated seconds per run")
+  bench_cmd->add_flag("--quick", c.bench.quick, "a small subset: 4000 particles, 1 to 3 iterations, 1 s");
+  bench_cmd->add_option("--out", c.bench.out, "output directory")->capture_default_str();
+  bench_cmd->add_option("--device", c.bench.device, "auto | cpu | INDEX")->capture_default_str();
+  bench_cmd->add_option("--counts", c.bench.counts, "particle counts, e.g. 10000,40000")->delimiter(',');
+  bench_cmd->add_option("--iterations", c.bench.iterations, "iteration counts, e.g. 1,2,3")->delimiter(',');
+  bench_cmd->add_option("--seconds", c.bench.seconds, "simulated seconds per run")
       ->check(kFinite & CLI::Range(0.001, 3600.0));
-  bench_cmd->add_option("--ldc-strength", bench.ldc_strength,
+  bench_cmd->add_option("--ldc-strength", c.bench.ldc_strength,
                         "sweep the LDC strength (fraction of the step's limit), e.g. 0.25,0.5,0.9")
       ->delimiter(',')
       ->check(kFinite);
-  bench_cmd->add_option("--targets", bench.targets, "adaptive runs to these mean compressions, e.g. 0.01,0.001")
+  bench_cmd->add_option("--targets", c.bench.targets, "adaptive runs to these mean compressions, e.g. 0.01,0.001")
       ->delimiter(',')
       ->check(kFinite);
-  bench_cmd->add_option("--substeps", bench.substeps, "steps per frame to try, e.g. 1,2,4")->delimiter(',');
-  bench_cmd->add_flag("--stability", bench.stability,
+  bench_cmd->add_option("--substeps", c.bench.substeps, "steps per frame to try, e.g. 1,2,4")->delimiter(',');
+  bench_cmd->add_flag("--stability", c.bench.stability,
                       "the stability map: dam_break and drop, substeps x iterations x LDC strength, each run classified");
-  bench_cmd->add_option("--scenes", bench.scenes, "scenes, e.g. dam_break,drop (default dam_break,hydrostatic)")
+  bench_cmd->add_option("--scenes", c.bench.scenes, "scenes, e.g. dam_break,drop (default dam_break,hydrostatic)")
       ->delimiter(',');
-  bool scaling = false;
-  double budget_minutes = pbflow::bench::ScalingOptions{}.budget_minutes;
-  bench_cmd->add_flag("--scaling", scaling,
+  bench_cmd->add_flag("--scaling", c.scaling,
                       "the cost model: one scene (--scenes, default dam_break) at doubling particle counts from 10 000 "
                       "to 4 000 000, ms per step, bytes per particle, per-pass split, the fit");
-  bench_cmd->add_option("--budget-minutes", budget_minutes, "with --scaling: start no count that would end past this")
+  bench_cmd->add_option("--budget-minutes", c.budget_minutes, "with --scaling: start no count that would end past this")
       ->check(kFinite & CLI::PositiveNumber)
       ->capture_default_str();
-  std::string scaling_method;
-  bench_cmd->add_option("--method", scaling_method, "with --scaling: pbf or ldc (default: the scene's)")
+  bench_cmd->add_option("--method", c.scaling_method, "with --scaling: pbf or ldc (default: the scene's)")
       ->check(CLI::IsMember({"pbf", "ldc"}));
-  bool no_charts = false;
-  bench_cmd->add_flag("--no-charts", no_charts, "CSV only");
+  bench_cmd->add_flag("--no-charts", c.no_charts, "CSV only");
 
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::signal(SIGPIPE, SIG_IGN);  // a dying ffmpeg shows as a failed write, not a silent exit
+  std::signal(SIGXFSZ, SIG_IGN);  // past a file size limit a write fails (EFBIG) and is reported
+  // Freed memory stays with the process: the libraries that draw and write a frame allocate
+  // and free a few megabytes each time, and handing them back to the kernel made every frame
+  // fault them in again (docs/rendering.md, "More on cost").
+  mallopt(M_TRIM_THRESHOLD, 512 << 20);
+  CLI::App app{"pbflow: position based fluids with local density correction, on Vulkan compute"};
+  app.set_version_flag("--version", std::string("pbflow ") + PBFLOW_VERSION);
+  app.require_subcommand(0, 1);
+  Commands c;
+  add_run_command(app, c);
+  add_serve_command(app, c);
+  add_bench_command(app, c);
   app.add_subcommand("scenes", "list the built-in scenes");
   app.add_subcommand("devices", "list the Vulkan devices and their limits");
   app.add_subcommand("keys", "list every scene key: default, range, unit, meaning (Markdown)");
@@ -239,12 +256,13 @@ int main(int argc, char** argv) {
     std::cerr << "pbflow: " << e.what() << "\n";
     return 2;
   }
-  run.render = !no_render;
-  bench.charts = !no_charts;
-  if (!serve.live.compare.empty() && serve_cmd->count("--width") == 0) serve.live.run.width = 480;
-  if (!serve.live.compare.empty() && serve_cmd->count("--height") == 0) serve.live.run.height = 270;
+  c.run.render = !c.no_render;
+  c.bench.charts = !c.no_charts;
+  CLI::App* serve_cmd = app.get_subcommand("serve");
+  if (!c.serve.live.compare.empty() && serve_cmd->count("--width") == 0) c.serve.live.run.width = 480;
+  if (!c.serve.live.compare.empty() && serve_cmd->count("--height") == 0) c.serve.live.run.height = 270;
 
-  const int status = run_command(app, run, serve, bench, scaling, budget_minutes, scaling_method);
+  const int status = run_command(app, c);
   // What was printed must have reached its reader: `pbflow keys > /dev/full` is a failure.
   std::cout.flush();
   if (std::fflush(stdout) != 0 || std::ferror(stdout) || !std::cout) {
@@ -256,22 +274,23 @@ int main(int argc, char** argv) {
 
 namespace {
 
-int run_command(CLI::App& app, const pbflow::RunOptions& run, const pbflow::ServeOptions& serve, const pbflow::bench::StudyOptions& bench, bool scaling,
-                double budget_minutes, const std::string& scaling_method) {
+int run_command(CLI::App& app, const Commands& c) {
   CLI::App* scenes_cmd = app.get_subcommand("scenes");
   CLI::App* devices_cmd = app.get_subcommand("devices");
   CLI::App* keys_cmd = app.get_subcommand("keys");
   CLI::App* bench_cmd = app.get_subcommand("bench");
   CLI::App* serve_cmd = app.get_subcommand("serve");
   try {
-    if (*serve_cmd) return pbflow::serve(serve);
+    if (*serve_cmd) return pbflow::serve(c.serve);
     if (*scenes_cmd) return list_scenes();
     if (*devices_cmd) return list_devices();
     if (*keys_cmd) return std::cout << pbflow::scene_keys_markdown(), 0;
-    if (!scaling_method.empty() && !scaling) throw pbflow::InputError("--method is for --scaling (the study runs both)");
-    if (*bench_cmd && scaling) return pbflow::bench::run_scaling(scaling_options(bench, budget_minutes, scaling_method));
-    if (*bench_cmd) return pbflow::bench::run_study(bench);
-    return pbflow::run(run);  // `pbflow` alone runs the default scene
+    if (!c.scaling_method.empty() && !c.scaling)
+      throw pbflow::InputError("--method is for --scaling (the study runs both)");
+    if (*bench_cmd && c.scaling)
+      return pbflow::bench::run_scaling(scaling_options(c.bench, c.budget_minutes, c.scaling_method));
+    if (*bench_cmd) return pbflow::bench::run_study(c.bench);
+    return pbflow::run(c.run);  // `pbflow` alone runs the default scene
   } catch (const pbflow::InputError& e) {
     std::cerr << "pbflow: " << e.what() << "\n";
     return 2;
