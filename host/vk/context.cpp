@@ -163,6 +163,38 @@ uint32_t preferred_workgroup_size(const VkPhysicalDeviceProperties& p) {
   return std::min(size, p.limits.maxComputeWorkGroupInvocations);
 }
 
+// The device `--device` names: "auto" the usable one of the best kind (auto_rank), or an index.
+uint32_t choose_device(const std::vector<VkPhysicalDevice>& devices, const std::string& option) {
+  if (option == "auto") {
+    int chosen = -1, best_rank = 1 << 30;
+    for (uint32_t i = 0; i < devices.size(); ++i) {
+      VkPhysicalDeviceProperties p;
+      vkGetPhysicalDeviceProperties(devices[i], &p);
+      if (describe(devices[i], i).usable && auto_rank(p.deviceType) < best_rank) {
+        best_rank = auto_rank(p.deviceType);
+        chosen = int(i);
+      }
+    }
+    if (chosen < 0) throw Error("no Vulkan device has a compute queue and VK_KHR_push_descriptor");
+    return uint32_t(chosen);
+  }
+  size_t used = 0;
+  unsigned long index = 0;
+  try {
+    index = std::stoul(option, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != option.size())
+    throw DeviceSelectionError("--device must be auto, cpu or a device index, not '" + option + "'");
+  if (index >= devices.size())
+    throw DeviceSelectionError("--device " + option + ": there are only " + std::to_string(devices.size()) +
+                               " Vulkan devices (see 'pbflow devices')");
+  if (!describe(devices[index], uint32_t(index)).usable)
+    throw DeviceSelectionError("Vulkan device " + option + " lacks a compute queue or VK_KHR_push_descriptor");
+  return uint32_t(index);
+}
+
 }  // namespace
 
 std::vector<DeviceInfo> Context::list_devices() {
@@ -188,53 +220,12 @@ VKAPI_ATTR VkBool32 VKAPI_CALL Context::on_message(VkDebugUtilsMessageSeverityFl
 Context::Context(const Options& options) : validate_(options.validate) {
   instance_ = create_instance(validate_);
   try {
-    if (validate_) {
-      VkDebugUtilsMessengerCreateInfoEXT info{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
-      info.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT |
-                             VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
-      info.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT |
-                         VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT;
-      info.pfnUserCallback = &Context::on_message;
-      info.pUserData = this;
-      auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
-          vkGetInstanceProcAddr(instance_, "vkCreateDebugUtilsMessengerEXT"));
-      if (!create) throw Error("vkCreateDebugUtilsMessengerEXT is not available");
-      VK_CHECK(create(instance_, &info, nullptr, &messenger_));
-    }
-
-    auto devices = physical_devices(instance_);
+    if (validate_) create_messenger();
+    const std::vector<VkPhysicalDevice> devices = physical_devices(instance_);
     if (devices.empty()) throw Error("no Vulkan device found (install mesa-vulkan-drivers for lavapipe)");
-    int chosen = -1;
-    if (options.device == "auto") {
-      int best_rank = 1 << 30;
-      for (uint32_t i = 0; i < devices.size(); ++i) {
-        VkPhysicalDeviceProperties p;
-        vkGetPhysicalDeviceProperties(devices[i], &p);
-        if (describe(devices[i], i).usable && auto_rank(p.deviceType) < best_rank) {
-          best_rank = auto_rank(p.deviceType);
-          chosen = int(i);
-        }
-      }
-      if (chosen < 0) throw Error("no Vulkan device has a compute queue and VK_KHR_push_descriptor");
-    } else {
-      size_t used = 0;
-      unsigned long index = 0;
-      try {
-        index = std::stoul(options.device, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used == 0 || used != options.device.size())
-        throw DeviceSelectionError("--device must be auto, cpu or a device index, not '" + options.device + "'");
-      if (index >= devices.size())
-        throw DeviceSelectionError("--device " + options.device + ": there are only " + std::to_string(devices.size()) +
-                    " Vulkan devices (see 'pbflow devices')");
-      chosen = int(index);
-      if (!describe(devices[chosen], chosen).usable)
-        throw DeviceSelectionError("Vulkan device " + options.device + " lacks a compute queue or VK_KHR_push_descriptor");
-    }
+    const uint32_t chosen = choose_device(devices, options.device);
     physical_ = devices[chosen];
-    info_ = describe(physical_, uint32_t(chosen));
+    info_ = describe(physical_, chosen);
     VkPhysicalDeviceProperties props;
     vkGetPhysicalDeviceProperties(physical_, &props);
     limits_ = props.limits;
@@ -243,34 +234,7 @@ Context::Context(const Options& options) : validate_(options.validate) {
     if (workgroup_size_ > limits_.maxComputeWorkGroupInvocations)
       throw Error("workgroup size " + std::to_string(workgroup_size_) + " exceeds the device limit of " +
                   std::to_string(limits_.maxComputeWorkGroupInvocations));
-
-    queue_family_ = uint32_t(compute_queue_family(physical_));
-    float priority = 1.0f;
-    VkDeviceQueueCreateInfo queue{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
-    queue.queueFamilyIndex = queue_family_;
-    queue.queueCount = 1;
-    queue.pQueuePriorities = &priority;
-    VkDeviceCreateInfo info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
-    info.queueCreateInfoCount = 1;
-    info.pQueueCreateInfos = &queue;
-    // Optional: exporting memory lets the renderer read solver buffers without a host copy.
-    std::vector<const char*> extensions(std::begin(kRequiredDeviceExtensions), std::end(kRequiredDeviceExtensions));
-    external_memory_fd_ = has_extension(physical_, VK_KHR_EXTERNAL_MEMORY_FD_EXTENSION_NAME);
-    if (external_memory_fd_) extensions.push_back(VK_KHR_EXTERNAL_MEMORY_FD_EXTENSION_NAME);
-    info.enabledExtensionCount = uint32_t(extensions.size());
-    info.ppEnabledExtensionNames = extensions.data();
-    VK_CHECK(vkCreateDevice(physical_, &info, nullptr, &device_));
-    vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
-    push_descriptor_set = reinterpret_cast<PFN_vkCmdPushDescriptorSetKHR>(
-        vkGetDeviceProcAddr(device_, "vkCmdPushDescriptorSetKHR"));
-    if (!push_descriptor_set) throw Error("vkCmdPushDescriptorSetKHR is not available");
-    if (external_memory_fd_)
-      get_memory_fd = reinterpret_cast<PFN_vkGetMemoryFdKHR>(vkGetDeviceProcAddr(device_, "vkGetMemoryFdKHR"));
-    VkPhysicalDeviceIDProperties id{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ID_PROPERTIES};
-    VkPhysicalDeviceProperties2 props2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &id};
-    vkGetPhysicalDeviceProperties2(physical_, &props2);
-    std::copy(std::begin(id.deviceUUID), std::end(id.deviceUUID), device_uuid_.begin());
-
+    create_device();
     VkCommandPoolCreateInfo pool{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
     pool.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
     pool.queueFamilyIndex = queue_family_;
@@ -279,6 +243,50 @@ Context::Context(const Options& options) : validate_(options.validate) {
     release();
     throw;
   }
+}
+
+// Validation messages (warnings and errors) reach on_message, which records them.
+void Context::create_messenger() {
+  VkDebugUtilsMessengerCreateInfoEXT info{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
+  info.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+  info.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT;
+  info.pfnUserCallback = &Context::on_message;
+  info.pUserData = this;
+  auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
+      vkGetInstanceProcAddr(instance_, "vkCreateDebugUtilsMessengerEXT"));
+  if (!create) throw Error("vkCreateDebugUtilsMessengerEXT is not available");
+  VK_CHECK(create(instance_, &info, nullptr, &messenger_));
+}
+
+// The logical device on physical_'s compute queue, with the extensions pbflow needs and
+// external memory where the device has it, and the entry points and UUID it is used through.
+void Context::create_device() {
+  queue_family_ = uint32_t(compute_queue_family(physical_));
+  float priority = 1.0f;
+  VkDeviceQueueCreateInfo queue{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
+  queue.queueFamilyIndex = queue_family_;
+  queue.queueCount = 1;
+  queue.pQueuePriorities = &priority;
+  VkDeviceCreateInfo info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
+  info.queueCreateInfoCount = 1;
+  info.pQueueCreateInfos = &queue;
+  // Optional: exporting memory lets the renderer read solver buffers without a host copy.
+  std::vector<const char*> extensions(std::begin(kRequiredDeviceExtensions), std::end(kRequiredDeviceExtensions));
+  external_memory_fd_ = has_extension(physical_, VK_KHR_EXTERNAL_MEMORY_FD_EXTENSION_NAME);
+  if (external_memory_fd_) extensions.push_back(VK_KHR_EXTERNAL_MEMORY_FD_EXTENSION_NAME);
+  info.enabledExtensionCount = uint32_t(extensions.size());
+  info.ppEnabledExtensionNames = extensions.data();
+  VK_CHECK(vkCreateDevice(physical_, &info, nullptr, &device_));
+  vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
+  push_descriptor_set =
+      reinterpret_cast<PFN_vkCmdPushDescriptorSetKHR>(vkGetDeviceProcAddr(device_, "vkCmdPushDescriptorSetKHR"));
+  if (!push_descriptor_set) throw Error("vkCmdPushDescriptorSetKHR is not available");
+  if (external_memory_fd_)
+    get_memory_fd = reinterpret_cast<PFN_vkGetMemoryFdKHR>(vkGetDeviceProcAddr(device_, "vkGetMemoryFdKHR"));
+  VkPhysicalDeviceIDProperties id{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ID_PROPERTIES};
+  VkPhysicalDeviceProperties2 props2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &id};
+  vkGetPhysicalDeviceProperties2(physical_, &props2);
+  std::copy(std::begin(id.deviceUUID), std::end(id.deviceUUID), device_uuid_.begin());
 }
 
 Context::~Context() { release(); }

@@ -76,6 +76,8 @@ class Context {
                                                    const VkDebugUtilsMessengerCallbackDataEXT*,
                                                    void*);
 
+  void create_messenger();
+  void create_device();
   void release() noexcept;
 
   bool validate_ = false;
