@@ -71,7 +71,7 @@ Measured measure(const ScalingOptions& o, const Scene& base, const vk::Context* 
   const MemoryNeed need = memory_need(d, double(x0.size()), ctx ? &ctx->info() : nullptr);
 
   std::unique_ptr<Solver> solver = make_solver(ctx, d, x0);
-  relax_seed(*solver);  // as `pbflow run` starts
+  project_start(*solver);  // as `pbflow run` starts
   if (auto* gpu = dynamic_cast<GpuSolver*>(solver.get())) gpu->set_profiling(true);
   const int substeps = scene.solver.substeps;
   const int frames = std::max(1, int(std::lround(o.seconds * scene.fps)));

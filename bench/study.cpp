@@ -90,7 +90,7 @@ Outcome simulate(const Run& r, int index, double seconds, const vk::Context* ctx
   Derived d = derive(scene);
   auto x0 = initial_particles(scene);
   std::unique_ptr<Solver> solver = make_solver(ctx, d, x0);
-  relax_seed(*solver);  // as `pbflow run` starts
+  project_start(*solver);  // as `pbflow run` starts
   if (scene.settle) settle(*solver, d);  // as `pbflow run` does: the tank starts in its equilibrium
   if (auto* gpu = dynamic_cast<GpuSolver*>(solver.get())) gpu->set_profiling(true);
 

@@ -29,7 +29,7 @@ float phi_at(int k) { return WHOLE ? phi_shared[k] : phi[k]; }
 // flux), one without fluid reads 0. The
 // j-th node is on row j / per_row, at x = 2 (j % per_row) or one more, as the row's parity
 // makes the colour.
-void relax(int j, int colour, float omega) {
+void sweep_node(int j, int colour, float omega) {
   int per_row = (NODES_X + 1) / 2, row = j / per_row;
   ivec3 p = ivec3(0, row % NODES_Y, row / NODES_Y);
   p.x = 2 * (j % per_row) + (colour + p.y + p.z) % 2;
@@ -64,7 +64,7 @@ void main() {
   }
   for (int sweep = 0; sweep < (WHOLE ? COARSE_SWEEPS : 1); ++sweep)
     for (int c = 0; c < (WHOLE ? 2 : 1); ++c) {
-      for (int j = first; j < per_colour; j += stride) relax(j, (FIRST_COLOUR + c) % 2, omega);
+      for (int j = first; j < per_colour; j += stride) sweep_node(j, (FIRST_COLOUR + c) % 2, omega);
       if (WHOLE) barrier();
     }
   if (WHOLE)

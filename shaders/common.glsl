@@ -8,7 +8,7 @@ layout(push_constant) uniform Sim {
   ivec3 grid; uint count;
   vec3 wall_min; float rho0;
   vec3 wall_max; float epsilon;
-  float poly6_scale; float spiky_grad_scale; float ldc_k; float relax;  // relax: this Jacobi pass's
+  float poly6_scale; float spiky_grad_scale; float ldc_k; float omega;  // omega: this Jacobi pass's
   float xsph_c; float vorticity_eps;
 } sim;
 

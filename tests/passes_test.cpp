@@ -356,7 +356,7 @@ TEST_P(StepTest, SeveralStepsAgree) {
   EXPECT_LT(ev.max_abs, 1e-3 * ev.scale);
 }
 
-// The seed's relax (Solver::relax, sim/settle.hpp): the GPU's projections agree with the
+// The seed's relax (Solver::project, sim/settle.hpp): the GPU's projections agree with the
 // reference's, leave the fluid at rest, and take out the compression the jitter brought.
 TEST_P(StepTest, TheSeedsRelaxAgreesAndDecompresses) {
   const StepCase& c = GetParam();
@@ -367,8 +367,8 @@ TEST_P(StepTest, TheSeedsRelaxAgreesAndDecompresses) {
   GpuSolver gpu(test::gpu(), d, x0);
   ReferenceSolver ref(d, x0);
   const double seeded = ref.advance(0).mean_compression;
-  relax_seed(gpu);
-  relax_seed(ref);
+  project_start(gpu);
+  project_start(ref);
   const FrameStats g = gpu.advance(0), r = ref.advance(0);
   std::printf("  %s: mean compression %.5f seeded, %.5f relaxed (reference %.5f)\n", c.name, seeded,
               g.mean_compression, r.mean_compression);

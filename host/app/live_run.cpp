@@ -106,7 +106,7 @@ struct LiveRun::Stage {
       lanes.push_back({setting_of(lane), make_solver(ctx, derive(lane), initial_particles(lane))});
     }
     Solver& first = *lanes[0].solver;
-    relax_seed(first);
+    project_start(first);
     if (scene.settle) settle(first, derive(scene));
     start = first.download();
     for (Lane& lane : lanes) lane.solver->upload(start);

@@ -90,8 +90,8 @@ class Progress {
     double left = (frames_ - 1 - frame) / std::max(rate, 1e-9);
     say("frame %d/%d  t = %.2f s  %.1f frames/s  %.0f s left", frame + 1, frames_, sim_time, rate, left);
   }
-  void relaxing(int projection) {
-    if (due()) say("relaxing the seed: %d/%d", projection, kSeedRelax);
+  void projecting(int projection) {
+    if (due()) say("projecting the start: %d/%d", projection, kStartProjections);
   }
   void settling(int step) {
     if (due()) say("settling: step %d", step);
@@ -193,9 +193,9 @@ void announce(const RunOptions& o, const Scene& scene, const Derived& d, const n
 // The start: the jittered seed relaxed, and a tank settled where the scene asks.
 void prepare_start(Solver& solver, const Scene& scene, const Derived& d, bool quiet, Progress& progress,
                    const InterruptGuard& interrupt) {
-  relax_seed(solver, [&](int projection) {
-    if (projection == 1) pause_point("relax");
-    progress.relaxing(projection);
+  project_start(solver, [&](int projection) {
+    if (projection == 1) pause_point("project");
+    progress.projecting(projection);
     return !interrupt.signal();
   });
   progress.done();

@@ -360,9 +360,9 @@ void GpuSolver::constraint_smooth(const vk::Buffer* indirect) {
   }
 }
 
-void GpuSolver::constraint_apply(double relax, const vk::Buffer* indirect) {
+void GpuSolver::constraint_apply(double omega, const vk::Buffer* indirect) {
   // Jacobi: every particle reads the same x_pred, so the result goes to a spare array.
-  sim_.relax = float(relax);
+  sim_.omega = float(omega);
   run_neighbour_pass(apply_, indirect, [&] {
     cmd_.bind("x_lambda", x_lambda_);  // x_pred, with lambda beside it
     cmd_.bind("x_out", at(Spare0));
@@ -499,7 +499,7 @@ void GpuSolver::record(const PlannedPass& p, const vk::Buffer* indirect) {
     case Pass::Lambda: constraint_lambda(indirect); break;
     case Pass::Coarse: coarse_correction(); break;
     case Pass::Smooth: constraint_smooth(indirect); break;
-    case Pass::Apply: constraint_apply(p.relax, indirect); break;
+    case Pass::Apply: constraint_apply(p.omega, indirect); break;
     case Pass::Adaptive: adaptive_iterations(); break;
     case Pass::Velocity: velocity_update(); break;
     case Pass::Viscosity: viscosity_vorticity(); break;
@@ -507,12 +507,12 @@ void GpuSolver::record(const PlannedPass& p, const vk::Buffer* indirect) {
   }
 }
 
-void GpuSolver::relax() {
+void GpuSolver::project() {
   begin();
   const VkBufferCopy all{0, 0, at(X).bytes()};
   vkCmdCopyBuffer(cmd_.handle(), at(X).handle(), at(XPred).handle(), 1, &all);  // x* = x
   vk::memory_barrier(cmd_.handle());
-  for (const PlannedPass& pass : relax_plan(d_)) record(pass);  // one iteration whatever the step runs: Solver::relax says why
+  for (const PlannedPass& pass : projection_plan(d_)) record(pass);  // one iteration whatever the step runs: Solver::project says why
   swap_roles(X, XPred);
   cmd_.fill(at(V), 0);  // the sort left v in the old order: it is zero anyway
   finish();

@@ -31,7 +31,7 @@ class GpuSolver : public Solver {
   void copy_frame(const vk::Buffer& dst) const;
   void set_smoothed_positions(bool on) override;  // builds the pass's programs when first asked
   size_t particle_count() const override { return n_; }
-  void relax() override;
+  void project() override;
   std::string device_name() const override;
 
   // Pass-level access for the tests: begin(), record passes, finish() submits and waits.
@@ -46,7 +46,7 @@ class GpuSolver : public Solver {
   // With `indirect`, group counts come from that buffer (adaptive iterations).
   void constraint_lambda(const vk::Buffer* indirect = nullptr);
   void constraint_smooth(const vk::Buffer* indirect = nullptr);  // solver.lambda_smoothing passes over lambda
-  void constraint_apply(double relax, const vk::Buffer* indirect = nullptr);
+  void constraint_apply(double omega, const vk::Buffer* indirect = nullptr);
   void coarse_correction();  // x_lambda's x_pred += the coarse grid's correction, from a lambda pass's rho
   void velocity_update();
   void viscosity_vorticity();

@@ -61,7 +61,7 @@ SimConstants Derived::to_gpu(uint32_t count) const {
   c.poly6_scale = float(kernels::poly6_scale(h));
   c.spiky_grad_scale = float(kernels::spiky_grad_scale(h));
   c.ldc_k = float(ldc_k);
-  c.relax = 1.0f;  // set per constraint pass
+  c.omega = 1.0f;  // set per constraint pass
   c.xsph_c = float(solver.xsph);
   c.vorticity_eps = float(solver.vorticity);
   return c;

@@ -48,7 +48,7 @@ struct SimConstants {
   glm::ivec3 grid; uint32_t count;
   glm::vec3 wall_min; float rho0;
   glm::vec3 wall_max; float epsilon;
-  float poly6_scale, spiky_grad_scale, ldc_k, relax;
+  float poly6_scale, spiky_grad_scale, ldc_k, omega;
   float xsph_c, vorticity_eps;
 };
 static_assert(sizeof(SimConstants) == 120, "SimConstants must match shaders/common.glsl and fit 128 bytes");
@@ -66,7 +66,7 @@ struct Derived {
   double jacobi_gain_max, paired_gain_max;
   // One constraint iteration: its under-relaxation, and whether lambda is smoothed before it.
   struct ConstraintPass {
-    double relax;
+    double omega;  // the Jacobi under-relaxation ω
     bool smoothed;
   };
   // A step's `passes` iterations. Pairs run smoothed at paired_gain_max's relaxation

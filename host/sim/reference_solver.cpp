@@ -226,7 +226,7 @@ void ReferenceSolver::constraint_smooth() {
   }
 }
 
-void ReferenceSolver::constraint_apply(double relax) {
+void ReferenceSolver::constraint_apply(double omega) {
   std::vector<dvec3> next(state.x.size());
   for (size_t i = 0; i < next.size(); ++i) {
     const dvec3 xi = state.x_pred[i];
@@ -236,7 +236,7 @@ void ReferenceSolver::constraint_apply(double relax) {
       dvec3 d = xi - m.of(state.x_pred[j]);
       dp += (state.lambda[i] + state.lambda[j]) * kernels::spiky_grad(d, d_.h);
     });
-    next[i] = project_out_of_solids(xi + relax * (d_.mass / d_.rho0) * dp);
+    next[i] = project_out_of_solids(xi + omega * (d_.mass / d_.rho0) * dp);
   }
   state.x_pred = std::move(next);
 }
@@ -363,9 +363,9 @@ void ReferenceSolver::vorticity_force() {
   }
 }
 
-void ReferenceSolver::relax() {
+void ReferenceSolver::project() {
   state.x_pred = state.x;
-  for (const PlannedPass& pass : relax_plan(d_)) run(pass);  // one iteration whatever the step runs: Solver::relax says why
+  for (const PlannedPass& pass : projection_plan(d_)) run(pass);  // one iteration whatever the step runs: Solver::project says why
   state.x = state.x_pred;
   for (dvec3& v : state.v) v = dvec3(0.0);
 }
@@ -386,7 +386,7 @@ void ReferenceSolver::run(const PlannedPass& p) {
     case Pass::Lambda: constraint_lambda(); break;
     case Pass::Coarse: coarse_correction(); break;
     case Pass::Smooth: constraint_smooth(); break;
-    case Pass::Apply: constraint_apply(p.relax); break;
+    case Pass::Apply: constraint_apply(p.omega); break;
     case Pass::Adaptive: adaptive_iterations(); break;
     case Pass::Velocity: velocity_update(); break;
     case Pass::Viscosity: viscosity_vorticity(); break;

@@ -20,7 +20,7 @@ class ReferenceSolver : public Solver {
   ParticleState download() const override { return state; }
   void upload(const ParticleState& s) override;
   size_t particle_count() const override { return state.x.size(); }
-  void relax() override;
+  void project() override;
   std::string device_name() const override { return "cpu (C++ reference)"; }
 
   void step();
@@ -35,7 +35,7 @@ class ReferenceSolver : public Solver {
   void predict();                                      // v += g dt, x_pred
   void constraint_lambda();                            // lambda at x_pred
   void constraint_smooth();                            // lambda averaged over the neighbours, lambda_smoothing times
-  void constraint_apply(double relax);                 // x_pred += relax dp
+  void constraint_apply(double omega);                 // x_pred += omega dp
   void coarse_correction();                            // x_pred += the coarse grid's correction, from a lambda pass's rho
   void velocity_update();                              // v from x_pred - x; x = x_pred
   void viscosity_vorticity();                          // XSPH, omega

@@ -26,12 +26,12 @@ namespace pbflow {
 // Every run starts from its seed relaxed: the seed's jitter (scene/seeding.hpp) brings some
 // particles closer than the lattice, and released from there the solver pushed them apart and
 // lifted the fluid (the energy tests' small dam break gained up to 6.6 % of its potential
-// energy). kSeedRelax projections (Solver::relax) take the worst of those tests to 0.16 %
+// energy). kStartProjections projections (Solver::project) take the worst of those tests to 0.16 %
 // (thirty: 0.66 %; docs/physics.md, "The seed").
-inline constexpr int kSeedRelax = 40;
+inline constexpr int kStartProjections = 40;
 // `progress(projection)`, if given, is called after each projection; false stops early (an
 // interrupt). They cost about forty steps' worth: a million particles take ~1.5 min on lavapipe.
-void relax_seed(Solver& solver, const std::function<bool(int)>& progress = {});
+void project_start(Solver& solver, const std::function<bool(int)>& progress = {});
 
 struct SettleReport {
   int steps = 0;

@@ -118,12 +118,12 @@ class Solver {
   // One constraint projection alone: x* = x, the grid and lists at x*, a single iteration's
   // pass (smoothed as the scene smooths) with the coarse correction beside it, x = x*. No time
   // passes: no gravity, no LDC, no XSPH, and the velocities are zero after. A seed starts from
-  // it (sim/settle.hpp, relax_seed). One pass whatever the step runs: every schedule relaxes
-  // towards the same rest, so a pbf@2 run's relax costs two thirds of its two pairs and a
+  // it (sim/settle.hpp, project_start). One pass whatever the step runs: every schedule relaxes
+  // towards the same rest, so a pbf@2 run's projection costs two thirds of its two pairs and a
   // pbf@4 run's half. The coarse correction stays: a jittered seed is compressed as a whole
   // (3.5 % at ±25 %), the longest mode there is; without it 40 projections left 0.064 % where
   // they leave 0.011 %, and the energy tests gained up to 7 %.
-  virtual void relax() = 0;
+  virtual void project() = 0;
 
   // From the next advance() on, each frame also smooths the positions (x_smooth), for a
   // capture that draws the fluid's surface; off, a frame costs no more than its steps.

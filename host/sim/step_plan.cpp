@@ -8,7 +8,7 @@ std::vector<PlannedPass> constraint_plan(const Derived& d, int iterations, bool 
     plan.push_back({Pass::Lambda, PassGroup::Constraints});
     if (with_coarse && plan.size() == 1 && d.coarse.strength > 0) plan.push_back({Pass::Coarse, PassGroup::Coarse});
     if (pass.smoothed) plan.push_back({Pass::Smooth, PassGroup::Constraints});
-    plan.push_back({Pass::Apply, PassGroup::Constraints, pass.relax});
+    plan.push_back({Pass::Apply, PassGroup::Constraints, pass.omega});
   }
   return plan;
 }
@@ -38,7 +38,7 @@ std::vector<PlannedPass> step_plan(const Derived& d, bool density_current) {
   return plan;
 }
 
-std::vector<PlannedPass> relax_plan(const Derived& d) {
+std::vector<PlannedPass> projection_plan(const Derived& d) {
   std::vector<PlannedPass> plan = kGridAndLists;
   append(plan, constraint_plan(d, 1));
   return plan;

@@ -28,7 +28,7 @@ enum class Pass {
 struct PlannedPass {
   Pass pass;
   PassGroup group;   // what the benchmarks' split counts it under
-  double relax = 0;  // Apply: the iteration's under-relaxation
+  double omega = 0;  // Apply: the iteration's under-relaxation ω
 };
 
 // An adaptive step's extra iterations come this many at a time: an Apply swaps two arrays'
@@ -40,8 +40,8 @@ std::vector<PlannedPass> step_plan(const Derived& d, bool density_current = fals
 // `iterations` constraint iterations as Derived::constraint_schedule lays them out, the coarse
 // correction beside the first where the scene runs it and `with_coarse` asks.
 std::vector<PlannedPass> constraint_plan(const Derived& d, int iterations, bool with_coarse = true);
-// The start-up projection (Solver::relax), after x* = x: the grid and lists at x* and one
+// The start-up projection (Solver::project), after x* = x: the grid and lists at x* and one
 // constraint iteration, whatever the step runs.
-std::vector<PlannedPass> relax_plan(const Derived& d);
+std::vector<PlannedPass> projection_plan(const Derived& d);
 
 }  // namespace pbflow
