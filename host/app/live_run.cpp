@@ -128,7 +128,7 @@ struct LiveRun::Stage {
     lanes[0].solver.reset();  // before the next is made: one solver's memory at a time
     lanes[0] = {setting_of(scene), make_solver(ctx, derive(scene), initial_particles(scene))};
   }
-  void draw_anew(const vk::Context* ctx, const Camera& camera) {
+  void draw_anew(const vk::Context* ctx, Camera camera) {  // by value: it may be the old renderer's
     capture.reset();
     capture = make_frame_capture(options, scene, solvers(), ctx);
     capture->set_camera(camera);
