@@ -54,12 +54,9 @@ void FrameBudget::add(double simulate_ms, double other_ms) {
 
 std::optional<LiveSetting> FrameBudget::decide(Clock::time_point now) {
   if (std::chrono::duration<double>(now - since_).count() < kDecideSeconds || frames_ == 0) return std::nullopt;
-  const auto measured = std::find_if(measured_.begin(), measured_.end(),
-                                     [&](const FrontPoint& p) { return p.setting == current_; });
+  const double measured = measured_ms(current_);
   const double simulate_ms = simulate_sum_ / frames_, other_ms = other_sum_ / frames_;
-  const double scale = measured != measured_.end() && measured->simulate_ms > 0
-                           ? std::clamp(simulate_ms / measured->simulate_ms, 0.25, 4.0)
-                           : 1.0;
+  const double scale = measured > 0 ? std::clamp(simulate_ms / measured, 0.25, 4.0) : 1.0;
   simulate_sum_ = other_sum_ = 0;
   frames_ = 0;
   since_ = now;
@@ -67,6 +64,11 @@ std::optional<LiveSetting> FrameBudget::decide(Clock::time_point now) {
 }
 
 std::optional<LiveSetting> FrameBudget::decide_now(double other_ms) { return take(choose(1.0, other_ms)); }
+
+double FrameBudget::measured_ms(const LiveSetting& s) const {
+  const auto found = std::find_if(measured_.begin(), measured_.end(), [&](const FrontPoint& p) { return p.setting == s; });
+  return found != measured_.end() ? found->simulate_ms : 0;
+}
 
 std::optional<LiveSetting> FrameBudget::take(const LiveSetting& chosen) {
   if (chosen == current_) return std::nullopt;
@@ -76,9 +78,7 @@ std::optional<LiveSetting> FrameBudget::take(const LiveSetting& chosen) {
 
 LiveSetting FrameBudget::choose(double scale, double other_ms) const {
   if (front_.empty()) return current_;
-  const auto measured = std::find_if(measured_.begin(), measured_.end(),
-                                     [&](const FrontPoint& p) { return p.setting == current_; });
-  const double current_ms = measured != measured_.end() ? measured->simulate_ms : 0;
+  const double current_ms = measured_ms(current_);
   for (auto p = front_.rbegin(); p != front_.rend(); ++p) {
     const double limit = p->simulate_ms > current_ms ? kHeadroom * budget_ms_ : budget_ms_;
     if (scale * p->simulate_ms + other_ms <= limit) return p->setting;

@@ -72,6 +72,7 @@ class FrameBudget {
 
  private:
   std::optional<LiveSetting> take(const LiveSetting& chosen);  // the chosen one, where it is new
+  double measured_ms(const LiveSetting& s) const;              // its trial's simulation; 0 where not tried
 
   double budget_ms_;
   std::vector<FrontPoint> measured_, front_;

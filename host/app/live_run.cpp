@@ -195,6 +195,11 @@ std::string LiveRun::description() const {
   return description_;
 }
 
+void LiveRun::describe(std::string about) {
+  std::lock_guard lock(frames_mutex_);
+  description_ = std::move(about);
+}
+
 std::shared_ptr<const LiveFrame> LiveRun::next_frame(uint64_t after, std::chrono::milliseconds timeout) const {
   std::unique_lock lock(frames_mutex_);
   encoded_changed_.wait_for(lock, timeout, [&] { return stopping_ || (encoded_ && encoded_->number > after); });
@@ -206,13 +211,12 @@ void LiveRun::simulate(const LiveOptions& o, std::promise<void>& ready) {
   std::unique_ptr<vk::Context> ctx;
   Stage stage;
   try {
-    const Scene scene = load_scene(o.run.scene, scene_overrides(o.run));
     ctx = make_context(o.run.device, o.run.validate);
     if (ctx) device_ = ctx->info();
-    check_run_memory(o.run, scene, derive(scene), device_ ? &*device_ : nullptr, panels_);
+    check_scene(o.run.scene);
     stage.load(o.run, o.compare, ctx.get());
     fps_ = stage.scene.fps;  // before the encoder's thread starts, which reads it
-    description_ = stage.about();
+    describe(stage.about());
     ready.set_value();
   } catch (...) {
     ready.set_exception(std::current_exception());
@@ -327,13 +331,10 @@ void LiveRun::run_frames(Stage& stage, const vk::Context* ctx, double budget_ms)
     }
     if (stopping_) break;
     if (scene) {  // the new scene's start, under the settings the run has (a held budget measures it anew)
-      std::vector<LiveSetting> settings;
+      std::vector<LiveSetting> settings;  // at the new scene's own substeps
+      for (const Lane& lane : stage.lanes) settings.push_back({lane.setting.method, lane.setting.iterations, 0});
       RunOptions o = stage.options;
       o.scene = *scene;
-      if (panels_ > 1)
-        for (const Lane& lane : stage.lanes) settings.push_back({lane.setting.method, lane.setting.iterations, 0});
-      else
-        o.method = stage.lanes[0].setting.method, o.iterations = stage.lanes[0].setting.iterations;
       stage.load(o, settings, ctx);
       fps_ = stage.scene.fps;
       sim_time = 0, first = true;
@@ -348,10 +349,7 @@ void LiveRun::run_frames(Stage& stage, const vk::Context* ctx, double budget_ms)
       stage.draw_anew(ctx, stage.capture->camera());
     }
     if (new_budget) hold_budget(*new_budget);
-    if (scene || setting || new_budget) {
-      std::lock_guard lock(frames_mutex_);
-      description_ = stage.about();
-    }
+    if (scene || setting || new_budget) describe(stage.about());
     if (paused && !step && !first && !redraw && !scene) {
       realtime.restart();
       due = Clock::now();
@@ -371,7 +369,7 @@ void LiveRun::run_frames(Stage& stage, const vk::Context* ctx, double budget_ms)
     frame->realtime_factor = paused ? 0.0 : realtime.value();
     frame->paused = paused;
     frame->scene = stage.scene.name;
-    frame->about = stage.about();
+    frame->about = description();
     frame->budget_ms = budget ? budget->budget_ms() : 0;
     frame->front = front;
     const Clock::time_point simulated = Clock::now();
@@ -384,8 +382,7 @@ void LiveRun::run_frames(Stage& stage, const vk::Context* ctx, double budget_ms)
       budget->add(frame->simulate_ms, frame->draw_ms);
       if (const std::optional<LiveSetting> chosen = budget->decide()) {
         stage.change_setting(*chosen, ctx);
-        std::lock_guard lock(frames_mutex_);
-        description_ = stage.about();
+        describe(stage.about());
       }
     }
     {

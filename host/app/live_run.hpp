@@ -105,6 +105,7 @@ class LiveRun {
   void encode();
   void encode_frames();
   void fail(const std::string& why);  // a thread's failure: recorded, and the run stops
+  void describe(std::string about);   // what description() says from here
 
   const RunOptions options_;  // as given: what check_scene() checks against
   const size_t panels_;

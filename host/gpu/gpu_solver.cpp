@@ -426,6 +426,7 @@ void GpuSolver::adaptive_iterations() {
   const auto full = cmd_.groups(n_, lambda_.lists.workgroup_size());
   const uint32_t args[3] = {full[0], full[1], 1};
   cmd_.update(indirect_, args, sizeof args);
+  const std::vector<PlannedPass> group = constraint_plan(d_, kAdaptiveStride, false);
   for (int run = p.iterations; run + kAdaptiveStride <= p.max_iterations; run += kAdaptiveStride) {
     reduce_measures(check_);
     cmd_.set_program(check_converged_);
@@ -435,7 +436,7 @@ void GpuSolver::adaptive_iterations() {
     cmd_.bind("overflow", overflow_groups_);
     cmd_.bind("overflow_gated", overflow_gated_);
     cmd_.dispatch(1);
-    for (const PlannedPass& pass : constraint_plan(d_, kAdaptiveStride, false)) record(pass, &indirect_);
+    for (const PlannedPass& pass : group) record(pass, &indirect_);
   }
 }
 

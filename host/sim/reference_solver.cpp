@@ -398,9 +398,10 @@ void ReferenceSolver::run(const PlannedPass& p) {
 // of kAdaptiveStride iterations at a time (GpuSolver::adaptive_iterations).
 void ReferenceSolver::adaptive_iterations() {
   const SolverParams& p = d_.solver;
+  const std::vector<PlannedPass> group = constraint_plan(d_, kAdaptiveStride, false);
   for (int run = p.iterations; run + kAdaptiveStride <= p.max_iterations && mean_compression() > p.target_compression;
        run += kAdaptiveStride) {
-    for (const PlannedPass& pass : constraint_plan(d_, kAdaptiveStride, false)) this->run(pass);
+    for (const PlannedPass& pass : group) this->run(pass);
     iterations_run_ += kAdaptiveStride;
   }
 }
