@@ -1,16 +1,9 @@
-// Shared by every particle pass: the simulation constants (mirrors SimConstants in
-// host/sim/params.hpp), the SPH kernels (mirrors host/sim/kernels.hpp) and the grid lookup.
+// Shared by every particle pass: the simulation constants (declared in sim_constants.h), the SPH kernels (mirrors host/sim/kernels.hpp) and the grid lookup.
 
-layout(push_constant) uniform Sim {
-  vec3 domain_min; float h;
-  vec3 domain_max; float dt;
-  vec3 gravity; float mass;
-  ivec3 grid; uint count;
-  vec3 wall_min; float rho0;
-  vec3 wall_max; float epsilon;
-  float poly6_scale; float spiky_grad_scale; float ldc_k; float omega;  // omega: this Jacobi pass's
-  float xsph_c; float vorticity_eps;
-} sim;
+#include "sim_constants.h"
+#define SIM_FIELD(type, name) type name;
+layout(push_constant) uniform Sim { SIM_CONSTANTS(SIM_FIELD) } sim;
+#undef SIM_FIELD
 
 // Dispatches larger than the group-count limit fold into y (CommandList::dispatch).
 uint thread_index() {

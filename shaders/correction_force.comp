@@ -3,7 +3,7 @@
 // pushing each particle away from denser neighbours; applied at once as v_i += f_i dt, and
 // then the prediction, as predict.comp's: v_i += g dt, x*_i = x_i + v_i dt. In this pass
 // rather than a pass of its own: a dispatch less is ~3 % of an ldc@1 step on llvmpipe.
-// With CLAMP_DENSITY (solver.ldc_clamp) densities below rho0 count as rho0, so that a
+// With SOLVER_LDC_CLAMP densities below rho0 count as rho0, so that a
 // free surface (neighbours missing, density low) does not draw the fluid towards it.
 // Within h of a wall the sum also runs over the neighbours' mirror images behind it (the
 // walls' ghost fluid, common.glsl): without them a particle at a wall got half the force
@@ -18,14 +18,14 @@ layout(std430, binding = 3) buffer V { vec4 v[]; };
 layout(std430, binding = 6) writeonly buffer XPred { vec4 x_pred[]; };
 #define OBSTACLES_BINDING 7
 #include "obstacles.glsl"
-layout(constant_id = 1) const bool CLAMP_DENSITY = true;
+layout(constant_id = 100) const bool SOLVER_LDC_CLAMP = true;  // the scene's key (gpu/key_constants.hpp)
 layout(constant_id = 2) const float LDC_ROOM = 1.8;  // Derived::ldc_room
 #define NEIGHBOUR_BINDING 4
 #define NEIGHBOUR_CAPACITY_ID 3
 #include "neighbours.glsl"
 
 float density_of(uint k) { return imageLoad(rho, int(k)).x; }
-float ldc_density(uint k) { return CLAMP_DENSITY ? max(density_of(k), sim.rho0) : density_of(k); }
+float ldc_density(uint k) { return SOLVER_LDC_CLAMP ? max(density_of(k), sim.rho0) : density_of(k); }
 
 // One neighbour's geometric term, h(1 - r/h) d/r = (h - r) d/r.
 vec3 pair_term(vec3 d) {

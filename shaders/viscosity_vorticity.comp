@@ -2,7 +2,7 @@
 // From the same velocities (V_j = m/rho0):
 // - XSPH viscosity, v_i += c sum_j V_j (v_j - v_i) W_ij;
 // - a pairwise dashpot on the relative normal velocity,
-//   v_i -= sum_j c_ij (1 - r/h) ((v_i - v_j).d) d / r^2 (d = x_j - x_i), c_ij = DAMPING
+//   v_i -= sum_j c_ij (1 - r/h) ((v_i - v_j).d) d / r^2 (d = x_j - x_i), c_ij = SOLVER_DAMPING
 //   unless the pair is squeezed (below);
 // - the vorticity omega_i = sum_j V_j (v_j - v_i) x grad W_ij;
 // - and, as density.comp computes it, rho_i at x: the next step's LDC force and the frame's
@@ -22,12 +22,14 @@
 layout(local_size_x_id = 0) in;
 #include "common.glsl"
 
-layout(constant_id = 1) const float DAMPING = 0.2;         // solver.damping
+layout(constant_id = 100) const float SOLVER_XSPH = 0.02;     // the scene's keys (gpu/key_constants.hpp)
+layout(constant_id = 101) const float SOLVER_DAMPING = 0.2;
+layout(constant_id = 102) const float SOLVER_VORTICITY = 0.0;
 layout(constant_id = 2) const float DAMPING_LIMIT = 0.3;   // Derived::damping_limit
-// solver.vorticity > 0: omega is wanted (vorticity_force.comp). Without it the curl, a
-// cross product and a kernel gradient per neighbour, is not computed: XSPH/dashpot took
-// 22 % less time (dam break ldc@1, 94 608 particles: 9.3-9.6 -> 7.2-7.4 ms a step).
-layout(constant_id = 3) const bool VORTICITY = true;
+// omega is wanted only for vorticity_force.comp; without it the curl, a cross product and a
+// kernel gradient per neighbour, is not computed (a constant once specialised: the driver
+// drops the branch; docs/performance.md).
+#define VORTICITY (SOLVER_VORTICITY > 0.0)
 
 layout(binding = 1, rgba32f) uniform readonly imageBuffer x;
 // v, and in w the last lambda pass's rho (velocity_update.comp)
@@ -75,11 +77,11 @@ void main() {
     // (by less than rho/rho0 on a squeezed lattice): a pair is damped by at most
     // DAMPING_LIMIT times the denser one's rho0/rho, so no mode is driven (2.4x at 3x rho0
     // drove them: blow-up).
-    float c = min(DAMPING, DAMPING_LIMIT * sim.rho0 / max(rho_i, vj.w));
+    float c = min(SOLVER_DAMPING, DAMPING_LIMIT * sim.rho0 / max(rho_i, vj.w));
     damp += dashpot(d, vij, c);
   }
   float volume = sim.mass / sim.rho0;
-  v_out[i] = vec4(vi + (sim.xsph_c * volume) * smooth_v + damp, 0.0);
+  v_out[i] = vec4(vi + (SOLVER_XSPH * volume) * smooth_v + damp, 0.0);
   if (VORTICITY) omega[i] = vec4(volume * curl, 0.0);
   rho[i] = sim.mass * density;
 }

@@ -5,6 +5,8 @@
 layout(local_size_x_id = 0) in;
 #include "common.glsl"
 
+layout(constant_id = 100) const float SOLVER_VORTICITY = 0.0;  // eps, m/s (gpu/key_constants.hpp)
+
 layout(binding = 1, rgba32f) uniform readonly imageBuffer x;
 layout(binding = 2, rgba32f) uniform readonly imageBuffer omega;
 layout(std430, binding = 3) buffer V { vec4 v[]; };
@@ -25,5 +27,5 @@ void main() {
     if (image == 0) eta += length(imageLoad(omega, int(j)).xyz) * spiky_grad_shape(d, length(d));
   }
   float len = length(eta);
-  if (len > 0.0) v[i].xyz += (sim.vorticity_eps * sim.dt / len) * cross(eta, imageLoad(omega, int(i)).xyz);
+  if (len > 0.0) v[i].xyz += (SOLVER_VORTICITY * sim.dt / len) * cross(eta, imageLoad(omega, int(i)).xyz);
 }

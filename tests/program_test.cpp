@@ -3,9 +3,13 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <bit>
+#include <cstddef>
 #include <stdexcept>
 #include <vector>
 
+#include "gpu/key_constants.hpp"
+#include "scene/keys.hpp"
 #include "sim/params.hpp"
 #include "support.hpp"
 #include "vk/buffer.hpp"
@@ -57,6 +61,28 @@ TEST(ShaderLayout, AnonymousBlocksBindByTheirNameInSnakeCase) {
     EXPECT_NE(find(scatter, name), nullptr) << name;
 }
 
+// SimConstants and the GLSL block Sim are both expanded from shaders/sim_constants.h; this
+// checks that the two layouts agree member by member, not only in their total size.
+TEST(ShaderLayout, EveryPushConstantSitsWhereSimConstantsHasIt) {
+  struct Field {
+    std::string name;
+    uint32_t offset;
+  };
+  const std::vector<Field> host = {
+#define SIM_FIELD(type, name) {#name, uint32_t(offsetof(SimConstants, name))},
+      SIM_CONSTANTS(SIM_FIELD)
+#undef SIM_FIELD
+  };
+  for (const char* shader : {"predict", "density", "constraint_apply", "watch"}) {
+    const ShaderLayout layout = vk::reflect_layout(shaders::spirv(shader));
+    ASSERT_EQ(layout.push_members.size(), host.size()) << shader;
+    for (size_t k = 0; k < host.size(); ++k) {
+      EXPECT_EQ(layout.push_members[k].name, host[k].name) << shader;
+      EXPECT_EQ(layout.push_members[k].offset, host[k].offset) << shader << ": " << host[k].name;
+    }
+  }
+}
+
 TEST(ShaderLayout, WordsThatAreNotSpirvAreRefused) {
   const std::vector<uint32_t> junk{1, 2, 3, 4, 5, 6};
   EXPECT_THROW(vk::reflect_layout(junk), vk::Error);
@@ -80,6 +106,46 @@ TEST_F(ProgramContract, AConstantTheShaderLacksOrOmitsIsRefusedByName) {
     FAIL() << "a constant the shader declares was left unset";
   } catch (const vk::Error& e) {
     EXPECT_NE(std::string(e.what()).find("SPEED_LIMIT"), std::string::npos) << e.what();
+  }
+}
+
+// A constant carries its type: a float where the shader declares another type is refused, not
+// reinterpreted as bits.
+TEST_F(ProgramContract, AConstantOfAnotherTypeThanTheShadersIsRefused) {
+  const std::array<vk::Constant, 1> as_whole{{{"SPEED_LIMIT", 10u}}};
+  try {
+    vk::Program(test::gpu(), "watch", sizeof(SimConstants), 0, as_whole);
+    FAIL() << "a whole number was accepted for a float constant";
+  } catch (const vk::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("SPEED_LIMIT is set as another type"), std::string::npos) << e.what();
+  }
+}
+
+// The solver's keys reach a pass that declares them (SOLVER_XSPH and others in
+// viscosity_vorticity.comp) without being named at the program's creation; without them offered
+// its creation fails naming the first.
+TEST_F(ProgramContract, TheSolversKeysReachEveryPassThatDeclaresThem) {
+  Scene scene = scene_defaults();
+  scene.solver.xsph = 0.125;
+  const KeyConstants keys(scene.solver);
+  auto key = [&](std::string_view name) {
+    for (const vk::Constant& c : keys.constants())
+      if (c.name == name) return c;
+    ADD_FAILURE() << name << " is not offered";
+    return vk::Constant(name, false);
+  };
+  EXPECT_EQ(key("SOLVER_XSPH").value, std::bit_cast<uint32_t>(0.125f));
+  EXPECT_EQ(key("SOLVER_XSPH").type, vk::ConstantType::Float);
+  EXPECT_EQ(key("SOLVER_ITERATIONS").value, uint32_t(scene.solver.iterations));
+  EXPECT_EQ(key("SOLVER_ITERATIONS").type, vk::ConstantType::Integer);
+  EXPECT_EQ(key("SOLVER_LDC_CLAMP").type, vk::ConstantType::Bool);
+  const std::array<vk::Constant, 3> own{{{"DAMPING_LIMIT", 0.3f}, {"NEIGHBOUR_CAPACITY", 64u}, {"WALK_CELLS", false}}};
+  EXPECT_NO_THROW(vk::Program(test::gpu(), "viscosity_vorticity", sizeof(SimConstants), 0, own, keys.constants()));
+  try {
+    vk::Program(test::gpu(), "viscosity_vorticity", sizeof(SimConstants), 0, own);
+    FAIL() << "the pass was made without the keys it reads";
+  } catch (const vk::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("SOLVER_"), std::string::npos) << e.what();
   }
 }
 

@@ -53,6 +53,7 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
     : ctx_(ctx),
       d_(d),
       sim_(d.to_gpu(checked_count(ctx, d, x0.size()))),
+      keys_(d.solver),
       n_(sim_.count),
       plan_(plan_buffers(d, n_)),
       viscosity_pass_(d.solver.viscosity_pass()),
@@ -60,30 +61,27 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
       correction_pass_(d.solver.method == Method::Ldc),
       lists_(ctx, "neighbour_lists", sizeof(SimConstants), 0,
              std::array<vk::Constant, 2>{{{"NEIGHBOUR_CAPACITY", d.neighbour_capacity},
-                                          {"MAX_GROUPS_X", ctx.limits().maxComputeWorkGroupCount[0]}}}),
-      predict_(ctx, "predict", sizeof(SimConstants)),
-      velocity_(ctx, "velocity_update", sizeof(SimConstants)),
+                                          {"MAX_GROUPS_X", ctx.limits().maxComputeWorkGroupCount[0]}}},
+             keys_.constants()),
+      predict_(ctx, "predict", sizeof(SimConstants), 0, {}, keys_.constants()),
+      velocity_(ctx, "velocity_update", sizeof(SimConstants), 0, {}, keys_.constants()),
       density_(neighbour_pass("density", {})),
       // The optional passes' programs are built only for a scene that runs them (each
       // neighbour pass is two pipelines, ~5 ms each to create on lavapipe).
-      correction_(correction_pass_ ? neighbour_pass("correction_force",
-                                                    {{"CLAMP_DENSITY", d.solver.ldc_clamp ? 1u : 0u},
-                                                     {"LDC_ROOM", std::bit_cast<uint32_t>(float(d.ldc_room))}})
+      correction_(correction_pass_ ? neighbour_pass("correction_force", {{"LDC_ROOM", float(d.ldc_room)}})
                                    : NeighbourPass{}),
       lambda_(neighbour_pass("constraint_lambda", {})),
       smooth_(d.smooths_lambda() ? neighbour_pass("constraint_smooth", {}) : NeighbourPass{}),
       apply_(neighbour_pass("constraint_apply", {})),
-      viscosity_(viscosity_pass_ ? neighbour_pass("viscosity_vorticity",
-                                                  {{"DAMPING", std::bit_cast<uint32_t>(float(d.solver.damping))},
-                                                   {"DAMPING_LIMIT", std::bit_cast<uint32_t>(float(d.damping_limit))},
-                                                   {"VORTICITY", vorticity_pass_ ? 1u : 0u}})
-                                 : NeighbourPass{}),
+      viscosity_(viscosity_pass_
+                     ? neighbour_pass("viscosity_vorticity", {{"DAMPING_LIMIT", float(d.damping_limit)}})
+                     : NeighbourPass{}),
       vorticity_(vorticity_pass_ ? neighbour_pass("vorticity_force", {}) : NeighbourPass{}),
-      reduce_(ctx, "reduce_stats", sizeof(SimConstants), kReduceThreads),
+      reduce_(ctx, "reduce_stats", sizeof(SimConstants), kReduceThreads, {}, keys_.constants()),
       reduce_final_(ctx, "reduce_final", sizeof(ReduceFinalPush), kReduceThreads),
       check_converged_(ctx, "check_converged", sizeof(CheckPush), 1),
-      watch_(ctx, "watch", sizeof(SimConstants), 0,
-             std::array<vk::Constant, 1>{{{"SPEED_LIMIT", std::bit_cast<uint32_t>(float(d.speed_limit))}}}),
+      watch_(ctx, "watch", sizeof(SimConstants), 0, std::array<vk::Constant, 1>{{{"SPEED_LIMIT", float(d.speed_limit)}}},
+             keys_.constants()),
       grid_(ctx, plan_.grid),
       rho_(ctx, plan_.rho),
       neighbour_count_(ctx, plan_.neighbour_count),
@@ -109,16 +107,16 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
     std::vector<vk::Constant> grid = {{"NODES_X", uint32_t(c.nodes.x)},
                                       {"NODES_Y", uint32_t(c.nodes.y)},
                                       {"NODES_Z", uint32_t(c.nodes.z)},
-                                      {"CELL_X", std::bit_cast<uint32_t>(float(c.cell.x))},
-                                      {"CELL_Y", std::bit_cast<uint32_t>(float(c.cell.y))},
-                                      {"CELL_Z", std::bit_cast<uint32_t>(float(c.cell.z))}};
-    coarse_deposit_ = vk::Program(ctx, "coarse_deposit", sizeof(SimConstants), 0, grid);
-    coarse_prepare_ = vk::Program(ctx, "coarse_prepare", sizeof(SimConstants), 0, grid);
-    coarse_gradient_ = vk::Program(ctx, "coarse_gradient", sizeof(SimConstants), 0, grid);
+                                      {"CELL_X", float(c.cell.x)},
+                                      {"CELL_Y", float(c.cell.y)},
+                                      {"CELL_Z", float(c.cell.z)}};
+    coarse_deposit_ = vk::Program(ctx, "coarse_deposit", sizeof(SimConstants), 0, grid, keys_.constants());
+    coarse_prepare_ = vk::Program(ctx, "coarse_prepare", sizeof(SimConstants), 0, grid, keys_.constants());
+    coarse_gradient_ = vk::Program(ctx, "coarse_gradient", sizeof(SimConstants), 0, grid, keys_.constants());
     auto sweep = [&](uint32_t threads, uint32_t first_colour, uint32_t shared_nodes) {
       std::vector<vk::Constant> k = grid;
-      k.insert(k.end(), {{"FIRST_COLOUR", first_colour}, {"SHARED_NODES", shared_nodes}});
-      return vk::Program(ctx, "coarse_sweep", sizeof(SimConstants), threads, k);
+      k.insert(k.end(), {{"FIRST_COLOUR", int(first_colour)}, {"SHARED_NODES", int(shared_nodes)}});
+      return vk::Program(ctx, "coarse_sweep", sizeof(SimConstants), threads, k, keys_.constants());
     };
     coarse_sweep_threads_ = coarse_sweep_group(ctx, uint32_t(c.count()), uint32_t(c.per_colour()));
     if (coarse_sweep_threads_) {
@@ -127,8 +125,8 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
       coarse_sweeps_.push_back(sweep(0, 0, 0));
       coarse_sweeps_.push_back(sweep(0, 1, 0));
     }
-    grid.push_back({"STRENGTH", std::bit_cast<uint32_t>(float(c.strength))});
-    coarse_apply_ = vk::Program(ctx, "coarse_apply", sizeof(SimConstants), 0, grid);
+    grid.push_back({"STRENGTH", float(c.strength)});
+    coarse_apply_ = vk::Program(ctx, "coarse_apply", sizeof(SimConstants), 0, grid, keys_.constants());
     coarse_sums_ = vk::Buffer(ctx, plan_.coarse_sums);
     coarse_phi_ = vk::Buffer(ctx, plan_.coarse_phi);
     coarse_grad_ = vk::Buffer(ctx, plan_.coarse_grad);
@@ -252,8 +250,8 @@ void GpuSolver::bind_neighbours() {
 GpuSolver::NeighbourPass GpuSolver::neighbour_pass(std::string_view shader, std::vector<vk::Constant> constants) const {
   constants.push_back({"NEIGHBOUR_CAPACITY", d_.neighbour_capacity});
   auto variant = [&](bool walk_cells) {
-    constants.push_back({"WALK_CELLS", walk_cells ? 1u : 0u});
-    vk::Program p(ctx_, shader, sizeof(SimConstants), 0, constants);
+    constants.push_back({"WALK_CELLS", walk_cells});
+    vk::Program p(ctx_, shader, sizeof(SimConstants), 0, constants, keys_.constants());
     constants.pop_back();
     return p;
   };

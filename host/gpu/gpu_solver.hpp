@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "gpu/buffer_plan.hpp"
+#include "gpu/key_constants.hpp"
 #include "gpu/gpu_grid.hpp"
 #include "sim/obstacles.hpp"
 #include "sim/params.hpp"
@@ -98,6 +99,7 @@ class GpuSolver : public Solver {
   const vk::Context& ctx_;
   Derived d_;
   SimConstants sim_;
+  KeyConstants keys_;  // offered to every particle pass
   uint32_t n_;
   SolverBuffers plan_;  // every buffer below, in bytes
   bool viscosity_pass_, vorticity_pass_, correction_pass_;

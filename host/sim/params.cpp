@@ -62,8 +62,6 @@ SimConstants Derived::to_gpu(uint32_t count) const {
   c.spiky_grad_scale = float(kernels::spiky_grad_scale(h));
   c.ldc_k = float(ldc_k);
   c.omega = 1.0f;  // set per constraint pass
-  c.xsph_c = float(solver.xsph);
-  c.vorticity_eps = float(solver.vorticity);
   return c;
 }
 

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "shaders/sim_constants.h"
 #include "sim/obstacles.hpp"
 
 namespace pbflow {
@@ -39,19 +40,17 @@ struct SolverParams {
   bool viscosity_pass() const { return xsph > 0 || vorticity > 0 || damping > 0; }
 };
 
-// Push-constant block shared by all particle passes; layout mirrors `Sim` in
-// shaders/common.glsl (std430: a vec3 followed by a float fills 16 bytes).
+// The push-constant block every particle pass reads, generated from its one declaration in
+// shaders/sim_constants.h (which says why the layouts agree).
+#define PBFLOW_GLSL_TYPE_float float
+#define PBFLOW_GLSL_TYPE_uint uint32_t
+#define PBFLOW_GLSL_TYPE_vec3 glm::vec3
+#define PBFLOW_GLSL_TYPE_ivec3 glm::ivec3
 struct SimConstants {
-  glm::vec3 domain_min; float h;
-  glm::vec3 domain_max; float dt;
-  glm::vec3 gravity; float mass;
-  glm::ivec3 grid; uint32_t count;
-  glm::vec3 wall_min; float rho0;
-  glm::vec3 wall_max; float epsilon;
-  float poly6_scale, spiky_grad_scale, ldc_k, omega;
-  float xsph_c, vorticity_eps;
+#define SIM_FIELD(type, name) PBFLOW_GLSL_TYPE_##type name;
+  SIM_CONSTANTS(SIM_FIELD)
+#undef SIM_FIELD
 };
-static_assert(sizeof(SimConstants) == 120, "SimConstants must match shaders/common.glsl and fit 128 bytes");
 
 // Everything a pass needs, in double for the reference solver; to_gpu() narrows it.
 struct Derived {

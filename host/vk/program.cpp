@@ -11,8 +11,15 @@
 
 namespace pbflow::vk {
 
+namespace {
+const Constant* find_constant(std::span<const Constant> constants, std::string_view name) {
+  auto c = std::ranges::find(constants, name, &Constant::name);
+  return c == constants.end() ? nullptr : &*c;
+}
+}  // namespace
+
 Program::Program(const Context& ctx, std::string_view shader, uint32_t push_bytes, uint32_t workgroup_size,
-                 std::span<const Constant> constants)
+                 std::span<const Constant> constants, std::span<const Constant> offered)
     : ctx_(&ctx),
       name_(shader),
       push_bytes_(push_bytes),
@@ -35,8 +42,11 @@ Program::Program(const Context& ctx, std::string_view shader, uint32_t push_byte
     if (std::ranges::find(layout.constants, c.name, &ShaderLayout::Constant::name) == layout.constants.end())
       throw Error("program " + name_ + " declares no constant " + std::string(c.name));
   for (const ShaderLayout::Constant& c : layout.constants) {
-    auto given = std::ranges::find(constants, c.name, &Constant::name);
-    if (given == constants.end()) throw Error("program " + name_ + ": constant " + c.name + " was not set");
+    const Constant* given = find_constant(constants, c.name);
+    if (!given) given = find_constant(offered, c.name);
+    if (!given) throw Error("program " + name_ + ": constant " + c.name + " was not set");
+    if (given->type != c.type)
+      throw Error("program " + name_ + ": constant " + c.name + " is set as another type than the shader declares");
     entries.push_back({c.id, uint32_t(values.size() * sizeof(uint32_t)), sizeof(uint32_t)});
     values.push_back(given->value);
   }

@@ -9,6 +9,8 @@
 // image loads made a peer run 0.90-0.91x the wall time: bench/results/throughput_lavapipe.md.)
 #include <vulkan/vulkan.h>
 
+#include <bit>
+#include <cstdint>
 #include <span>
 #include <string>
 #include <string_view>
@@ -20,10 +22,16 @@ namespace pbflow::vk {
 
 class Context;
 
-// A specialisation constant the host sets, by the name the shader declares it with.
+// A specialisation constant the host sets, by the name the shader declares it with, and of
+// the shader's type (a float where the shader says uint is refused, not reinterpreted).
 struct Constant {
+  Constant(std::string_view n, float v) : name(n), value(std::bit_cast<uint32_t>(v)), type(ConstantType::Float) {}
+  Constant(std::string_view n, uint32_t v) : name(n), value(v), type(ConstantType::Integer) {}
+  Constant(std::string_view n, int v) : name(n), value(uint32_t(v)), type(ConstantType::Integer) {}
+  Constant(std::string_view n, bool v) : name(n), value(v ? 1u : 0u), type(ConstantType::Bool) {}
   std::string_view name;
-  uint32_t value;  // its 32 bits (std::bit_cast a float)
+  uint32_t value;  // its 32 bits
+  ConstantType type;
 };
 
 class Program {
@@ -36,10 +44,11 @@ class Program {
   // SPIR-V (vk/spirv_layout.hpp); push_bytes: size of the host's push-constant struct, which
   // must be the shader's block's (read from the SPIR-V; checked, as its 128-byte limit is);
   // workgroup_size: local_size_x (specialisation constant 0), 0 for the device's choice;
-  // constants: every other constant the shader declares, by name. A constant the shader
-  // lacks, or one it declares and `constants` omits, throws: the two sides never drift.
+  // constants: the shader's own constants, by name; offered: constants any program may declare
+  // (the solver's keys), set where the shader declares them. A constant the shader lacks, one
+  // of another type, or one it declares and neither list holds, throws: the sides never drift.
   Program(const Context& ctx, std::string_view shader, uint32_t push_bytes, uint32_t workgroup_size = 0,
-          std::span<const Constant> constants = {});
+          std::span<const Constant> constants = {}, std::span<const Constant> offered = {});
   ~Program() { release(); }
   Program(Program&& o) noexcept { *this = std::move(o); }
   Program& operator=(Program&& o) noexcept;

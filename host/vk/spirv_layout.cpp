@@ -28,6 +28,7 @@ enum Op : uint32_t {
   OpVariable = 59,
   OpDecorate = 71,
   OpMemberDecorate = 72,
+  OpMemberName = 6,
 };
 enum Decoration : uint32_t { SpecId = 1, ArrayStride = 6, Binding = 33, DescriptorSet = 34, Offset = 35 };
 enum StorageClass : uint32_t { UniformConstant = 0, PushConstant = 9, StorageBuffer = 12 };
@@ -88,13 +89,15 @@ std::string snake_case(const std::string& block) {
 ShaderLayout reflect_layout(std::span<const uint32_t> spirv) {
   if (spirv.size() < kHeaderWords || spirv[0] != kMagic) throw Error("shader layout: not SPIR-V");
   std::map<uint32_t, std::string> names;
+  std::map<uint32_t, std::map<uint32_t, std::string>> member_names;  // struct -> member -> name
   std::map<uint32_t, uint32_t> slot, set, spec_id, pointee;
   std::map<uint32_t, VkFormat> texel_images;  // storage image buffers, by type id
   struct Variable {
     uint32_t pointer_type, id, storage;
   };
   std::vector<Variable> variables;
-  std::vector<uint32_t> spec_constants;
+  std::map<uint32_t, ConstantType> spec_constants;  // by result id
+  std::map<uint32_t, ConstantType> scalar_type;
   Types types;
   for (size_t at = kHeaderWords; at < spirv.size();) {
     const uint32_t count = spirv[at] >> 16, op = spirv[at] & 0xffff;
@@ -102,6 +105,7 @@ ShaderLayout reflect_layout(std::span<const uint32_t> spirv) {
     const std::span<const uint32_t> arg = spirv.subspan(at + 1, count - 1);
     switch (op) {
       case OpName: names[arg[0]] = literal_string(arg.subspan(1)); break;
+      case OpMemberName: member_names[arg[0]][arg[1]] = literal_string(arg.subspan(2)); break;
       case OpDecorate:
         if (arg[1] == Binding) slot[arg[0]] = arg[2];
         if (arg[1] == DescriptorSet) set[arg[0]] = arg[2];
@@ -112,7 +116,10 @@ ShaderLayout reflect_layout(std::span<const uint32_t> spirv) {
         if (arg[2] == Offset) types.offsets[arg[0]][arg[1]] = arg[3];
         break;
       case OpTypeInt:
-      case OpTypeFloat: types.scalar_bytes[arg[0]] = arg[1] / 8; break;
+      case OpTypeFloat:
+        types.scalar_bytes[arg[0]] = arg[1] / 8;
+        scalar_type[arg[0]] = op == OpTypeFloat ? ConstantType::Float : ConstantType::Integer;
+        break;
       case OpTypeVector: types.vector[arg[0]] = {arg[1], arg[2]}; break;
       case OpTypeArray: types.array[arg[0]] = {arg[1], arg[2]}; break;
       case OpTypeStruct: types.members[arg[0]].assign(arg.begin() + 1, arg.end()); break;
@@ -123,8 +130,8 @@ ShaderLayout reflect_layout(std::span<const uint32_t> spirv) {
       case OpTypePointer: pointee[arg[0]] = arg[2]; break;
       case OpVariable: variables.push_back({arg[0], arg[1], arg[2]}); break;
       case OpSpecConstantTrue:
-      case OpSpecConstantFalse:
-      case OpSpecConstant: spec_constants.push_back(arg[1]); break;
+      case OpSpecConstantFalse: spec_constants[arg[1]] = ConstantType::Bool; break;
+      case OpSpecConstant: spec_constants[arg[1]] = scalar_type.at(arg[0]); break;
       default: break;
     }
     at += count;
@@ -132,7 +139,12 @@ ShaderLayout reflect_layout(std::span<const uint32_t> spirv) {
 
   ShaderLayout layout;
   for (const auto [pointer_type, id, storage] : variables) {
-    if (storage == PushConstant) layout.push_bytes = types.bytes(pointee[pointer_type]);
+    if (storage == PushConstant) {
+      const uint32_t block = pointee[pointer_type];
+      layout.push_bytes = types.bytes(block);
+      for (uint32_t k = 0; k < types.members[block].size(); ++k)
+        layout.push_members.push_back({member_names[block][k], types.offsets[block][k]});
+    }
     if (!slot.count(id)) continue;
     if (set[id] != 0) throw Error("shader layout: a descriptor set other than 0");
     ShaderLayout::Binding b{slot[id], names[id], VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_FORMAT_UNDEFINED};
@@ -148,8 +160,8 @@ ShaderLayout reflect_layout(std::span<const uint32_t> spirv) {
     if (b.name.empty()) throw Error("shader layout: binding " + std::to_string(b.slot) + " has no name (compile with -g)");
     layout.bindings.push_back(std::move(b));
   }
-  for (uint32_t id : spec_constants)
-    if (spec_id.count(id) && spec_id[id] != 0) layout.constants.push_back({spec_id[id], names[id]});
+  for (const auto& [id, type] : spec_constants)
+    if (spec_id.count(id) && spec_id[id] != 0) layout.constants.push_back({spec_id[id], names[id], type});
   std::ranges::sort(layout.bindings, {}, &ShaderLayout::Binding::slot);
   std::ranges::sort(layout.constants, {}, &ShaderLayout::Constant::id);
   return layout;

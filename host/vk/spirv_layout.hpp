@@ -12,6 +12,8 @@
 
 namespace pbflow::vk {
 
+enum class ConstantType { Bool, Integer, Float };  // a specialisation constant's scalar type
+
 struct ShaderLayout {
   struct Binding {
     uint32_t slot;
@@ -24,10 +26,16 @@ struct ShaderLayout {
   struct Constant {
     uint32_t id;
     std::string name;
+    ConstantType type;
   };
   std::vector<Binding> bindings;    // by slot
   std::vector<Constant> constants;  // by id; the workgroup size (local_size_x_id = 0) is not one of them
-  uint32_t push_bytes = 0;          // the push-constant block's size: its last member's end; 0 where none is used
+  struct Member {
+    std::string name;
+    uint32_t offset;
+  };
+  uint32_t push_bytes = 0;           // the push-constant block's size: its last member's end; 0 where none is used
+  std::vector<Member> push_members;  // its members in order, with their byte offsets
 };
 
 // Throws vk::Error on words that are not SPIR-V, on a descriptor set other than 0 and on a

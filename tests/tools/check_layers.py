@@ -11,7 +11,7 @@ BELOW = {
     "vk": {"common"},
     "sim": {"common"},
     "scene": {"common", "sim"},
-    "gpu": {"common", "sim", "vk"},
+    "gpu": {"common", "sim", "scene", "vk"},  # scene: the key table names the solver's constants
     "io": {"common", "sim"},
     "capture": {"common", "sim", "scene", "vk", "gpu", "io"},
     "bench": {"common", "sim", "scene", "vk", "gpu"},
