@@ -13,7 +13,7 @@
 namespace pbflow::bench {
 
 struct StudyOptions {
-  bool quick = false;             // a small subset, minutes on lavapipe
+  bool quick = false;             // a small subset, minutes on a CPU device
   std::string out = "bench_out";
   std::string device = "auto";
   std::vector<int> counts;        // particles per scene; empty: by --quick

@@ -165,8 +165,8 @@ const Image& Renderer::render(GLuint buffer, uint32_t count) {
   glQueryCounter(began_, GL_TIMESTAMP);
   glBindVertexArray(vao_);
   glViewport(0, 0, w, h);
-  // The camera, the tank and the obstacles stand still: they are drawn once (4-8 ms of a
-  // 720p frame on llvmpipe), and each frame starts from a copy of their image (0.35 ms)
+  // The camera, the tank and the obstacles stand still: they are drawn once, and each frame
+  // starts from a copy of their image, a fraction of their drawing's cost (docs/performance.md),
   // and, for the sphere styles, which test against it, of their depth.
   const bool fluid = surface_style();
   if (!tank_drawn_) draw_tank_and_obstacles();

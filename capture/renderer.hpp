@@ -34,7 +34,7 @@ struct View {
   double speed_scale = 1;         // m/s drawn red in the speed style
   // Fluid style: the surface's depth, thickness and smoothing run at 1/surface_divisor of
   // the image's width and height (1 or 2), the shading at full size. Those three stages
-  // are fragment-bound, most of a fluid frame's cost on llvmpipe.
+  // are fragment-bound, most of a fluid frame's cost on a CPU device.
   int surface_divisor = 2;
 };
 

@@ -2,9 +2,8 @@
 // lambda_i = -C_i / (sum_k |grad_k C_i|^2 + eps), C_i = max(rho_i/rho0 - 1, 0) at the predicted positions.
 // rho_i is kept too: adaptive iterations measure the compression from it (check_converged).
 // lambda_i goes out beside x*_i, as (x*_i, lambda_i): the passes after it gather both for
-// every neighbour, and one gather instead of two saves each a few per cent on llvmpipe
-// (an extra gather per neighbour cost ~15 % of a lambda average, measured when gathers
-// were texel fetches: bench/results/throughput_lavapipe.md).
+// every neighbour, and one gather instead of two saves each a few per cent
+// (docs/performance.md, "Measurements behind the code").
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x_id = 0) in;
 #include "common.glsl"

@@ -2,7 +2,7 @@
 // Local density correction (LDC): f_i = -K sum_j ((rho_j - rho_i)/rho0) h (1 - r/h) (x_j - x_i)/r,
 // pushing each particle away from denser neighbours; applied at once as v_i += f_i dt, and
 // then the prediction, as predict.comp's: v_i += g dt, x*_i = x_i + v_i dt. In this pass
-// rather than a pass of its own: a dispatch less is ~3 % of an ldc@1 step on llvmpipe.
+// rather than a pass of its own: a dispatch less (docs/performance.md).
 // With SOLVER_LDC_CLAMP densities below rho0 count as rho0, so that a
 // free surface (neighbours missing, density low) does not draw the fluid towards it.
 // Within h of a wall the sum also runs over the neighbours' mirror images behind it (the

@@ -35,10 +35,9 @@ layout(constant_id = 2) const uint MAX_GROUPS_X = 65535;     // maxComputeWorkGr
 uint entry_group(uint i, uint k) { return (k >> 2) * sim.count + i; }
 
 // Appends an entry to the list; past the capacity only the count goes on. `word` is entry
-// `listed`'s word, carried along rather than computed from (listed, i) at the store: llvmpipe
-// stores lane by lane, and its lane loop redid that arithmetic for every lane from two
-// vectors it spilled to the stack each time (the lists pass 1.99 -> 1.76 ms,
-// bench/results/throughput_lavapipe.md). One view of the buffer, for the stores and the
+// `listed`'s word, carried along rather than computed from (listed, i) at the store: a CPU
+// device stores lane by lane, and its lane loop redid that arithmetic for every lane from two
+// vectors it spilled to the stack each time (docs/performance.md). One view of the buffer, for the stores and the
 // image loop's reads: a second (of words) would be a second variable, which SPIR-V lets a
 // compiler assume does not alias the first (glslang adds no Aliased decoration).
 void list_entry(uint entry, inout uint listed, inout uint word) {
@@ -58,7 +57,7 @@ void main() {
   vec3 xi = imageLoad(x, int(i)).xyz;
   uint listed = 0u, word = 4u * i;  // entry 0: group 0, texel i, its first word
   // Each row of three cells is tested in chunks of up to 32 candidates, the hits kept as
-  // bits, and only then stored: llvmpipe stores to a storage buffer lane by lane, testing
+  // bits, and only then stored: a CPU device stores to a storage buffer lane by lane, testing
   // each lane's mask, and a store in the test loop ran that for every candidate (~7 of 8
   // miss), over half of this pass. Stored after the chunk it runs as often as the most
   // hits any lane of the SIMD group has.
@@ -76,7 +75,7 @@ void main() {
       }
     }
   // The images, from the neighbours listed (an image lies farther than its particle, so
-  // only a neighbour's can be within h), in a second loop: inside the walk, llvmpipe
+  // only a neighbour's can be within h), in a second loop: inside the walk, a CPU device
   // would run the image loop for every candidate. A full list is walked by the readers.
   // The neighbours are read four at a time and their images' hits kept as bits, bit
   // 8q + 7 - k for image k of entry q, so that storing them in bit order lists each

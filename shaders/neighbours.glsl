@@ -4,10 +4,10 @@
 // - the cell walkers, over the particles whose lists overflowed (squeezed fluid; the
 //   lists pass collects them after the counts, and the host dispatches them indirectly),
 //   or over every particle where there are no lists (capacity 0). The body then tests r < h.
-// Two variants, not one loop that can do both: llvmpipe runs every branch for all SIMD
+// Two variants, not one loop that can do both: a CPU device runs every branch for all SIMD
 // lanes, masked, and every loop at least once, so a cell walk kept in the readers' loop
-// for the rare overflow cost every particle a row of the walk per neighbour (a pbf@2
-// step on the peer scene: ~20 %).
+// for the rare overflow cost every particle a row of the walk per neighbour
+// (docs/performance.md, "Measurements behind the code").
 //
 // The includer defines NEIGHBOUR_BINDING (the counts; the list is the next binding) and
 // NEIGHBOUR_CAPACITY_ID (its last specialisation constant; WALK_CELLS is the next).
@@ -36,9 +36,8 @@ bool neighbour_pass_particle(out uint i) {
 
 // An entry is a neighbour j within h of i, or one of j's images behind the walls within h
 // (image_entry, common.glsl). The images are entries, not a loop in every reader's body: on
-// llvmpipe a loop runs at least once per neighbour, masked, even where no particle of the
-// SIMD group is near a wall, and the image loop was a third of the constraint passes on
-// the peer scene (6.1 ms against 4.1 without walls).
+// a CPU device a loop runs at least once per neighbour, masked, even where no particle of the
+// SIMD group is near a wall (the image loop was a third of the constraint passes).
 struct Neighbours {
   uint i, k, n;        // the particle, entries read (a multiple of four), entries listed
   uvec4 group;         // the round's entries: four listed, or the cell walk's candidate
@@ -91,12 +90,10 @@ bool next_candidate(inout Neighbours w, out uint j, out int image) {
 
 // The walk goes in rounds of ROUND entries, each entry's body under an `if`: a list
 // reader's round is the four entries of one fetch, a cell walker's one candidate. The
-// rounds' inner loop has a constant trip count, so the compiler unrolls it: on llvmpipe
-// every loop iteration costs a mask update and an all-lanes test, and a list pass took
-// 16-26 % less time without them (peer scene, GPU time per pass, four rounds alternated:
-// λ averages 1.63 -> 1.20 ms a step, Δp 1.41 -> 1.18, bench/results). A body must not use
-// `continue`: it keeps the loop from being unrolled (the λ pass's did: 1.88 -> 2.21 ms,
-// then 1.42 without it).
+// rounds' inner loop has a constant trip count, so the compiler unrolls it: on a CPU device
+// every loop iteration costs a mask update and an all-lanes test. A body must not use
+// `continue`: it keeps the loop from being unrolled. Both measured: docs/performance.md,
+// "Measurements behind the code".
 const uint ROUND = WALK_CELLS ? 1u : 4u;
 
 bool next_round(inout Neighbours w) {

@@ -3,10 +3,10 @@
 // workgroup, carried from block to block; the group's total goes to sums[group]. A grid
 // of up to 32 blocks scans in one group (host/gpu/gpu_grid.cpp); a larger one scans a block
 // per group, then the sums recursively, then adds them back (scan_add.comp).
-// Shaped for llvmpipe, where the scan was most of the grid build: every storage access
+// Shaped for a CPU device, where the scan was most of the grid build: every storage access
 // runs lane by lane, so each thread moves its 16 values as four uvec4; a barrier switches
 // all of a workgroup's 8-lane slices, so 64 threads and a raked scan of their sums take
-// four barriers a block (the 256-thread Hillis-Steele scan before took 16).
+// four barriers a block, where a 256-thread Hillis-Steele scan takes 16.
 layout(local_size_x = 64) in;
 
 layout(std430, binding = 0) buffer Data { uvec4 data[]; };  // padded to whole blocks

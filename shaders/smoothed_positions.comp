@@ -80,8 +80,8 @@ void main() {
   // The position's mean weighs the nearest most (position_weight); the covariance weighs the
   // neighbourhood nearly flat to h (smoothing_weight), so that it sees a sheet's rows pulled
   // 1.75 spacings apart. Offsets in units of h keep the second moments near 1 in float. No
-  // branch in the loop: llvmpipe runs both sides for every lane, and a `continue` past the
-  // zero weights took the pass from 1.7 to 2.5 ms at 16 000 particles.
+  // branch in the loop: a CPU device runs both sides for every lane, and a `continue` past
+  // the zero weights made the pass half as slow again (docs/performance.md).
   vec3 towards = vec3(0.0), first = vec3(0.0), square = vec3(0.0), cross = vec3(0.0);  // second moments
   float position_weights = 0.0, weights = 0.0;
   int count = 0, image;

@@ -1,7 +1,7 @@
 #version 450
 // v_i = (x*_i - x_i) / dt; the host then makes x* the new x. The last lambda pass's
 // density rides along in v's w, for viscosity_vorticity.comp: it gathers both for every
-// neighbour: one gather less per neighbour, -5 % there on llvmpipe.
+// neighbour: one gather less per neighbour (docs/performance.md).
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x_id = 0) in;
 #include "common.glsl"

@@ -162,7 +162,7 @@ void add_run_command(CLI::App& app, Commands& c) {
 
 // `pbflow serve`: the scene options, the live view's own, and where it listens.
 void add_serve_command(CLI::App& app, Commands& c) {
-  c.serve.live.run.width = 640;  // a live view's default: what lavapipe holds near real time (docs/serve.md)
+  c.serve.live.run.width = 640;  // a live view's default: what a CPU device holds near real time (docs/serve.md)
   c.serve.live.run.height = 360;
   CLI::App* serve_cmd = app.add_subcommand("serve", "run a scene live and watch it in a browser (docs/serve.md)");
   add_scene_options(serve_cmd, c.serve.live.run);

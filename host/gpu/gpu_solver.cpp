@@ -18,11 +18,8 @@ namespace {
 
 // coarse_sweep.comp in one workgroup of this many threads, phi in its shared memory, while the
 // grid's phi (this many nodes, this many of a colour) fits there, or 0: a dispatch a half sweep.
-// One workgroup saves the dispatches' barriers: on an H200 the coarse passes took 0.068 ms a step
-// at 16k particles so (0.128 with phi in the buffer), and 0.165 ms at 128k (10 000 nodes, five
-// of a colour a thread) where 40 dispatches took 0.300. A CPU device (lavapipe) takes every
-// invocation through every barrier: there a thread for eight nodes (at 16k 1024 threads cost a
-// pbf@2 step 4.5 ms, 64 threads 2.5 ms).
+// One workgroup saves the dispatches' barriers. A CPU device takes every invocation through
+// every barrier: there a thread for eight nodes. Both measured: (docs/performance.md, "Measurements behind the code").
 uint32_t coarse_sweep_group(const vk::Context& ctx, uint32_t nodes, uint32_t per_colour) {
   if (nodes * sizeof(float) > ctx.limits().maxComputeSharedMemorySize) return 0;
   const bool cpu = ctx.info().kind == "cpu";
@@ -66,8 +63,8 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
       predict_(ctx, "predict", sizeof(SimConstants), 0, {}, keys_.constants()),
       velocity_(ctx, "velocity_update", sizeof(SimConstants), 0, {}, keys_.constants()),
       density_(neighbour_pass("density", {})),
-      // The optional passes' programs are built only for a scene that runs them (each
-      // neighbour pass is two pipelines, ~5 ms each to create on lavapipe).
+      // The optional passes' programs are built only for a scene that runs them: each
+      // neighbour pass is two pipelines, and a pipeline takes milliseconds to create.
       correction_(correction_pass_ ? neighbour_pass("correction_force", {{"LDC_ROOM", float(d.ldc_room)}})
                                    : NeighbourPass{}),
       lambda_(neighbour_pass("constraint_lambda", {})),

@@ -30,14 +30,13 @@ constexpr double kHostPerParticleCpuRun = 96 + 16 + 16 + 48 + 24 + 40, kHostPerC
 // Framebuffers and the image read back: colour and depth for the tank and for a frame (16),
 // the fluid's surface targets (24 at full size: two RG32F, R32F, depth), RGB copies; the
 // surface drawn at full size takes its targets, their smoothing and the driver's copies four
-// times over (peak resident memory, llvmpipe, 4096x4096: 0.71 GB at half, 1.35 GB at full).
+// times over (measured: docs/performance.md, "Measurements behind the code").
 constexpr double kBytesPerPixel = 48, kBytesPerPixelFullSurface = 40;
 // What a run holds besides its arrays, measured as peak resident memory (tests/memory_test.cpp
-// holds the estimate above the measured peak): the process and its libraries (21 MB: `pbflow keys`
-// peaks there since the live view's libavcodec, libx264 and civetweb are linked); a Vulkan
-// driver in the process, lavapipe's compiler and JIT code (80 MB) or NVIDIA's (~95 MB, H200,
-// driver 580); a GL context for the renderer, llvmpipe's (67 MB) or NVIDIA's (~110 MB at
-// 640x360); each with room.
+// holds the estimate above the measured peak): the process and its libraries (the live view's
+// libavcodec, libx264 and civetweb among them); a Vulkan driver in the process, its compiler
+// and JIT code included; a GL context for the renderer; each with room over what was measured
+// (docs/performance.md, "Measurements behind the code").
 constexpr double kMiB = 1 << 20, kProcessBytes = 32 * kMiB, kDriverBytes = 128 * kMiB, kRendererBytes = 128 * kMiB;
 
 double gib(uint64_t bytes) { return double(bytes) / double(1ULL << 30); }

@@ -30,7 +30,7 @@ namespace pbflow {
 // (thirty: 0.66 %; docs/physics.md, "The seed").
 inline constexpr int kStartProjections = 40;
 // `progress(projection)`, if given, is called after each projection; false stops early (an
-// interrupt). They cost about forty steps' worth: a million particles take ~1.5 min on lavapipe.
+// interrupt). They cost about forty steps' worth.
 void project_start(Solver& solver, const std::function<bool(int)>& progress = {});
 
 struct SettleReport {

@@ -2,11 +2,11 @@
 // A compute program: one embedded shader, its buffer bindings (pushed per dispatch with
 // VK_KHR_push_descriptor) and a push-constant block. Move-only.
 // A binding is a storage buffer, or, where the shader declares it a `readonly imageBuffer`,
-// a storage texel buffer the shader only reads with imageLoad: the neighbour loops gather through it, for llvmpipe turns every
-// storage-buffer load into a loop over its SIMD lanes with a branch per lane, while an
-// image load is one vector gather, inlined. (A texelFetch from a uniform texel buffer is
-// a gather too, but a call into a sampling function that spills the live registers; the
-// image loads made a peer run 0.90-0.91x the wall time: bench/results/throughput_lavapipe.md.)
+// a storage texel buffer the shader only reads with imageLoad: the neighbour loops gather
+// through it, for a CPU device turns every storage-buffer load into a loop over its SIMD lanes
+// with a branch per lane, while an image load is one vector gather, inlined. (A texelFetch from
+// a uniform texel buffer is a gather too, but a call into a sampling function that spills the
+// live registers.) The measurement: docs/performance.md, "Measurements behind the code".
 #include <vulkan/vulkan.h>
 
 #include <bit>

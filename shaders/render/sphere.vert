@@ -1,5 +1,5 @@
 // One particle = one point sprite that covers its sphere's outline (one vertex where a
-// quad took six: llvmpipe spent ~30 ms of a 720p frame on 16k particles' vertices).
+// quad took six: docs/performance.md, "Measurements behind the code").
 // Obstacle spheres (PASS_SOLID) may grow past the largest point size and stay quads:
 // six vertices each from gl_VertexID, no vertex buffer. The fragment shader casts its
 // pixel's ray at the sphere either way.
@@ -25,8 +25,8 @@ void main() {
   } else {
     // The outline's extent from the projected centre: f r / sqrt(d^2 - r^2) on the axis,
     // stretched by up to sec^2 of the angle off it, and half a pixel of margin. Every pixel
-    // of the sprite runs the fragment shader, the dearest part of a frame on llvmpipe: 2.2
-    // pixels of margin instead of one cost 45 ms a frame against 31 (16k particles, 720p).
+    // of the sprite runs the fragment shader, the dearest part of a frame on a CPU device: a
+    // margin of a few pixels costs a frame a third more (docs/performance.md).
     float secant = d / max(-centre_view.z, 1e-9);
     float pixels = 0.5 * viewport.y * proj[1][1] * half_size / max(-centre_view.z, 1e-9) * secant * secant;
     gl_PointSize = 2.0 * pixels + 1.0;

@@ -3,9 +3,9 @@
 // flattened at a free surface and stretched along a sheet, so that a surface's rows and
 // columns do not show): over the surface texels it covers, the linear eye depth where the
 // texel's ray enters it (atomic min: the nearest) and the chord through it (atomic sum: every
-// layer's thickness). A compute pass, where a point sprite per particle was drawn: an H200
-// ran that draw's blending at ~20 ms for 1M particles at 1080p, its graphics units being few
-// beside its compute.
+// layer's thickness). A compute pass, where a point sprite per particle was drawn: a compute
+// GPU's graphics units are few beside its compute, and the sprites' blending took longer than
+// the whole frame may (docs/performance.md).
 layout(local_size_x = 64) in;
 // Positive floats order as their bits: the depth is kept as bits, cleared to NO_FLUID's.
 layout(binding = 0, r32ui) uniform restrict uimage2D nearest_depth;

@@ -1,8 +1,7 @@
 // Prepended to the fluid surface's compute passes (capture/gl_objects.cpp). They run on
 // the tiles of TILE x TILE surface texels that hold fluid or lie near it, one workgroup a
 // tile, from the lists that tile_mask.comp writes: the tank, most of the image, costs
-// nothing (a dam break at 720p on llvmpipe spent 16 of its shading's 20 ms on the tank
-// when every texel ran).
+// nothing (when every texel ran, it was most of the shading: docs/performance.md).
 const int TILES_HOLDING_FLUID = 0;  // the smoothing's tiles
 const int TILES_NEAR_FLUID = 1;     // and those within a margin of them: the shading's
 
