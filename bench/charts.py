@@ -7,9 +7,9 @@ Usage: charts.py DIR   (writes DIR/*.png; `pbflow bench` runs it and leaves a co
   accuracy_vs_cost.png   ms per step vs time-averaged mean compression, one line per
                          method through its iteration counts (the Pareto front); below
                          it the energy gain of the same runs (a sound run has none)
-  time_per_step.png      ms per step vs iterations, per method (seed paper, Figure 7)
+  time_per_step.png      ms per step vs iterations, per method (LDC paper, Figure 7)
   compression_over_time.png, kinetic_energy.png
-                         pbf@1,2,3 and ldc@1 on dam_break (seed paper, Figures 1/4 and 6)
+                         pbf@1,2,3 and ldc@1 on dam_break (LDC paper, Figures 1/4 and 6)
 The charts of one scene take dam_break where the study ran it, else its first scene.
   pareto.png             with several substeps: mean compression against ms per frame (ms per
                          step x substeps), one line per method and substep count through its
@@ -51,7 +51,7 @@ def fixed(runs):
 
 
 def scenes_of(runs):
-    """The scenes the runs hold, dam_break first where it is among them (the seed paper's)."""
+    """The scenes the runs hold, dam_break first where it is among them (the LDC paper's)."""
     return sorted({r["scene"] for r in runs}, key=lambda s: (s != "dam_break", s))
 
 

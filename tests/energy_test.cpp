@@ -90,8 +90,8 @@ INSTANTIATE_TEST_SUITE_P(RealTimeStepSlow, EnergyTest,
 
 // What smoothing lambda earns a pair of passes: it lets them run 2.8x bolder (docs/physics.md),
 // and the dam break at 0.0137 m (~49k particles, 60 fps x 2 substeps) compresses 0.48 % with it
-// against 0.55 % without, neither making energy. From a lattice seed the unsmoothed run also
-// gained 3.6 % of its potential energy; from the jittered seed it gains none. The scene at
+// against 0.55 % without, neither making energy. From a lattice start the unsmoothed run also
+// gained 3.6 % of its potential energy; from the jittered start it gains none. The scene at
 // full size: smaller tanks at that spacing read alike either way.
 using EnergyTestSlow = EnergyTestBase;  // minutes: the `slow` label (tests/CMakeLists.txt)
 TEST_F(EnergyTestSlow, SmoothedLambdaHoldsTheFinerDamBreakDenser) {

@@ -179,7 +179,7 @@ TEST(Export, RunWritesOneFilePerFrameStartingFromTheInitialLattice) {
     ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   }
   Scene scene = load_scene("dam_break", {"particle_spacing=0.04"});
-  ReferenceSolver start(derive(scene), initial_particles(scene));  // the seed relaxed, as the run starts
+  ReferenceSolver start(derive(scene), initial_particles(scene));  // the start relaxed, as the run starts
   project_start(start);
   const std::vector<glm::dvec3> x0 = start.download().x;
   for (int frame = 0; frame < 3; ++frame) {

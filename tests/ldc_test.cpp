@@ -62,7 +62,7 @@ TEST(LdcForce, ZeroForUniformDensity) {
   auto f = reference_forces(slab_scene("ldc", 2000, false), floating_block());
   size_t centre = (5 * 10 + 5) * 10 + 5;  // more than h from every face of the block
   EXPECT_LT(glm::length(f[centre]), 1e-9);
-  EXPECT_GT(largest(f), 1.0);  // the seed's force: the surface's density deficit pulls
+  EXPECT_GT(largest(f), 1.0);  // the LDC paper's force: the surface's density deficit pulls
 }
 
 TEST(LdcForce, ClampedForceIgnoresTheFreeSurface) {

@@ -356,9 +356,9 @@ TEST_P(StepTest, SeveralStepsAgree) {
   EXPECT_LT(ev.max_abs, 1e-3 * ev.scale);
 }
 
-// The seed's relax (Solver::project, sim/settle.hpp): the GPU's projections agree with the
+// The start's projection (Solver::project, sim/settle.hpp): the GPU's projections agree with the
 // reference's, leave the fluid at rest, and take out the compression the jitter brought.
-TEST_P(StepTest, TheSeedsRelaxAgreesAndDecompresses) {
+TEST_P(StepTest, TheStartsProjectionAgreesAndDecompresses) {
   const StepCase& c = GetParam();
   Scene scene = load_scene("dam_break", {"particle_spacing=0.04", std::string("solver.method=\"") + c.method + "\"",
                                          std::string("obstacles=") + c.obstacles});

@@ -260,7 +260,7 @@ void expect_flat_faces(int width, int height, double up_bound, double side_bound
 }
 
 // At 640x360 the aim, 5 degrees, holds for both faces (2026-11-26, drawn shapes and the
-// jittered seed: top 2.9, side 1.1; before the still-water smoothing 13.3 and 11.6).
+// jittered start: top 2.9, side 1.1; before the still-water smoothing 13.3 and 11.6).
 TEST(StillWaterSlow, TheSettledTanksFacesRenderFlat) { expect_flat_faces(640, 360, 5.0, 5.0); }
 
 // At 1280x720 a sphere spans twice the texels, and the gaps between a layer's spheres show
@@ -268,7 +268,7 @@ TEST(StillWaterSlow, TheSettledTanksFacesRenderFlat) { expect_flat_faces(640, 36
 // degrees and the top 6.6, with it 2.9-3.1 and 5.6-5.7, and drawn at the smoothed positions
 // 2.5 and 5.2. The top's bound was 7 while the row of particles against the front wall stood
 // 3.7 mm low (the coarse grid straddled the wall); level, with the drawn shapes and the
-// jittered seed, it reads 2.9 (side 1.1).
+// jittered start, it reads 2.9 (side 1.1).
 TEST(StillWaterSlow, TheSettledTanksFacesRenderFlatAt720p) { expect_flat_faces(1280, 720, 5.0, 5.0); }
 
 // The fluid style's surface at half size (the default) against full size: the same

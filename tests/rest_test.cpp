@@ -106,11 +106,11 @@ TEST_P(RestTest, TankLosesEnergyAndSettles) {
   ASSERT_EQ(scene.particle_spacing, 0.02);
   ASSERT_EQ(scene.gravity, glm::dvec3(0, -9.81, 0));
   Derived d = derive(scene);
-  // From the lattice, not the jittered seed a run starts from: on the lattice the walls' images
+  // From the lattice, not the jittered start a run starts from: on the lattice the walls' images
   // continue the fluid exactly, and the wall layer must read what the inside does. From the
-  // jittered seed the wall layer settles less squeezed than the inside at two to four
+  // jittered start the wall layer settles less squeezed than the inside at two to four
   // iterations (pbf@2 0.42 % against 0.48 %, pbf@4 0.23 against 0.34 %): a known problem
-  // (docs/physics.md, "The seed").
+  // (docs/physics.md, "The start").
   GpuSolver solver(test::gpu(), d, lattice_particles(scene));
   SettleReport settled = settle(solver, d);
   ASSERT_TRUE(settled.converged) << settled.steps << " steps";

@@ -44,11 +44,11 @@ const SceneKey kKeys[] = {
     {"frames", K::Whole, "240", 240.0, KeyRange{1, double(kMaxFrames)}, "", "frames written, frame 0 the initial state", "",
      &Scene::frames},
     // With two iterations LDC reads as PBF does and costs a pass more (docs/physics.md): the
-    // front's cheapest setting under 1 % is pbf@2. ldc is the seed paper's, for one iteration.
+    // front's cheapest setting under 1 % is pbf@2. ldc is the LDC paper's, for one iteration.
     {"solver.method", K::Method, "pbf", {}, {}, "", "`pbf` or `ldc` (PBF with the local density correction force)", "",
      {}},
     // The fewest on the accuracy-against-cost front that hold the dam break under 1 % at 60 fps x 2
-    // (bench/results/pareto_*/cheapest.md); one, the seed's setting, reads 1.5 %.
+    // (bench/results/pareto_*/cheapest.md); one, the LDC paper's setting, reads 1.5 %.
     {"solver.iterations", K::Whole, "2", 2.0, KeyRange{1, 1000}, "",
      "constraint iterations per step (the minimum when adaptive); left out: 2, the fewest that keep the dam break under 1 % "
      "mean compression at 60 fps x 2 (1 reads 1.5-1.7 %; the run's first line says which)",
@@ -107,9 +107,9 @@ const SceneKey kKeys[] = {
      "a fraction of the stiffness the step carries", &P::ldc_strength},
     {"solver.ldc_k", K::Number, "from `ldc_strength`", -1.0, KeyRange{0, kInf}, "1/s²",
      "LDC strength K stated directly; refused at or past the step's limit", "", &P::ldc_k},
-    // The seed's force reads a free surface's missing neighbours as low density and lifts a tank at rest.
+    // The LDC paper's force reads a free surface's missing neighbours as low density and lifts a tank at rest.
     {"solver.ldc_clamp", K::Boolean, "true", 1.0, {}, "",
-     "LDC reads densities below ρ0 as ρ0 (false: the seed's force)", "", &P::ldc_clamp},
+     "LDC reads densities below ρ0 as ρ0 (false: the LDC paper's force)", "", &P::ldc_clamp},
     {"camera.eye", K::Vector, "framing the domain", {}, {}, "m",
      "where the renderer looks from; left out: from the front, 30° up, as close as the domain fits a 16:9 image", "",
      {}},

@@ -23,11 +23,11 @@
 
 namespace pbflow {
 
-// Every run starts from its seed relaxed: the seed's jitter (scene/seeding.hpp) brings some
+// Every run starts from its start relaxed: the start's jitter (scene/seeding.hpp) brings some
 // particles closer than the lattice, and released from there the solver pushed them apart and
 // lifted the fluid (the energy tests' small dam break gained up to 6.6 % of its potential
 // energy). kStartProjections projections (Solver::project) take the worst of those tests to 0.16 %
-// (thirty: 0.66 %; docs/physics.md, "The seed").
+// (thirty: 0.66 %; docs/physics.md, "The start").
 inline constexpr int kStartProjections = 40;
 // `progress(projection)`, if given, is called after each projection; false stops early (an
 // interrupt). They cost about forty steps' worth.

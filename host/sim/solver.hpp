@@ -120,7 +120,7 @@ class Solver {
   // passes: no gravity, no LDC, no XSPH, and the velocities are zero after. A seed starts from
   // it (sim/settle.hpp, project_start). One pass whatever the step runs: every schedule relaxes
   // towards the same rest, so a pbf@2 run's projection costs two thirds of its two pairs and a
-  // pbf@4 run's half. The coarse correction stays: a jittered seed is compressed as a whole
+  // pbf@4 run's half. The coarse correction stays: a jittered start is compressed as a whole
   // (3.5 % at ±25 %), the longest mode there is; without it 40 projections left 0.064 % where
   // they leave 0.011 %, and the energy tests gained up to 7 %.
   virtual void project() = 0;
