@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
@@ -270,6 +271,75 @@ TEST(StillWaterSlow, TheSettledTanksFacesRenderFlat) { expect_flat_faces(640, 36
 // 3.7 mm low (the coarse grid straddled the wall); level, with the drawn shapes and the
 // jittered start, it reads 2.9 (side 1.1).
 TEST(StillWaterSlow, TheSettledTanksFacesRenderFlatAt720p) { expect_flat_faces(1280, 720, 5.0, 5.0); }
+
+// Refraction follows Snell's law: a still block of water 0.1 m deep on the checker floor,
+// seen from 45 degrees above, shows a floor edge where the ray that water's index (1.33) bends
+// onto it meets the surface. The edge's shift in the image, against the same view without
+// water, is the shift that geometry predicts within 25 %.
+TEST_F(RenderTest, TheFloorSeenThroughStillWaterIsShiftedAsSnellsLawPredicts) {
+  capture::View v;
+  v.width = 640;
+  v.height = 640;
+  v.style = Style::Fluid;
+  const double x = 0.05;  // the image's middle column lies in this plane, between checker lines
+  v.camera = {glm::dvec3(x, 1.2, 1.2), glm::dvec3(x, 0.0, 0.0), 40};
+  v.domain = {glm::dvec3(-0.5, 0.0, -0.5), glm::dvec3(0.5, 1.0, 0.5)};
+  v.particle_radius = 0.01;
+  std::vector<glm::vec3> water;
+  for (int i = 0; i < 50; ++i)
+    for (int j = 0; j < 5; ++j)
+      for (int k = 0; k < 50; ++k) water.emplace_back(-0.49 + 0.02 * i, 0.01 + 0.02 * j, -0.49 + 0.02 * k);
+  const double depth = 0.1;  // the spheres' top
+  const Image dry = render(v, {glm::vec3(0.0f, 0.9f, -0.45f)});  // one drop far from the floor's edge
+  const Image wet = render(v, water);
+
+  // Where a world point lands in the image, as the renderer projects it (rows from the top).
+  const glm::mat4 view = glm::lookAt(glm::vec3(v.camera.eye), glm::vec3(v.camera.target), glm::vec3(0, 1, 0));
+  const glm::mat4 proj = glm::perspective(glm::radians(40.0f), 1.0f, 0.01f, 10.0f);
+  auto row_of = [&](glm::dvec3 p) {
+    const glm::vec4 c = proj * view * glm::vec4(glm::vec3(p), 1.0f);
+    return (1.0 - (c.y / c.w * 0.5 + 0.5)) * v.height;
+  };
+  // The surface point whose refracted ray reaches the floor at z_edge (bisection on its z).
+  auto surface_seeing = [&](double z_edge) {
+    double lo = z_edge, hi = v.camera.eye.z;
+    for (int n = 0; n < 60; ++n) {
+      const double z = 0.5 * (lo + hi);
+      const double across = v.camera.eye.z - z, down = v.camera.eye.y - depth;
+      const double sin_t = across / std::hypot(across, down) / 1.33;
+      const double reaches = z - depth * sin_t / std::sqrt(1.0 - sin_t * sin_t);
+      (reaches < z_edge ? lo : hi) = z;
+    }
+    return glm::dvec3(x, depth, 0.5 * (lo + hi));
+  };
+  auto luminance = [](const Image& im, int row) {
+    const size_t i = 3 * (size_t(row) * im.width + im.width / 2);
+    return 0.3 * im.rgb[i] + 0.59 * im.rgb[i + 1] + 0.11 * im.rgb[i + 2];
+  };
+  // The row in [from, to) where the middle column's brightness steps most.
+  auto edge_between = [&](const Image& im, int from, int to) {
+    int best = from;
+    double step = -1;
+    for (int r = from; r + 1 < to; ++r)
+      if (std::abs(luminance(im, r + 1) - luminance(im, r)) > step) {
+        step = std::abs(luminance(im, r + 1) - luminance(im, r));
+        best = r;
+      }
+    return best + 0.5;
+  };
+  for (double z_edge : {-0.2, -0.1, 0.0, 0.1}) {
+    const double dry_row = row_of({x, 0.0, z_edge});
+    const double predicted = row_of(surface_seeing(z_edge));
+    const double cell_rows = row_of({x, 0.0, z_edge + 0.05}) - dry_row;  // half a checker cell
+    const double measured_dry = edge_between(dry, int(dry_row - cell_rows), int(dry_row + cell_rows));
+    // The nearest edges on either side lie a whole cell away: the window holds one edge.
+    const double measured_wet = edge_between(wet, int(measured_dry - cell_rows), int(measured_dry + cell_rows));
+    const double shift = measured_wet - measured_dry, expected = predicted - dry_row;
+    std::printf("[ snell    ] floor edge z = %.1f: shifted %.1f rows, Snell %.1f\n", z_edge, shift, expected);
+    EXPECT_NEAR(measured_dry, dry_row, 1.5) << "the dry floor's edge is not where the projection puts it";
+    EXPECT_NEAR(shift, expected, 0.25 * std::abs(expected)) << "floor edge at z = " << z_edge;
+  }
+}
 
 // The fluid style's surface at half size (the default) against full size: the same
 // pixels covered but within 2 pixels of the outline, colours close; and a box in front of the fluid

@@ -9,12 +9,10 @@ layout(location = 0) out vec4 result;
 void main() {
   vec3 eye_world = -transpose(mat3(view)) * view[3].xyz;
   if (dot(normal_world, eye_world - position_world) <= 0.0) discard;
-  vec3 base = pass == PASS_SOLID ? SOLID_COLOUR : vec3(0.86, 0.86, 0.84);
-  if (pass != PASS_SOLID && normal_world.y > 0.5) {
-    ivec2 cell = ivec2(floor(position_world.xz / 0.1));
-    base = ((cell.x + cell.y) & 1) == 0 ? vec3(0.62, 0.60, 0.56) : vec3(0.80, 0.78, 0.74);
+  if (pass != PASS_SOLID) {
+    result = vec4(tank_surface(position_world, normal_world), 1.0);
+    return;
   }
   vec3 n = normalize(mat3(view) * normal_world);
-  // Walls take more ambient light than the fluid so that the tank reads as a bright backdrop.
-  result = vec4(base * (0.55 + 0.45 * max(dot(n, light_view.xyz), 0.0)), 1.0);
+  result = vec4(SOLID_COLOUR * (0.55 + 0.45 * max(dot(n, light_view.xyz), 0.0)), 1.0);
 }

@@ -1,7 +1,8 @@
 // Screen-space fluid: a surface from the smoothed depth, normals from its slopes smoothed
 // along the surface (surface_normals.comp, smooth_normals.comp),
-// Fresnel mix of the sky's reflection and the scene refracted and absorbed through
-// the fluid's thickness, and a specular highlight. Written on the tiles that the fluid may
+// Fresnel mix of the surroundings' reflection (the tank's walls and floor, the sky: traced,
+// render_common.glsl) and the scene refracted by Snell's law and absorbed through the
+// fluid's thickness, and a specular highlight. Written on the tiles that the fluid may
 // touch (TILES_NEAR_FLUID, surface_tiles.glsl) over a copy of the tank's image, at the
 // image's size: a tile's workgroup covers the image pixels of its surface texels.
 layout(local_size_x = TILE, local_size_y = TILE) in;
@@ -44,6 +45,33 @@ vec3 surface_normal(vec2 uv) {
   return dot(nearest, nearest) > 1e-6 && dot(nearest, n) < CREASE * length(nearest) ? normalize(nearest) : n;
 }
 
+// Where the tank image shows what is seen through the surface at view point `pos` (normal n):
+// the view ray bends by Snell's law (water's index 1.33) and crosses the water as through a
+// slab of the depth its path implies (the summed chords over the spheres' packing fraction,
+// pi/6 for spheres of half a spacing on a lattice), leaves it parallel to the view ray again,
+// and meets the tank; that point, projected, is the image's point. Where the bent ray leaves
+// the tank inside the water (a still tank: at the floor), that exit is the point.
+const float WATER_INDEX = 1.33;
+const float PACKING = 0.5236;
+vec2 refracted_uv(vec3 pos, vec3 n, float thickness) {
+  vec3 v = world_direction(normalize(pos)), nw = world_direction(n);
+  vec3 r = refract(v, nw, 1.0 / WATER_INDEX);
+  vec3 s = world_position(pos);
+  vec3 unused;
+  vec3 seen;
+  if (dot(r, r) == 0.0) {
+    seen = s + v * tank_exit(s, v, unused);
+  } else {
+    float depth = thickness / PACKING * abs(dot(v, nw));  // the slab's depth along the normal
+    float inside = depth / max(abs(dot(r, nw)), 0.2);
+    float to_tank = tank_exit(s, r, unused);
+    vec3 out_of_water = s + r * min(inside, to_tank);
+    seen = inside >= to_tank ? out_of_water : out_of_water + v * tank_exit(out_of_water, v, unused);
+  }
+  vec4 clip = proj * view * vec4(seen, 1.0);
+  return clamp(clip.xy / clip.w * 0.5 + 0.5, vec2(0.0), vec2(1.0));
+}
+
 vec3 shade(ivec2 p) {
   vec2 uv = (vec2(p) + 0.5) / viewport;
   vec3 background = texelFetch(scene_texture, p, 0).rgb;
@@ -56,16 +84,16 @@ vec3 shade(ivec2 p) {
   vec3 n = surface_normal(uv);
   vec3 eye_dir = normalize(-pos);
   if (dot(n, eye_dir) < 0.0) n = -n;
-  if (style == STYLE_NORMALS)  // world space: the view matrix is a rotation and a shift
-    return 0.5 * normalize(transpose(mat3(view)) * n) + 0.5;
+  if (style == STYLE_NORMALS)  // in world space
+    return 0.5 * normalize(world_direction(n)) + 0.5;
 
   float thickness = texture(thickness_texture, uv).r;
-  vec2 offset = n.xy * min(thickness, 0.3) * 0.15;
-  vec3 behind = texture(scene_texture, uv + offset).rgb;
+  vec3 behind = texture(scene_texture, refracted_uv(pos, n, thickness)).rgb;
   // Water absorbs red first: thin sheets are clear, deep water turns blue-green.
   vec3 absorbed = behind * exp(-thickness * vec3(7.0, 2.5, 1.2)) + vec3(0.02, 0.10, 0.20) * (1.0 - exp(-thickness * 4.0));
   float fresnel = 0.02 + 0.98 * pow(1.0 - max(dot(n, eye_dir), 0.0), 5.0);
-  vec3 reflected = sky(reflect(-eye_dir, n));
+  vec3 surface_world = world_position(pos);
+  vec3 reflected = surroundings(surface_world, world_direction(reflect(-eye_dir, n)));
   vec3 h = normalize(light_view.xyz + eye_dir);
   float specular = pow(max(dot(n, h), 0.0), 120.0);
   return mix(absorbed, reflected, fresnel) + vec3(0.8 * specular);

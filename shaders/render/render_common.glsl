@@ -64,11 +64,49 @@ float sphere_disc(vec3 ray, vec3 centre, float r) {
   return b * b - dot(ray, ray) * (dot(centre, centre) - r * r);
 }
 
-// Sky seen along a view-space direction: light near the horizon, deeper blue above.
-vec3 sky(vec3 dir_view) {
-  vec3 up = normalize(mat3(view) * vec3(0.0, 1.0, 0.0));
-  float h = clamp(dot(dir_view, up), -1.0, 1.0);
-  return mix(vec3(0.80, 0.85, 0.90), vec3(0.35, 0.55, 0.85), clamp(h * 1.5, 0.0, 1.0));
+// World space from view space: the view matrix is a rotation and a shift.
+vec3 world_direction(vec3 dir_view) { return transpose(mat3(view)) * dir_view; }
+vec3 world_position(vec3 p_view) { return transpose(mat3(view)) * (p_view - view[3].xyz); }
+
+// The sky seen along a world direction: a pale horizon, deeper blue above, a sun towards the
+// light and, below the horizon, the dull ground the open tank stands on.
+vec3 sky(vec3 dir) {
+  float h = dir.y;
+  vec3 above = mix(vec3(0.82, 0.87, 0.92), vec3(0.30, 0.50, 0.82), clamp(h * 1.6, 0.0, 1.0));
+  vec3 below = mix(vec3(0.55, 0.55, 0.52), vec3(0.35, 0.34, 0.32), clamp(-h * 3.0, 0.0, 1.0));
+  vec3 sun_dir = world_direction(light_view.xyz);
+  float sun = pow(max(dot(dir, sun_dir), 0.0), 600.0) * 6.0 + pow(max(dot(dir, sun_dir), 0.0), 12.0) * 0.25;
+  return (h >= 0.0 ? above : below) + vec3(1.0, 0.95, 0.85) * sun;
+}
+
+// The tank's inside at a world point on its floor or a wall, lit: a 10 cm checker on the
+// floor, light grey walls (box.frag draws it; the fluid reflects and refracts it).
+vec3 tank_surface(vec3 p, vec3 inward_normal) {
+  vec3 base = vec3(0.86, 0.86, 0.84);
+  if (inward_normal.y > 0.5) {
+    ivec2 cell = ivec2(floor(p.xz / 0.1));
+    base = ((cell.x + cell.y) & 1) == 0 ? vec3(0.62, 0.60, 0.56) : vec3(0.80, 0.78, 0.74);
+  }
+  // Walls take more ambient light than the fluid so that the tank reads as a bright backdrop.
+  return base * (0.55 + 0.45 * max(dot(inward_normal, world_direction(light_view.xyz)), 0.0));
+}
+
+// How far a ray from a point inside the tank goes before it leaves through a face, and that
+// face's inward normal.
+float tank_exit(vec3 origin, vec3 dir, out vec3 inward_normal) {
+  vec3 safe = mix(vec3(1e-8), dir, greaterThan(abs(dir), vec3(1e-8)));
+  vec3 t = (mix(domain_min.xyz, domain_max.xyz, greaterThan(safe, vec3(0.0))) - origin) / safe;
+  float exit = min(t.x, min(t.y, t.z));
+  inward_normal = -sign(safe) * vec3(equal(t, vec3(exit)));
+  return max(exit, 0.0);
+}
+
+// What a ray from inside the tank sees: a wall or the floor, or the sky through the open top
+// (obstacles are not in it).
+vec3 surroundings(vec3 origin, vec3 dir) {
+  vec3 inward;
+  float t = tank_exit(origin, dir, inward);
+  return inward.y < -0.5 ? sky(dir) : tank_surface(origin + t * dir, inward);
 }
 
 // A ramp from deep blue through cyan, green and yellow to red, t in [0, 1].
