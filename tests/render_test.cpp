@@ -341,6 +341,28 @@ TEST_F(RenderTest, TheFloorSeenThroughStillWaterIsShiftedAsSnellsLawPredicts) {
   }
 }
 
+// Calm water stays calm on screen: frame to frame, a settled tank at rest changes at most 1 %
+// of its pixels by more than 2/255 (no shimmer from the particles jostling).
+TEST(StillWaterSlow, ATankAtRestDoesNotShimmerFromFrameToFrame) {
+  const std::filesystem::path dir = test::fresh_dir("calm_water");
+  const std::string cmd = std::string(PBFLOW_BINARY) +
+                          " run hydrostatic --frames 32 --width 640 --height 360 --quiet --out " + dir.string() +
+                          " > /dev/null 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  const Image a = capture::read_png(dir / "frames" / "frame_00030.png");
+  const Image b = capture::read_png(dir / "frames" / "frame_00031.png");
+  ASSERT_EQ(a.rgb.size(), b.rgb.size());
+  size_t changed = 0;
+  for (size_t i = 0; i < a.rgb.size(); i += 3) {
+    int most = 0;
+    for (size_t c = 0; c < 3; ++c) most = std::max(most, std::abs(int(a.rgb[i + c]) - int(b.rgb[i + c])));
+    changed += most > 2;
+  }
+  const double share = double(changed) / double(a.rgb.size() / 3);
+  std::printf("[ calm     ] pixels changed by more than 2/255 between frames 30 and 31: %.3f %%\n", 100 * share);
+  EXPECT_LE(share, 0.01);
+}
+
 // The fluid style's surface at half size (the default) against full size: the same
 // pixels covered but within 2 pixels of the outline, colours close; and a box in front of the fluid
 // hides it exactly at either size, though the half-size surface's texels straddle the
