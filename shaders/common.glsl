@@ -1,4 +1,5 @@
-// Shared by every particle pass: the simulation constants (declared in sim_constants.h), the SPH kernels (mirrors host/sim/kernels.hpp) and the grid lookup.
+// Shared by every particle pass: the simulation constants (declared in sim_constants.h), the
+// SPH kernels (mirrors host/sim/kernels.hpp) and the grid lookup.
 
 #include "sim_constants.h"
 #define SIM_FIELD(type, name) type name;

@@ -93,32 +93,32 @@ TEST(ShaderLayout, WordsThatAreNotSpirvAreRefused) {
 
 class ProgramContract : public test::GpuTest {};
 
+// Expects `attempt` to throw a vk::Error whose message holds `naming`; `accepted` says what
+// went wrong where it does not throw.
+template <class Attempt>
+void expect_refused(Attempt attempt, const std::string& naming, const char* accepted) {
+  try {
+    attempt();
+    ADD_FAILURE() << accepted;
+  } catch (const vk::Error& e) {
+    EXPECT_NE(std::string(e.what()).find(naming), std::string::npos) << e.what();
+  }
+}
+
 TEST_F(ProgramContract, AConstantTheShaderLacksOrOmitsIsRefusedByName) {
   const std::array<vk::Constant, 1> typo{{{"SPEED_LIMT", 0u}}};
-  try {
-    vk::Program(test::gpu(), "watch", sizeof(SimConstants), 0, typo);
-    FAIL() << "a constant the shader does not declare was accepted";
-  } catch (const vk::Error& e) {
-    EXPECT_NE(std::string(e.what()).find("SPEED_LIMT"), std::string::npos) << e.what();
-  }
-  try {
-    vk::Program(test::gpu(), "watch", sizeof(SimConstants));
-    FAIL() << "a constant the shader declares was left unset";
-  } catch (const vk::Error& e) {
-    EXPECT_NE(std::string(e.what()).find("SPEED_LIMIT"), std::string::npos) << e.what();
-  }
+  expect_refused([&] { vk::Program(test::gpu(), "watch", sizeof(SimConstants), 0, typo); }, "SPEED_LIMT",
+                 "a constant the shader does not declare was accepted");
+  expect_refused([&] { vk::Program(test::gpu(), "watch", sizeof(SimConstants)); }, "SPEED_LIMIT",
+                 "a constant the shader declares was left unset");
 }
 
 // A constant carries its type: a float where the shader declares another type is refused, not
 // reinterpreted as bits.
 TEST_F(ProgramContract, AConstantOfAnotherTypeThanTheShadersIsRefused) {
   const std::array<vk::Constant, 1> as_whole{{{"SPEED_LIMIT", 10u}}};
-  try {
-    vk::Program(test::gpu(), "watch", sizeof(SimConstants), 0, as_whole);
-    FAIL() << "a whole number was accepted for a float constant";
-  } catch (const vk::Error& e) {
-    EXPECT_NE(std::string(e.what()).find("SPEED_LIMIT is set as another type"), std::string::npos) << e.what();
-  }
+  expect_refused([&] { vk::Program(test::gpu(), "watch", sizeof(SimConstants), 0, as_whole); },
+                 "SPEED_LIMIT is set as another type", "a whole number was accepted for a float constant");
 }
 
 // The solver's keys reach a pass that declares them (SOLVER_XSPH and others in
@@ -141,12 +141,8 @@ TEST_F(ProgramContract, TheSolversKeysReachEveryPassThatDeclaresThem) {
   EXPECT_EQ(key("SOLVER_LDC_CLAMP").type, vk::ConstantType::Bool);
   const std::array<vk::Constant, 3> own{{{"DAMPING_LIMIT", 0.3f}, {"NEIGHBOUR_CAPACITY", 64u}, {"WALK_CELLS", false}}};
   EXPECT_NO_THROW(vk::Program(test::gpu(), "viscosity_vorticity", sizeof(SimConstants), 0, own, keys.constants()));
-  try {
-    vk::Program(test::gpu(), "viscosity_vorticity", sizeof(SimConstants), 0, own);
-    FAIL() << "the pass was made without the keys it reads";
-  } catch (const vk::Error& e) {
-    EXPECT_NE(std::string(e.what()).find("SOLVER_"), std::string::npos) << e.what();
-  }
+  expect_refused([&] { vk::Program(test::gpu(), "viscosity_vorticity", sizeof(SimConstants), 0, own); }, "SOLVER_",
+                 "the pass was made without the keys it reads");
 }
 
 // The push-constant block's size comes from the shader: a host struct of another size is
@@ -154,13 +150,9 @@ TEST_F(ProgramContract, TheSolversKeysReachEveryPassThatDeclaresThem) {
 TEST_F(ProgramContract, APushStructOfAnotherSizeThanTheShadersBlockIsRefused) {
   EXPECT_EQ(vk::reflect_layout(shaders::spirv("watch")).push_bytes, sizeof(SimConstants));
   EXPECT_EQ(vk::reflect_layout(shaders::spirv("scan_add")).push_bytes, sizeof(uint32_t));
-  try {
-    vk::Program(test::gpu(), "scan_add", 2 * sizeof(uint32_t), 64);
-    FAIL() << "a push struct of 8 bytes was accepted for a 4-byte block";
-  } catch (const vk::Error& e) {
-    EXPECT_NE(std::string(e.what()).find("push-constant block is 4 bytes and the host's 8"), std::string::npos)
-        << e.what();
-  }
+  expect_refused([&] { vk::Program(test::gpu(), "scan_add", 2 * sizeof(uint32_t), 64); },
+                 "push-constant block is 4 bytes and the host's 8",
+                 "a push struct of 8 bytes was accepted for a 4-byte block");
 }
 
 TEST_F(ProgramContract, BindingANameTheShaderLacksThrowsNamingIt) {
@@ -170,19 +162,11 @@ TEST_F(ProgramContract, BindingANameTheShaderLacksThrowsNamingIt) {
   cmd.begin();
   cmd.set_program(scan);
   cmd.bind("data", buffer);
-  try {
-    cmd.bind("sum", buffer);
-    FAIL() << "a binding the shader does not have was accepted";
-  } catch (const vk::Error& e) {
-    EXPECT_NE(std::string(e.what()).find("sum"), std::string::npos) << e.what();
-  }
+  expect_refused([&] { cmd.bind("sum", buffer); }, "sum",
+                 "a binding the shader does not have was accepted");
   // A binding left unbound is refused at the dispatch, by name.
-  try {
-    cmd.dispatch(64);
-    FAIL() << "a dispatch with an unbound binding was recorded";
-  } catch (const vk::Error& e) {
-    EXPECT_NE(std::string(e.what()).find("sums"), std::string::npos) << e.what();
-  }
+  expect_refused([&] { cmd.dispatch(64); }, "sums",
+                 "a dispatch with an unbound binding was recorded");
   cmd.bind("sums", buffer);
   cmd.push(uint32_t(64));
   cmd.dispatch(64);

@@ -190,7 +190,7 @@ void announce(const RunOptions& o, const Scene& scene, const Derived& d, const n
   if (capture && o.verbose) std::cerr << "pbflow: rendering with " << capture->description() << "\n";
 }
 
-// The start: the jittered start relaxed, and a tank settled where the scene asks.
+// The start: its jittered lattice relaxed, and a tank settled where the scene asks.
 void prepare_start(Solver& solver, const Scene& scene, const Derived& d, bool quiet, Progress& progress,
                    const InterruptGuard& interrupt) {
   project_start(solver, [&](int projection) {

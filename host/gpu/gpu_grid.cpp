@@ -9,7 +9,8 @@ namespace {
 constexpr uint32_t kScanThreads = 64;
 // On a CPU device each dispatch costs more in threads waking than the scan's work, so up to
 // kOneGroupBlocks blocks (the peer scene's 18 001 cells are 18) scan in one workgroup, in one
-// dispatch; on a GPU a group's few dozen blocks take microseconds (docs/performance.md, "Measurements behind the code").
+// dispatch; on a GPU a group's few dozen blocks take microseconds (docs/performance.md,
+// "Measurements behind the code").
 struct ScanPush {
   uint32_t n, blocks;  // values; blocks per workgroup (scan_blocks.comp)
 };

@@ -19,7 +19,8 @@ namespace {
 // coarse_sweep.comp in one workgroup of this many threads, phi in its shared memory, while the
 // grid's phi (this many nodes, this many of a colour) fits there, or 0: a dispatch a half sweep.
 // One workgroup saves the dispatches' barriers. A CPU device takes every invocation through
-// every barrier: there a thread for eight nodes. Both measured: (docs/performance.md, "Measurements behind the code").
+// every barrier: there a thread for eight nodes. Both measured: docs/performance.md,
+// "Measurements behind the code".
 uint32_t coarse_sweep_group(const vk::Context& ctx, uint32_t nodes, uint32_t per_colour) {
   if (nodes * sizeof(float) > ctx.limits().maxComputeSharedMemorySize) return 0;
   const bool cpu = ctx.info().kind == "cpu";
@@ -56,12 +57,13 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
       viscosity_pass_(d.solver.viscosity_pass()),
       vorticity_pass_(d.solver.vorticity > 0),
       correction_pass_(d.solver.method == Method::Ldc),
-      lists_(ctx, "neighbour_lists", sizeof(SimConstants), 0,
-             std::array<vk::Constant, 2>{{{"NEIGHBOUR_CAPACITY", d.neighbour_capacity},
-                                          {"MAX_GROUPS_X", ctx.limits().maxComputeWorkGroupCount[0]}}},
-             keys_.constants()),
-      predict_(ctx, "predict", sizeof(SimConstants), 0, {}, keys_.constants()),
-      velocity_(ctx, "velocity_update", sizeof(SimConstants), 0, {}, keys_.constants()),
+      lists_(particle_program("neighbour_lists",
+                              std::array<vk::Constant, 2>{{
+                                  {"NEIGHBOUR_CAPACITY", d.neighbour_capacity},
+                                  {"MAX_GROUPS_X", ctx.limits().maxComputeWorkGroupCount[0]},
+                              }})),
+      predict_(particle_program("predict")),
+      velocity_(particle_program("velocity_update")),
       density_(neighbour_pass("density", {})),
       // The optional passes' programs are built only for a scene that runs them: each
       // neighbour pass is two pipelines, and a pipeline takes milliseconds to create.
@@ -74,11 +76,10 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
                      ? neighbour_pass("viscosity_vorticity", {{"DAMPING_LIMIT", float(d.damping_limit)}})
                      : NeighbourPass{}),
       vorticity_(vorticity_pass_ ? neighbour_pass("vorticity_force", {}) : NeighbourPass{}),
-      reduce_(ctx, "reduce_stats", sizeof(SimConstants), kReduceThreads, {}, keys_.constants()),
+      reduce_(particle_program("reduce_stats", {}, kReduceThreads)),
       reduce_final_(ctx, "reduce_final", sizeof(ReduceFinalPush), kReduceThreads),
       check_converged_(ctx, "check_converged", sizeof(CheckPush), 1),
-      watch_(ctx, "watch", sizeof(SimConstants), 0, std::array<vk::Constant, 1>{{{"SPEED_LIMIT", float(d.speed_limit)}}},
-             keys_.constants()),
+      watch_(particle_program("watch", std::array<vk::Constant, 1>{{{"SPEED_LIMIT", float(d.speed_limit)}}})),
       grid_(ctx, plan_.grid),
       rho_(ctx, plan_.rho),
       neighbour_count_(ctx, plan_.neighbour_count),
@@ -107,13 +108,13 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
                                       {"CELL_X", float(c.cell.x)},
                                       {"CELL_Y", float(c.cell.y)},
                                       {"CELL_Z", float(c.cell.z)}};
-    coarse_deposit_ = vk::Program(ctx, "coarse_deposit", sizeof(SimConstants), 0, grid, keys_.constants());
-    coarse_prepare_ = vk::Program(ctx, "coarse_prepare", sizeof(SimConstants), 0, grid, keys_.constants());
-    coarse_gradient_ = vk::Program(ctx, "coarse_gradient", sizeof(SimConstants), 0, grid, keys_.constants());
+    coarse_deposit_ = particle_program("coarse_deposit", grid);
+    coarse_prepare_ = particle_program("coarse_prepare", grid);
+    coarse_gradient_ = particle_program("coarse_gradient", grid);
     auto sweep = [&](uint32_t threads, uint32_t first_colour, uint32_t shared_nodes) {
       std::vector<vk::Constant> k = grid;
       k.insert(k.end(), {{"FIRST_COLOUR", int(first_colour)}, {"SHARED_NODES", int(shared_nodes)}});
-      return vk::Program(ctx, "coarse_sweep", sizeof(SimConstants), threads, k, keys_.constants());
+      return particle_program("coarse_sweep", k, threads);
     };
     coarse_sweep_threads_ = coarse_sweep_group(ctx, uint32_t(c.count()), uint32_t(c.per_colour()));
     if (coarse_sweep_threads_) {
@@ -123,7 +124,7 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
       coarse_sweeps_.push_back(sweep(0, 1, 0));
     }
     grid.push_back({"STRENGTH", float(c.strength)});
-    coarse_apply_ = vk::Program(ctx, "coarse_apply", sizeof(SimConstants), 0, grid, keys_.constants());
+    coarse_apply_ = particle_program("coarse_apply", grid);
     coarse_sums_ = vk::Buffer(ctx, plan_.coarse_sums);
     coarse_phi_ = vk::Buffer(ctx, plan_.coarse_phi);
     coarse_grad_ = vk::Buffer(ctx, plan_.coarse_grad);
@@ -244,11 +245,16 @@ void GpuSolver::bind_neighbours() {
   cmd_.bind("neighbour_list", neighbour_list_);
 }
 
+vk::Program GpuSolver::particle_program(std::string_view shader, std::span<const vk::Constant> constants,
+                                        uint32_t workgroup_size) const {
+  return vk::Program(ctx_, shader, sizeof(SimConstants), workgroup_size, constants, keys_.constants());
+}
+
 GpuSolver::NeighbourPass GpuSolver::neighbour_pass(std::string_view shader, std::vector<vk::Constant> constants) const {
   constants.push_back({"NEIGHBOUR_CAPACITY", d_.neighbour_capacity});
   auto variant = [&](bool walk_cells) {
     constants.push_back({"WALK_CELLS", walk_cells});
-    vk::Program p(ctx_, shader, sizeof(SimConstants), 0, constants, keys_.constants());
+    vk::Program p = particle_program(shader, constants);
     constants.pop_back();
     return p;
   };

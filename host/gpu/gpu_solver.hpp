@@ -5,6 +5,7 @@
 #include <functional>
 #include <memory>
 #include <string_view>
+#include <span>
 #include <vector>
 
 #include "gpu/buffer_plan.hpp"
@@ -80,6 +81,9 @@ class GpuSolver : public Solver {
   struct NeighbourPass {
     vk::Program lists, cells;
   };
+  // A particle pass's program: SimConstants pushed, the solver's keys offered, `constants` its own.
+  vk::Program particle_program(std::string_view shader, std::span<const vk::Constant> constants = {},
+                               uint32_t workgroup_size = 0) const;
   // `constants`: the shader's own; neighbour_pass adds those of shaders/neighbours.glsl.
   NeighbourPass neighbour_pass(std::string_view shader, std::vector<vk::Constant> constants) const;
   // Runs `pass` with the grid, its lists and the bindings `bind` makes: the list readers

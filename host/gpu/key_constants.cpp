@@ -14,19 +14,11 @@ std::string KeyConstants::shader_name(std::string_view key) {
 }
 
 KeyConstants::KeyConstants(const SolverParams& p) {
-  std::vector<const SceneKey*> solver_keys;
   for (const SceneKey& k : scene_keys()) {
-    const bool of_solver = std::holds_alternative<double SolverParams::*>(k.target) ||
-                           std::holds_alternative<int SolverParams::*>(k.target) ||
-                           std::holds_alternative<bool SolverParams::*>(k.target);
-    if (of_solver) solver_keys.push_back(&k);
-  }
-  names_.reserve(solver_keys.size());  // the constants view these strings: no reallocation
-  for (const SceneKey* k : solver_keys) {
-    const std::string& name = names_.emplace_back(shader_name(k->name));
-    if (auto m = std::get_if<double SolverParams::*>(&k->target)) constants_.emplace_back(name, float(p.**m));
-    if (auto m = std::get_if<int SolverParams::*>(&k->target)) constants_.emplace_back(name, p.**m);
-    if (auto m = std::get_if<bool SolverParams::*>(&k->target)) constants_.emplace_back(name, p.**m);
+    auto offer = [&](auto value) { constants_.emplace_back(names_.emplace_back(shader_name(k.name)), value); };
+    if (auto m = std::get_if<double SolverParams::*>(&k.target)) offer(float(p.**m));
+    if (auto m = std::get_if<int SolverParams::*>(&k.target)) offer(p.**m);
+    if (auto m = std::get_if<bool SolverParams::*>(&k.target)) offer(p.**m);
   }
 }
 
