@@ -15,7 +15,8 @@ FrameCapture::FrameCapture(const CaptureOptions& options, const std::vector<cons
   // llvmpipe compiles a GL program's shaders at its first draw where the solver's pipelines
   // are compiled as it is made: one render of the particles, never written, does it here,
   // before the run's first frame and clock.
-  renderer_.render(transfers_[0]->update(*solvers[0]), uint32_t(solvers[0]->particle_count()));
+  renderer_.render(transfers_[0]->update(*solvers[0]), uint32_t(solvers[0]->particle_count()),
+                   uint32_t(solvers[0]->white_water_capacity()));
   if (solvers.size() > 1) {
     panels_.width = options.view.width * int(solvers.size());
     panels_.height = options.view.height;
@@ -36,7 +37,8 @@ const Image& FrameCapture::draw(const std::vector<const Solver*>& solvers) {
   const auto start = std::chrono::steady_clock::now();
   const Image* image = nullptr;
   for (size_t i = 0; i < solvers.size(); ++i) {
-    image = &renderer_.render(transfers_[i]->update(*solvers[i]), uint32_t(solvers[i]->particle_count()));
+    image = &renderer_.render(transfers_[i]->update(*solvers[i]), uint32_t(solvers[i]->particle_count()),
+                              uint32_t(solvers[i]->white_water_capacity()));
     gpu_drawing_seconds_ += renderer_.last_gpu_seconds();
     if (solvers.size() == 1) break;
     const size_t row = size_t(image->width) * 3;

@@ -1,13 +1,15 @@
 #include "capture/particle_transfer.hpp"
 
+#include <algorithm>
+
 #include "gpu/gpu_solver.hpp"
 #include "vk/buffer.hpp"
 #include "vk/context.hpp"
 
 namespace pbflow::capture {
 
-void upload_frame(GLuint buffer, const ParticleFrame& f) {
-  const FrameOffsets to = frame_offsets(f.x.size());
+void upload_frame(GLuint buffer, const ParticleFrame& f, size_t white_capacity) {
+  const FrameOffsets to = frame_offsets(f.x.size(), white_capacity);
   auto put = [&](size_t offset, size_t next, const void* data) {
     glNamedBufferSubData(buffer, GLintptr(offset), GLsizeiptr(next - offset), data);
   };
@@ -17,21 +19,29 @@ void upload_frame(GLuint buffer, const ParticleFrame& f) {
   // Without smoothed positions, x stands in (as GpuSolver::copy_frame), and zeros draw spheres.
   put(to.x_smooth, to.shape, (f.x_smooth.empty() ? f.x : f.x_smooth).data());
   const std::vector<glm::vec4> spheres(f.shape.empty() ? 2 * f.x.size() : 0, glm::vec4(0.0f));
-  put(to.shape, to.end, (f.shape.empty() ? spheres : f.shape).data());
+  put(to.shape, to.white_count, (f.shape.empty() ? spheres : f.shape).data());
+  const size_t white = std::min(f.white_x.size(), white_capacity);
+  const uint32_t header[4] = {uint32_t(white), 0, 0, 0};
+  put(to.white_count, to.white_x, header);
+  if (white) {
+    put(to.white_x, to.white_x + white * sizeof(glm::vec4), f.white_x.data());
+    put(to.white_v, to.white_v + white * sizeof(glm::vec4), f.white_v.data());
+  }
 }
 
 namespace {
 
 class ReadBack : public ParticleTransfer {
  public:
-  explicit ReadBack(size_t n) : buffer_(gl::make_buffer(GLsizeiptr(frame_bytes(n)))) {}
+  ReadBack(size_t n, size_t white) : white_(white), buffer_(gl::make_buffer(GLsizeiptr(frame_bytes(n, white)))) {}
   GLuint update(const Solver& solver) override {
-    upload_frame(buffer_, solver.read_frame());
+    upload_frame(buffer_, solver.read_frame(), white_);
     return buffer_;
   }
   const char* name() const override { return "read-back through the host"; }
 
  private:
+  size_t white_;
   gl::Object buffer_;
 };
 
@@ -40,7 +50,7 @@ class Shared : public ParticleTransfer {
   // The 64 KiB of slack: llvmpipe (Mesa 22.3) refuses a buffer that fills its imported
   // memory object exactly (GL_OUT_OF_MEMORY), as it rounds the buffer's size up.
   Shared(const GpuSolver& solver, const vk::Context& vk)
-      : vk_buffer_(vk, frame_bytes(solver.particle_count()) + 65536, vk::Memory::Shared) {
+      : vk_buffer_(vk, frame_bytes(solver.particle_count(), solver.white_water_capacity()) + 65536, vk::Memory::Shared) {
     GLuint memory = 0;
     glCreateMemoryObjectsEXT(1, &memory);
     memory_ = gl::Object(memory, [](GLuint m) { glDeleteMemoryObjectsEXT(1, &m); });
@@ -49,7 +59,7 @@ class Shared : public ParticleTransfer {
     GLuint buffer = 0;
     glCreateBuffers(1, &buffer);
     buffer_ = gl::Object(buffer, [](GLuint b) { glDeleteBuffers(1, &b); });
-    glNamedBufferStorageMemEXT(buffer_, GLsizeiptr(frame_bytes(solver.particle_count())), memory_, 0);
+    glNamedBufferStorageMemEXT(buffer_, GLsizeiptr(frame_bytes(solver.particle_count(), solver.white_water_capacity())), memory_, 0);
     if (GLenum e = glGetError(); e != GL_NO_ERROR)
       throw gl::Error("GL could not import the solver's Vulkan memory (GL error " + std::to_string(e) + ")");
   }
@@ -75,7 +85,7 @@ std::unique_ptr<ParticleTransfer> make_particle_transfer(const Solver& solver, c
                    gl.has_extension("GL_EXT_memory_object_fd") && uuid &&
                    std::equal(uuid->begin(), uuid->end(), vk->device_uuid().begin());
   if (shareable) return std::make_unique<Shared>(*gpu, *vk);
-  return std::make_unique<ReadBack>(solver.particle_count());
+  return std::make_unique<ReadBack>(solver.particle_count(), solver.white_water_capacity());
 }
 
 }  // namespace pbflow::capture

@@ -23,8 +23,9 @@ class ParticleTransfer {
   virtual const char* name() const = 0;
 };
 
-// Writes a host frame into `buffer` (frame layout, room for f.x.size() particles).
-void upload_frame(GLuint buffer, const ParticleFrame& f);
+// Writes a host frame into `buffer` (frame layout, room for f.x.size() particles and
+// white_capacity white water particles, of which f's first are written).
+void upload_frame(GLuint buffer, const ParticleFrame& f, size_t white_capacity = 0);
 
 // Zero-copy when `allow_shared`, the solver runs on `vk` and both drivers can share
 // memory on the same device (matching UUIDs); read-back otherwise.

@@ -40,6 +40,7 @@ struct Renderer::FrameUniforms {
   float radius;
   int32_t count, style, pass;
   float colour_scale, rho0;
+  int32_t white_capacity;
 };
 
 Style parse_style(const std::string& name) {
@@ -89,6 +90,7 @@ Renderer::Renderer(const View& view)
     normals_ = gl::make_compute_program("surface_normals.comp");
     smooth_normals_ = gl::make_compute_program("smooth_normals.comp");
     fluid_ = gl::make_compute_program("fluid_shade.comp");
+    white_water_ = gl::make_program("white_water.vert", "white_water.frag");
     // The smoothed surface holds (linear eye depth, coverage 1) where there is fluid and 0
     // elsewhere, so that the shading's bilinear read at full size, r/g, blends only depths
     // of fluid and g says how much of the pixel the fluid covers. (The splat's depth,
@@ -118,7 +120,7 @@ void Renderer::set_camera(const Camera& camera) {
   tank_drawn_ = false;  // the tank's image is the camera's
 }
 
-Renderer::FrameUniforms Renderer::uniforms(uint32_t count, int pass, glm::ivec2 viewport) const {
+Renderer::FrameUniforms Renderer::uniforms(uint32_t count, int pass, glm::ivec2 viewport, uint32_t white) const {
   const Camera& c = view_.camera;
   glm::vec3 eye(c.eye), target(c.target);
   glm::vec3 lo(view_.domain.min), hi(view_.domain.max);
@@ -143,6 +145,7 @@ Renderer::FrameUniforms Renderer::uniforms(uint32_t count, int pass, glm::ivec2 
   u.pass = pass;
   u.colour_scale = float(view_.style == Style::Density ? kDensityScale : view_.speed_scale);
   u.rho0 = float(view_.rest_density);
+  u.white_capacity = int32_t(white);
   return u;
 }
 
@@ -160,7 +163,7 @@ void Renderer::draw_spheres(uint32_t count, int pass, glm::ivec2 viewport) {
   glDrawArrays(GL_POINTS, 0, GLsizei(count));
 }
 
-const Image& Renderer::render(GLuint buffer, uint32_t count) {
+const Image& Renderer::render(GLuint buffer, uint32_t count, uint32_t white_capacity) {
   const int w = view_.width, h = view_.height;
   glQueryCounter(began_, GL_TIMESTAMP);
   glBindVertexArray(vao_);
@@ -176,6 +179,7 @@ const Image& Renderer::render(GLuint buffer, uint32_t count) {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buffer);
   if (fluid) {
     fluid_surface(count);
+    if (white_capacity > 0 && view_.style == Style::Fluid) white_water(count, white_capacity);
   } else {
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
@@ -286,6 +290,24 @@ void Renderer::fluid_surface(uint32_t count) {
   glBindTextureUnit(3, scene_depth_);
   glBindTextureUnit(5, normal_[0]);
   run_tiles(kTilesNearFluid);
+}
+
+// 6. White water over the shaded fluid, behind the tank's depth (white_water.vert, .frag).
+void Renderer::white_water(uint32_t count, uint32_t white_capacity) {
+  copy_image(scene_depth_, output_depth_);
+  glBindFramebuffer(GL_FRAMEBUFFER, output_fb_);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_FALSE);
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+  upload(uniforms(count, kPassShaded, image_size_, white_capacity));
+  glUseProgram(white_water_);
+  glBindTextureUnit(1, fluid_depth_[0]);
+  glDrawArrays(GL_POINTS, 0, GLsizei(white_capacity));
+  glDisable(GL_BLEND);
+  glDepthMask(GL_TRUE);
+  glDisable(GL_DEPTH_TEST);
 }
 
 void Renderer::run_tiles(int kind) {

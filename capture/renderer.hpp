@@ -48,10 +48,11 @@ class Renderer {
  public:
   explicit Renderer(const View& view);  // needs a current gl::Context
 
-  // Draws `count` particles from `buffer` (frame layout); count 0 draws the empty tank.
+  // Draws `count` particles from `buffer` (frame layout, room for `white_capacity` white water
+  // particles, drawn in the fluid style); count 0 draws the empty tank.
   // The image is the renderer's own, valid until the next call: every frame's pixels
   // fill the same memory, which page faults made dear to allocate anew (host/app/main.cpp).
-  const Image& render(GLuint buffer, uint32_t count);
+  const Image& render(GLuint buffer, uint32_t count, uint32_t white_capacity = 0);
   const View& view() const { return view_; }
   void set_camera(const Camera& camera);  // the next render() draws from here
   // The GPU time of the last render() (a GL timer query), the read-back excluded: what a
@@ -60,7 +61,8 @@ class Renderer {
 
  private:
   struct FrameUniforms;
-  FrameUniforms uniforms(uint32_t count, int pass, glm::ivec2 viewport) const;  // viewport: the pass's size
+  // viewport: the pass's size; white: the frame's room for white water
+  FrameUniforms uniforms(uint32_t count, int pass, glm::ivec2 viewport, uint32_t white = 0) const;
   void upload(const FrameUniforms& u);
   void draw_spheres(uint32_t count, int pass, glm::ivec2 viewport);
   void copy_image(GLuint from, GLuint to) const;  // a texture of the image's size
@@ -72,11 +74,12 @@ class Renderer {
   void smooth_depth();
   void smooth_thickness();
   void surface_normals();
+  void white_water(uint32_t count, uint32_t white_capacity);
 
   View view_;
   glm::ivec2 image_size_, surface_size_;  // the fluid surface's passes run at surface_size_
   gl::Object vao_, frame_ubo_;
-  gl::Object sphere_, box_, splat_, tile_mask_, fill_pits_, smooth_, smooth_thickness_, normals_, smooth_normals_, fluid_;
+  gl::Object sphere_, box_, splat_, tile_mask_, fill_pits_, smooth_, smooth_thickness_, normals_, smooth_normals_, fluid_, white_water_;
   gl::Object scene_colour_, scene_depth_, scene_fb_;
   gl::Object output_colour_, output_depth_, output_fb_;  // a frame: the tank's image copied, then the particles
   Image image_;  // what render() returns

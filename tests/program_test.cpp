@@ -127,7 +127,7 @@ TEST_F(ProgramContract, AConstantOfAnotherTypeThanTheShadersIsRefused) {
 TEST_F(ProgramContract, TheSolversKeysReachEveryPassThatDeclaresThem) {
   Scene scene = scene_defaults();
   scene.solver.xsph = 0.125;
-  const KeyConstants keys(scene.solver);
+  const KeyConstants keys(scene.solver, scene.white_water);
   auto key = [&](std::string_view name) {
     for (const vk::Constant& c : keys.constants())
       if (c.name == name) return c;

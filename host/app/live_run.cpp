@@ -132,7 +132,10 @@ struct LiveRun::Stage {
     capture.reset();
     capture = make_frame_capture(options, scene, solvers(), ctx);
     capture->set_camera(camera);
-    for (Lane& lane : lanes) lane.solver->set_smoothed_positions(capture->draws_surface());
+    for (Lane& lane : lanes) {
+      lane.solver->set_smoothed_positions(capture->draws_surface());
+      lane.solver->set_white_water(capture->draws_white_water());
+    }
   }
   std::string about() const {
     std::string settings;
@@ -251,7 +254,8 @@ std::vector<FrontPoint> LiveRun::measure_front(Stage& stage, const vk::Context* 
   const ParticleState now = stage.lanes[0].solver->download();
   const LiveSetting was = stage.lanes[0].setting;
   const Camera camera = stage.capture->camera();
-  const bool smoothed = stage.capture->draws_surface();  // a live frame's cost includes it
+  const bool smoothed = stage.capture->draws_surface();  // a live frame's cost includes them
+  const bool white_water = stage.capture->draws_white_water();
   stage.capture.reset();
   std::vector<FrontPoint> measured;
   for (const LiveSetting& candidate : budget_candidates(stage.scene_substeps)) {
@@ -259,6 +263,7 @@ std::vector<FrontPoint> LiveRun::measure_front(Stage& stage, const vk::Context* 
     stage.make_first(candidate, ctx);
     Solver& solver = *stage.lanes[0].solver;
     solver.set_smoothed_positions(smoothed);
+    solver.set_white_water(white_water);
     solver.upload(now);
     solver.advance(candidate.substeps);
     FrontPoint p{stage.lanes[0].setting};

@@ -134,6 +134,8 @@ nlohmann::json describe_run(const RunOptions& o, const Scene& scene, const Deriv
     chosen["solver.method"] = method_name(scene.solver.method);
   if (!stated.contains(nlohmann::json::json_pointer("/solver/iterations")))
     chosen["solver.iterations"] = scene.solver.iterations;
+  if (!stated.contains(nlohmann::json::json_pointer("/white_water/max_particles")))
+    chosen["white_water.max_particles"] = d.white_water.max_particles;
   const nlohmann::json camera = stated.value("camera", nlohmann::json::object());
   auto vec = [](const glm::dvec3& v) { return nlohmann::json::array({v.x, v.y, v.z}); };
   if (!camera.contains("eye")) chosen["camera.eye"] = vec(scene.camera.eye);  // framing_camera
@@ -178,7 +180,7 @@ namespace {
 
 // The run's first line: scene, particles, setting (and what pbflow chose), device.
 void announce(const RunOptions& o, const Scene& scene, const Derived& d, const nlohmann::json& chosen,
-              const Solver& solver, const capture::FrameCapture* capture) {
+              const Solver& solver, const capture::FrameCapture* capture, bool white_water) {
   const bool chose_substeps = chosen.contains("solver.substeps");
   const bool chose_setting = chosen.contains("solver.method") || chosen.contains("solver.iterations");
   const bool pairs = d.solver.iterations >= 2 || d.solver.target_compression > 0;  // adaptive runs add pairs
@@ -187,6 +189,10 @@ void announce(const RunOptions& o, const Scene& scene, const Derived& d, const n
             << method_name(scene.solver.method) << " with " << scene.solver.iterations << " iteration(s)"
             << (chose_setting ? " (chosen)" : "") << averages << ", " << scene.solver.substeps << " substeps per frame"
             << (chose_substeps ? " (chosen)" : "") << ", on " << solver.device_name() << "\n";
+  if (white_water)
+    std::cerr << "pbflow: white water on, at most " << d.white_water.max_particles << " particles"
+              << (chosen.contains("white_water.max_particles") ? " (chosen)" : "")
+              << " (white_water.enabled=false: none)\n";
   if (capture && o.verbose) std::cerr << "pbflow: rendering with " << capture->description() << "\n";
 }
 
@@ -239,8 +245,11 @@ RunTotals simulate_frames(const Scene& scene, const Derived& d, Solver& solver, 
       break;
     }
     // The PNG is written on the capture's threads: its row follows when the file is whole.
-    if (export_format != capture::ExportFormat::None)
-      capture::write_particles(dir.particle_path(frame), export_format, solver.read_frame());
+    if (export_format != capture::ExportFormat::None) {
+      const ParticleFrame f = solver.read_frame();
+      capture::write_particles(dir.particle_path(frame), export_format, f);
+      if (solver.white_water_capacity() > 0) capture::write_white_water(dir.white_water_path(frame), export_format, f);
+    }
     auto row = [&csv, &dir, frame, t, s] {
       csv.write(frame, t, s);
       dir.frames_done(frame + 1);
@@ -330,10 +339,14 @@ int run(const RunOptions& o) {
   std::unique_ptr<capture::FrameCapture> capture;
   if (o.render) capture = make_frame_capture(o, scene, {solver.get()}, ctx.get());
   if (capture) solver->set_smoothed_positions(capture->draws_surface());
+  // White water where a frame draws it or an export writes it, and the scene has it.
+  const bool white_water = d.white_water.enabled && ((capture && capture->draws_white_water()) ||
+                                                     export_format != capture::ExportFormat::None);
 
   // Everything is checked: from here the run owns DIR and replaces the previous run's files.
   RunDirectory dir(out, RunFiles{scene.frames, bool(capture),
-                                 export_format == capture::ExportFormat::None ? "" : capture::export_extension(export_format)});
+                                 export_format == capture::ExportFormat::None ? "" : capture::export_extension(export_format),
+                                 white_water && export_format != capture::ExportFormat::None});
   nlohmann::json about = describe_run(o, scene, d, *solver);
   const nlohmann::json chosen = about["chosen"];
   about["memory_estimate"] = {{"host_bytes", host_bytes(need, device)}, {"device_bytes", need.device}};
@@ -350,9 +363,10 @@ int run(const RunOptions& o) {
   try {
     StatsCsv csv(dir.stats_path());
     if (std::string w = time_step_warning(scene, d); !w.empty()) std::cerr << "pbflow: " << w << "\n";
-    if (!o.quiet) announce(o, scene, d, chosen, *solver, capture.get());
+    if (!o.quiet) announce(o, scene, d, chosen, *solver, capture.get(), white_water);
     Progress progress(scene.frames, !o.quiet);
     prepare_start(*solver, scene, d, o.quiet, progress, interrupt);
+    solver->set_white_water(white_water);  // from the start on: none is made while it settles
     totals = simulate_frames(scene, d, *solver, capture.get(), export_format, dir, csv, progress, interrupt, wall);
     if (const int status = stopped_early(totals, interrupt, dir, wall()); status != 0) return status;
     if (totals.energy.largest() > 0.01)

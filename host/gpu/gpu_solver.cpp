@@ -51,12 +51,13 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
     : ctx_(ctx),
       d_(d),
       sim_(d.to_gpu(checked_count(ctx, d, x0.size()))),
-      keys_(d.solver),
+      keys_(d.solver, d.white_water),
       n_(sim_.count),
       plan_(plan_buffers(d, n_)),
       viscosity_pass_(d.solver.viscosity_pass()),
       vorticity_pass_(d.solver.vorticity > 0),
       correction_pass_(d.solver.method == Method::Ldc),
+      white_capacity_(uint32_t(d.white_water.max_particles)),
       lists_(particle_program("neighbour_lists",
                               std::array<vk::Constant, 2>{{
                                   {"NEIGHBOUR_CAPACITY", d.neighbour_capacity},
@@ -187,10 +188,19 @@ ParticleState GpuSolver::download() const {
 }
 
 ParticleFrame GpuSolver::read_frame() const {
-  return {at(X).download<glm::vec4>(n_), at(V).download<glm::vec4>(n_), rho_.download<float>(n_),
-          id_[id_current_].download<uint32_t>(n_),
-          smoothed_current_ ? at(Spare0).download<glm::vec4>(n_) : std::vector<glm::vec4>{},
-          smoothed_current_ ? shape_.download<glm::vec4>(2 * n_) : std::vector<glm::vec4>{}};
+  ParticleFrame f{at(X).download<glm::vec4>(n_),
+                  at(V).download<glm::vec4>(n_),
+                  rho_.download<float>(n_),
+                  id_[id_current_].download<uint32_t>(n_),
+                  smoothed_current_ ? at(Spare0).download<glm::vec4>(n_) : std::vector<glm::vec4>{},
+                  smoothed_current_ ? shape_.download<glm::vec4>(2 * n_) : std::vector<glm::vec4>{},
+                  {},
+                  {}};
+  for (const WhiteParticle& p : white_water()) {
+    f.white_x.emplace_back(glm::vec3(p.x), float(p.life));
+    f.white_v.emplace_back(glm::vec3(p.v), std::bit_cast<float>(p.tag));
+  }
+  return f;
 }
 
 void GpuSolver::set_smoothed_positions(bool on) {
@@ -199,6 +209,76 @@ void GpuSolver::set_smoothed_positions(bool on) {
     positions_ = neighbour_pass("smoothed_positions", {});
     shape_ = vk::Buffer(ctx_, 2 * n_ * sizeof(glm::vec4));
   }
+}
+
+void GpuSolver::set_white_water(bool on) {
+  white_water_ = on && d_.white_water.enabled;
+  if (!white_water_ || white_advect_.pipeline() != VK_NULL_HANDLE) return;
+  white_emit_ = neighbour_pass("white_water_emit", {{"SPACING", float(d_.spacing)}});
+  white_advect_ = particle_program("white_water_advect");
+  for (int k = 0; k < 2; ++k) {
+    white_count_[k] = vk::Buffer(ctx_, sizeof(uint32_t));
+    white_x_[k] = vk::Buffer(ctx_, white_capacity_ * sizeof(glm::vec4));
+    white_v_[k] = vk::Buffer(ctx_, white_capacity_ * sizeof(glm::vec4));
+  }
+  upload_white_water({});
+}
+
+std::vector<WhiteParticle> GpuSolver::white_water() const {
+  if (!white_water_) return {};
+  const uint32_t count = std::min(white_count_[white_current_].download<uint32_t>(1)[0], white_capacity_);
+  const auto x = white_x_[white_current_].download<glm::vec4>(count), v = white_v_[white_current_].download<glm::vec4>(count);
+  std::vector<WhiteParticle> out;
+  for (uint32_t k = 0; k < count; ++k)
+    out.push_back({glm::dvec3(x[k]), glm::dvec3(v[k]), x[k].w, std::bit_cast<uint32_t>(v[k].w)});
+  return out;
+}
+
+void GpuSolver::upload_white_water(const std::vector<WhiteParticle>& w) {
+  if (!white_water_) return;
+  const uint32_t count = uint32_t(std::min<size_t>(w.size(), white_capacity_));
+  std::vector<glm::vec4> x, v;
+  for (uint32_t k = 0; k < count; ++k) {
+    x.emplace_back(glm::vec3(w[k].x), float(w[k].life));
+    v.emplace_back(glm::vec3(w[k].v), std::bit_cast<float>(w[k].tag));
+  }
+  white_current_ = 0;
+  white_count_[0].upload(std::span<const uint32_t>(&count, 1));
+  if (count) {
+    white_x_[0].upload(std::span<const glm::vec4>(x));
+    white_v_[0].upload(std::span<const glm::vec4>(v));
+  }
+}
+
+void GpuSolver::white_water_advect(double elapsed) {
+  sim_.elapsed = float(elapsed);
+  const int next = 1 - white_current_;
+  cmd_.fill(white_count_[next], 0);
+  bind_particle_pass(white_advect_);
+  cmd_.bind("cell_start", grid_.cell_start());
+  cmd_.bind("x", at(X));
+  cmd_.bind("v", at(V));
+  cmd_.bind("white_count_in", white_count_[white_current_]);
+  cmd_.bind("white_x_in", white_x_[white_current_]);
+  cmd_.bind("white_v_in", white_v_[white_current_]);
+  cmd_.bind("white_count_out", white_count_[next]);
+  cmd_.bind("white_x_out", white_x_[next]);
+  cmd_.bind("white_v_out", white_v_[next]);
+  cmd_.dispatch(white_capacity_);
+  white_current_ = next;
+}
+
+void GpuSolver::white_water_emit(double elapsed, uint32_t frame) {
+  sim_.elapsed = float(elapsed);
+  sim_.frame = frame;
+  run_neighbour_pass(white_emit_, nullptr, [&] {
+    cmd_.bind("x", at(X));
+    cmd_.bind("v", at(V));
+    cmd_.bind("id", id_[id_current_]);
+    cmd_.bind("white_count", white_count_[white_current_]);
+    cmd_.bind("white_x", white_x_[white_current_]);
+    cmd_.bind("white_v", white_v_[white_current_]);
+  });
 }
 
 void GpuSolver::smoothed_positions() {
@@ -211,8 +291,9 @@ void GpuSolver::smoothed_positions() {
 }
 
 void GpuSolver::copy_frame(const vk::Buffer& dst) const {
-  if (dst.bytes() < frame_bytes(n_)) throw vk::Error("copy_frame: destination buffer too small");
-  const FrameOffsets to = frame_offsets(n_);
+  const size_t white = white_water_capacity();
+  if (dst.bytes() < frame_bytes(n_, white)) throw vk::Error("copy_frame: destination buffer too small");
+  const FrameOffsets to = frame_offsets(n_, white);
   ctx_.submit_and_wait([&](VkCommandBuffer cb) {
     auto copy = [&](const vk::Buffer& from, size_t offset, size_t next) {
       const VkBufferCopy region{0, offset, next - offset};
@@ -226,9 +307,15 @@ void GpuSolver::copy_frame(const vk::Buffer& dst) const {
     // zeros draw spheres.
     copy(smoothed_current_ ? at(Spare0) : at(X), to.x_smooth, to.shape);
     if (smoothed_current_)
-      copy(shape_, to.shape, to.end);
+      copy(shape_, to.shape, to.white_count);
     else
-      vkCmdFillBuffer(cb, dst.handle(), to.shape, to.end - to.shape, 0);
+      vkCmdFillBuffer(cb, dst.handle(), to.shape, to.white_count - to.shape, 0);
+    vkCmdFillBuffer(cb, dst.handle(), to.white_count, WHITE_HEADER_BYTES, 0);
+    if (white_water_) {
+      copy(white_count_[white_current_], to.white_count, to.white_count + sizeof(uint32_t));
+      copy(white_x_[white_current_], to.white_x, to.white_v);
+      copy(white_v_[white_current_], to.white_v, to.end);
+    }
     vk::memory_barrier(cb);
   });
 }
@@ -596,6 +683,11 @@ FrameStats GpuSolver::advance(int steps) {
   const uint32_t end = timer_->mark(cmd_);
   record_measures();
   if (smoothed_positions_) smoothed_positions();
+  if (white_water_) {
+    white_water_advect(steps * d_.dt);
+    white_water_emit(steps * d_.dt, frames_advanced_);
+  }
+  ++frames_advanced_;
   finish();
   FrameStats s = read_measures();
   if (steps > 0) {

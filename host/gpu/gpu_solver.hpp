@@ -32,6 +32,10 @@ class GpuSolver : public Solver {
   // `dst` on the device: no host round trip.
   void copy_frame(const vk::Buffer& dst) const;
   void set_smoothed_positions(bool on) override;  // builds the pass's programs when first asked
+  void set_white_water(bool on) override;          // the same
+  size_t white_water_capacity() const override { return d_.white_water.enabled ? white_capacity_ : 0; }
+  std::vector<WhiteParticle> white_water() const override;
+  void upload_white_water(const std::vector<WhiteParticle>& w) override;
   size_t particle_count() const override { return n_; }
   void project() override;
   std::string device_name() const override;
@@ -58,6 +62,11 @@ class GpuSolver : public Solver {
   // spare slot, which no pass writes again before the next frame's first grid build, and
   // the particles' drawn shapes.
   void smoothed_positions();
+  // A frame's white water (shaders/white_water.h), `elapsed` s: the living moved from one list
+  // to the other (white_water_advect.comp), then the fluid's births appended, from the last
+  // lists (white_water_emit.comp); `frame` picks their random numbers.
+  void white_water_advect(double elapsed);
+  void white_water_emit(double elapsed, uint32_t frame);
   void record_step();        // one step (sim/step_plan.hpp), then the divergence watch
   // One pass of a plan; `indirect`: the constraint passes' dispatch, where an adaptive pair is gated.
   void record(const PlannedPass& pass, const vk::Buffer* indirect = nullptr);
@@ -128,6 +137,14 @@ class GpuSolver : public Solver {
   vk::Buffer x_lambda_, x_lambda_spare_;  // (x_pred, lambda) and its smoothing spare (constraint_lambda.comp)
   vk::Buffer omega_, partials_, result_, obstacles_;
   vk::Buffer shape_;  // the drawn shapes, two vec4s a particle, where smoothed positions are asked for
+  // White water, where asked for: two lists (the living, and the next frame's), each a count
+  // and the capacity's (x, life) and (v, tag); white_current_ the living's.
+  bool white_water_ = false;
+  uint32_t white_capacity_, frames_advanced_ = 0;
+  NeighbourPass white_emit_;
+  vk::Program white_advect_;
+  std::array<vk::Buffer, 2> white_count_, white_x_, white_v_;
+  int white_current_ = 0;
   vk::Buffer check_, indirect_;
   // The cell walkers' dispatch (neighbour_lists.comp), and its copy for an adaptive
   // iteration pair: zero where the pair does not run (check_converged.comp).

@@ -1,6 +1,7 @@
 #include "gpu/key_constants.hpp"
 
 #include <cctype>
+#include <type_traits>
 #include <variant>
 
 #include "scene/keys.hpp"
@@ -13,12 +14,17 @@ std::string KeyConstants::shader_name(std::string_view key) {
   return name;
 }
 
-KeyConstants::KeyConstants(const SolverParams& p) {
+KeyConstants::KeyConstants(const SolverParams& p, const WhiteWaterParams& w) {
   for (const SceneKey& k : scene_keys()) {
     auto offer = [&](auto value) { constants_.emplace_back(names_.emplace_back(shader_name(k.name)), value); };
-    if (auto m = std::get_if<double SolverParams::*>(&k.target)) offer(float(p.**m));
-    if (auto m = std::get_if<int SolverParams::*>(&k.target)) offer(p.**m);
-    if (auto m = std::get_if<bool SolverParams::*>(&k.target)) offer(p.**m);
+    auto offer_member = [&](const auto& params) {
+      using P = std::decay_t<decltype(params)>;
+      if (auto m = std::get_if<double P::*>(&k.target)) offer(float(params.**m));
+      if (auto m = std::get_if<int P::*>(&k.target)) offer(params.**m);
+      if (auto m = std::get_if<bool P::*>(&k.target)) offer(params.**m);
+    };
+    offer_member(p);
+    offer_member(w);
   }
 }
 

@@ -1,6 +1,6 @@
 #pragma once
-// The solver's keys as specialisation constants, offered to every particle pass: a shader reads
-// the key solver.xsph by declaring `layout(constant_id = 100) const float SOLVER_XSPH = 0.0;` (a
+// The solver's and white water's keys as specialisation constants, offered to every particle
+// pass: a shader reads the key solver.xsph by declaring `layout(constant_id = 100) const float SOLVER_XSPH = 0.0;` (a
 // number key is a float, a whole one an int, a boolean a bool; Program refuses another type; ids
 // from 100 on, clear of a pass's own), and the host sets it from the scene. A key's row in the
 // table (scene/keys.cpp) is thus its one declaration on both sides; docs/design.md, "Adding a
@@ -17,7 +17,7 @@ namespace pbflow {
 
 class KeyConstants {
  public:
-  explicit KeyConstants(const SolverParams& p);
+  KeyConstants(const SolverParams& p, const WhiteWaterParams& w);  // w: max_particles resolved (derive)
   KeyConstants(const KeyConstants&) = delete;  // the constants view names_
   KeyConstants& operator=(const KeyConstants&) = delete;
   KeyConstants(KeyConstants&&) = default;  // a deque's strings stay where they are

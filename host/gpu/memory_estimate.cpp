@@ -23,6 +23,9 @@ constexpr double kHostPerParticleGpuRun = 24 + 72 + 48 + 40;
 // read back carries it and the smoothed positions (frame_offsets).
 constexpr double kDevicePerParticleDrawn = 2 * sizeof(glm::vec4);
 constexpr double kHostPerParticleDrawn = 3 * sizeof(glm::vec4);
+// White water, per particle of its cap: two lists of two vec4s on the device, and room for one
+// in the frame buffer and in a frame read back (whether or not it is on: Solver::white_water_capacity).
+constexpr double kDevicePerWhiteParticle = 6 * sizeof(glm::vec4), kHostPerWhiteParticle = 2 * sizeof(glm::vec4);
 // The reference solver: x, v, x_pred, omega (dvec3), rho, lambda, its cell lists, two scratch
 // dvec3 arrays, the initial lattice and a frame read back; its neighbour lists are as the
 // GPU's (8 bytes an entry, a count), bounded by the capacity.
@@ -80,13 +83,14 @@ MemoryNeed memory_need(const Derived& d, double particles, const vk::DeviceInfo*
   const double cells = double(d.grid.x) * d.grid.y * d.grid.z, pixels = picture.pixels;
   const double picture_bytes =
       pixels > 0 ? kRendererBytes + (kBytesPerPixel + (picture.full_surface ? kBytesPerPixelFullSurface : 0)) * pixels : 0;
-  double gpu = 0, host = kProcessBytes + picture_bytes, largest = 0;
+  const double white = d.white_water.enabled ? double(d.white_water.max_particles) : 0.0;
+  double gpu = 0, host = kProcessBytes + picture_bytes + kHostPerWhiteParticle * white, largest = 0;
   if (device) {
     Derived on_device = d;
     on_device.neighbour_capacity = neighbour_capacity_on(d, particles, *device);
     // Capped where the count is past any machine, so that the conversion stays defined.
     const SolverBuffers plan = plan_buffers(on_device, uint64_t(std::ceil(std::min(particles, 1e15))));
-    gpu = double(plan.total()) + (pixels > 0 ? kDevicePerParticleDrawn * particles : 0.0);
+    gpu = double(plan.total()) + (pixels > 0 ? kDevicePerParticleDrawn * particles : 0.0) + kDevicePerWhiteParticle * white;
     host += (kHostPerParticleGpuRun + (pixels > 0 ? kHostPerParticleDrawn : 0.0)) * particles + kDriverBytes;
     largest = double(plan.largest());
   } else {

@@ -30,7 +30,7 @@ using nlohmann::json;
 namespace {
 
 const char* kManifest = "run.json";
-const char* kSubdirs[] = {"frames", "particles"};
+const char* kSubdirs[] = {"frames", "particles", "white_water"};
 // The manifest records the scene it ran: room for the largest scene file (kMaxSceneBytes, 64 MiB).
 constexpr long long kMaxManifestBytes = 128LL << 20;
 
@@ -41,7 +41,8 @@ double now_seconds() {
 // Every name pbflow writes under DIR, with '*' for a frame number (io/frame_files.hpp). A
 // manifest may list these and nothing else: it is a file a user can edit, and pbflow removes
 // what it lists.
-const char* kOwnPatterns[] = {"stats.csv", "frames/frame_*.png", "particles/frame_*.ply", "particles/frame_*.vtp"};
+const char* kOwnPatterns[] = {"stats.csv",           "frames/frame_*.png",      "particles/frame_*.ply",
+                              "particles/frame_*.vtp", "white_water/frame_*.ply", "white_water/frame_*.vtp"};
 
 size_t skip_digits(std::string_view text, size_t at) {
   while (at < text.size() && std::isdigit(static_cast<unsigned char>(text[at]))) ++at;
@@ -301,8 +302,10 @@ RunDirectory::~RunDirectory() {
   close(lock_fd_);
 }
 
-std::array<std::pair<const char*, std::string>, 2> RunDirectory::frame_folders() const {
-  return {{{kSubdirs[0], files_.images ? "png" : ""}, {kSubdirs[1], files_.particle_extension}}};
+std::array<std::pair<const char*, std::string>, 3> RunDirectory::frame_folders() const {
+  return {{{kSubdirs[0], files_.images ? "png" : ""},
+           {kSubdirs[1], files_.particle_extension},
+           {kSubdirs[2], files_.white_water ? files_.particle_extension : ""}}};
 }
 
 fs::path RunDirectory::frame_path(int frame) const {
@@ -312,6 +315,11 @@ fs::path RunDirectory::frame_path(int frame) const {
 
 fs::path RunDirectory::particle_path(int frame) const {
   const auto [sub, extension] = frame_folders()[1];
+  return capture::frame_file(dir_ / sub, frame, files_.frame_count, extension);
+}
+
+fs::path RunDirectory::white_water_path(int frame) const {
+  const auto [sub, extension] = frame_folders()[2];
   return capture::frame_file(dir_ / sub, frame, files_.frame_count, extension);
 }
 

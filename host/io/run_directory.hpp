@@ -20,6 +20,7 @@ struct RunFiles {
   int frame_count = 0;             // fixes the width of the frame numbers
   bool images = false;             // frames/frame_N.png
   std::string particle_extension;  // particles/frame_N.EXT; empty: none
+  bool white_water = false;        // white_water/frame_N.EXT too (the particles' extension)
 };
 
 class RunDirectory {
@@ -50,11 +51,12 @@ class RunDirectory {
   std::filesystem::path stats_path() const { return dir_ / "stats.csv"; }
   std::filesystem::path frame_path(int frame) const;  // frames/frame_N.png
   std::filesystem::path particle_path(int frame) const;
+  std::filesystem::path white_water_path(int frame) const;
 
  private:
   void write_manifest();
-  // frames/ and particles/ with the extension this run writes there; empty: none.
-  std::array<std::pair<const char*, std::string>, 2> frame_folders() const;
+  // frames/, particles/ and white_water/ with the extension this run writes there; empty: none.
+  std::array<std::pair<const char*, std::string>, 3> frame_folders() const;
 
   std::filesystem::path dir_;
   RunFiles files_;

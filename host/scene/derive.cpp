@@ -1,5 +1,6 @@
 #include "scene/derive.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <sstream>
@@ -15,6 +16,7 @@ namespace pbflow {
 Derived derive(const Scene& scene) {
   Derived d;
   d.solver = scene.solver;
+  d.white_water = scene.white_water;
   const double s = scene.particle_spacing;
   d.h = scene.solver.kernel_ratio * s;
   d.spacing = s;
@@ -71,6 +73,8 @@ Derived derive(const Scene& scene) {
     for (int a = 0; a < 3; ++a) d.coarse.cell[a] = span[a] > 0 ? span[a] / d.coarse.nodes[a] : COARSE_CELL * s;
     d.coarse.strength = d.solver.iterations == 1 ? COARSE_LONE_STRENGTH : COARSE_STRENGTH;
   }
+  if (d.white_water.max_particles == WhiteWaterParams::kChosenCapacity)  // as many as the fluid's
+    d.white_water.max_particles = int(std::clamp(std::ceil(particle_estimate(scene)), 1.0, double(kMaxParticles)));
   return d;
 }
 

@@ -12,6 +12,7 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 using K = KeyKind;
 using P = SolverParams;
+using W = WhiteWaterParams;
 
 // The rows. A comment above a row says why its default is what it is, in a sentence; the
 // measurements behind it are in docs/physics.md.
@@ -110,6 +111,21 @@ const SceneKey kKeys[] = {
     // The LDC paper's force reads a free surface's missing neighbours as low density and lifts a tank at rest.
     {"solver.ldc_clamp", K::Boolean, "true", 1.0, {}, "",
      "LDC reads densities below ρ0 as ρ0 (false: the LDC paper's force)", "", &P::ldc_clamp},
+    // On: a demo's dam break should foam; it costs nothing where nothing draws or exports it.
+    {"white_water.enabled", K::Boolean, "true", 1.0, {}, "",
+     "spray, foam and bubbles (massless, made from the solver's fields) in fluid-style frames and `--export`", "",
+     &W::enabled},
+    // As many as the fluid's particles: enough for the dam break's front and wall at its peak.
+    {"white_water.max_particles", K::Whole, "chosen", double(W::kChosenCapacity), KeyRange{1, double(kMaxParticles)}, "",
+     "white water alive at once; at the cap no more is born until some dies; left out: as many as the fluid's "
+     "particles (the run's first line says which)",
+     "", &W::max_particles},
+    // Ihmsen et al. 2012 give foam 2-5 s; shorter keeps a demo's floor from turning white.
+    {"white_water.lifetime", K::Number, "1.5", 1.5, KeyRange{0, 60, true}, "s",
+     "mean life of a white water particle (each lives 0.5-1.5 times it)", "", &W::lifetime},
+    {"white_water.emission", K::Number, "60", 60.0, KeyRange{0, 1e4}, "1/s",
+     "white water born per fluid particle per second where air is trapped or a crest runs out fast", "",
+     &W::emission},
     {"camera.eye", K::Vector, "framing the domain", {}, {}, "m",
      "where the renderer looks from; left out: from the front, 30° up, as close as the domain fits a 16:9 image", "",
      {}},
@@ -153,6 +169,9 @@ void assign(const SceneKey& k, double v, Scene& s) {
         else if constexpr (std::is_same_v<T, double SolverParams::*>) s.solver.*member = v;
         else if constexpr (std::is_same_v<T, int SolverParams::*>) s.solver.*member = int(v);
         else if constexpr (std::is_same_v<T, bool SolverParams::*>) s.solver.*member = v != 0;
+        else if constexpr (std::is_same_v<T, double WhiteWaterParams::*>) s.white_water.*member = v;
+        else if constexpr (std::is_same_v<T, int WhiteWaterParams::*>) s.white_water.*member = int(v);
+        else if constexpr (std::is_same_v<T, bool WhiteWaterParams::*>) s.white_water.*member = v != 0;
         else if constexpr (std::is_same_v<T, double Camera::*>) s.camera.*member = v;
       },
       k.target);

@@ -35,7 +35,8 @@ struct KeyRange {
 // Where a scalar key lands in the Scene; structured keys (vectors, boxes, lists) are read
 // by the parser's own functions and land where it puts them.
 using KeyTarget = std::variant<std::monostate, double Scene::*, int Scene::*, bool Scene::*, double SolverParams::*,
-                               int SolverParams::*, bool SolverParams::*, double Camera::*>;
+                               int SolverParams::*, bool SolverParams::*, double WhiteWaterParams::*,
+                               int WhiteWaterParams::*, bool WhiteWaterParams::*, double Camera::*>;
 
 struct SceneKey {
   std::string_view name;       // dotted: "solver.iterations"

@@ -54,6 +54,7 @@ struct Scene {
   double fps;
   int frames;
   SolverParams solver;
+  WhiteWaterParams white_water;
   Camera camera;
 };
 

@@ -40,6 +40,19 @@ struct SolverParams {
   bool viscosity_pass() const { return xsph > 0 || vorticity > 0 || damping > 0; }
 };
 
+// White water (Ihmsen et al. 2012): spray, foam and bubbles as massless secondary particles,
+// born where the fluid traps air or a crest moves out fast, carried by the fluid or thrown
+// ballistically, and gone when their lifetime is spent (shaders/white_water.h, docs/rendering.md).
+// They read the solver's fields and write nothing of the fluid's.
+struct WhiteWaterParams {
+  bool enabled;       // made and drawn where a capture or an export asks for them
+  int max_particles;  // at most this many alive; kChosenCapacity: derive() picks (as many as the fluid's)
+  double lifetime;    // s, a particle's mean; each draws one in [0.5, 1.5] times it
+  double emission;    // born per fluid particle per second where every potential is full
+
+  static constexpr int kChosenCapacity = -1;
+};
+
 // The push-constant block every particle pass reads, generated from its one declaration in
 // shaders/sim_constants.h (which says why the layouts agree).
 #define PBFLOW_GLSL_TYPE_float float
@@ -105,6 +118,7 @@ struct Derived {
     glm::ivec3 node(int k) const { return {k % nodes.x, (k / nodes.x) % nodes.y, k / (nodes.x * nodes.y)}; }
   } coarse;
   SolverParams solver;
+  WhiteWaterParams white_water;  // max_particles resolved
   std::vector<Obstacle> obstacles;  // grown by half a spacing: where particle centres may not be
   double speed_limit;  // m/s: the divergence watch stops a run with a particle faster than this
 

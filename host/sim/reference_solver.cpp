@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <numbers>
@@ -45,16 +46,6 @@ glm::ivec3 ReferenceSolver::cell_of(const dvec3& x) const {
   return cell;
 }
 
-// Visits j for every particle binned in the 27 cells around xi (distance not tested).
-template <class F>
-void ReferenceSolver::for_each_candidate(const dvec3& xi, F&& visit) const {
-  glm::ivec3 c = cell_of(xi);
-  for (int z = std::max(c.z - 1, 0); z <= std::min(c.z + 1, d_.grid.z - 1); ++z)
-    for (int y = std::max(c.y - 1, 0); y <= std::min(c.y + 1, d_.grid.y - 1); ++y)
-      for (int x = std::max(c.x - 1, 0); x <= std::min(c.x + 1, d_.grid.x - 1); ++x)
-        for (size_t j : cells_[cell_id({x, y, z})]) visit(j);
-}
-
 void ReferenceSolver::build_neighbours(const std::vector<dvec3>& at) {
   // As the GPU's lists: `capacity` entries a particle and a count, which past the capacity
   // marks the list overflowed (its entries are then not kept: the passes walk the cells).
@@ -83,23 +74,6 @@ void ReferenceSolver::build_neighbours(const std::vector<dvec3>& at) {
     neighbour_count_[i] = count;
   }
   neighbours_current_ = neighbours_built_ = true;
-}
-
-// As neighbours.glsl: i's list, or, where it holds more than the GPU's capacity, every
-// particle in the cells around i's position now (xi) with all its images behind the
-// walls near xi. visit(j, image): the image is placed from xi.
-template <class F>
-void ReferenceSolver::for_each_neighbour(size_t i, const dvec3& xi, F&& visit) const {
-  const uint32_t count = neighbour_count_.at(i);
-  if (count > d_.neighbour_capacity) {
-    const WallImages walls = walls_near(xi);
-    for_each_candidate(xi, [&](size_t j) {
-      for (const WallImage& m : walls) visit(j, m);
-    });
-  } else {
-    const Neighbour* list = neighbour_list_.data() + i * d_.neighbour_capacity;
-    for (uint32_t k = 0; k < count; ++k) visit(list[k].j, image_at(xi, int(list[k].image)));
-  }
 }
 
 int ReferenceSolver::wall_axes(const dvec3& x) const {
@@ -553,6 +527,10 @@ ParticleFrame ReferenceSolver::read_frame() const {
     f.x_smooth.emplace_back(glm::vec3(drawn.x[i]), 0.0f);
     for (const glm::vec4& half : encode_shape(drawn.shape[i], drawn.longest_axis[i])) f.shape.push_back(half);
   }
+  for (const WhiteParticle& p : white) {
+    f.white_x.emplace_back(glm::vec3(p.x), float(p.life));
+    f.white_v.emplace_back(glm::vec3(p.v), std::bit_cast<float>(p.tag));
+  }
   return f;
 }
 
@@ -567,6 +545,11 @@ FrameStats ReferenceSolver::advance(int steps) {
   double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   FrameStats s = measure();
   drawn = smoothed_positions_ ? smoothed_positions() : DrawnParticles{};
+  if (white_water_) {
+    white_water_advect(steps * d_.dt);
+    white_water_emit(steps * d_.dt, frames_advanced_);
+  }
+  ++frames_advanced_;
   s.step_ms = steps > 0 ? ms / steps : 0.0;
   s.iterations = steps > 0 ? double(iterations_run_) / steps : 0.0;
   s.divergence = watch;

@@ -2,6 +2,7 @@
 // The C++ reference: the same passes in the same order as the GPU solver, in double
 // precision and written for clarity. Tests compare every GPU pass with it; it is also
 // the CPU baseline (--device cpu).
+#include <algorithm>
 #include <array>
 #include <vector>
 
@@ -22,6 +23,10 @@ class ReferenceSolver : public Solver {
   size_t particle_count() const override { return state.x.size(); }
   void project() override;
   std::string device_name() const override { return "cpu (C++ reference)"; }
+  void set_white_water(bool on) override;
+  size_t white_water_capacity() const override;
+  std::vector<WhiteParticle> white_water() const override { return white; }
+  void upload_white_water(const std::vector<WhiteParticle>& w) override;
 
   void step();
   void run(const PlannedPass& pass);  // one pass of a plan (sim/step_plan.hpp)
@@ -49,6 +54,11 @@ class ReferenceSolver : public Solver {
     std::vector<double> longest_axis;
   };
   DrawnParticles smoothed_positions();
+  // A frame's white water (shaders/white_water.h), `elapsed` s: the living moved, aged and
+  // retyped from the fluid around them (white_water_advect.comp), then the fluid's births at x,
+  // from the last lists (white_water_emit.comp); `frame` picks their random numbers.
+  void white_water_advect(double elapsed);
+  void white_water_emit(double elapsed, uint32_t frame);
 
   // The LDC acceleration on particle i (from rho and x); correction() applies it.
   glm::dvec3 correction_force(size_t i) const;
@@ -76,6 +86,7 @@ class ReferenceSolver : public Solver {
   const Derived& derived() const { return d_; }
   ParticleState state;
   DrawnParticles drawn;  // the last frame's smoothed positions and shapes, where asked for
+  std::vector<WhiteParticle> white;  // alive, where asked for
 
  private:
   // The step's neighbour sets, as the GPU's lists (shaders/neighbour_lists.comp): built
@@ -107,6 +118,8 @@ class ReferenceSolver : public Solver {
   void watch_step(int step, Divergence& watch) const;  // the divergence watch (shaders/watch.comp)
 
   Derived d_;
+  bool white_water_ = false;
+  uint32_t frames_advanced_ = 0;  // white water's random stream
   long iterations_run_ = 0;  // constraint iterations in the current advance()
   std::vector<double> coarse_phi_;  // the coarse correction's solution, the next step's start
   std::vector<std::vector<size_t>> cells_;  // particles binned by cell at the last build_grid
@@ -117,5 +130,32 @@ class ReferenceSolver : public Solver {
   bool neighbours_current_ = false;              // built since the last build_grid
   bool neighbours_built_ = false;                // built since the particles were set (GpuSolver::lists_built_)
 };
+
+// Visits j for every particle binned in the 27 cells around xi (distance not tested).
+template <class F>
+void ReferenceSolver::for_each_candidate(const glm::dvec3& xi, F&& visit) const {
+  glm::ivec3 c = cell_of(xi);
+  for (int z = std::max(c.z - 1, 0); z <= std::min(c.z + 1, d_.grid.z - 1); ++z)
+    for (int y = std::max(c.y - 1, 0); y <= std::min(c.y + 1, d_.grid.y - 1); ++y)
+      for (int x = std::max(c.x - 1, 0); x <= std::min(c.x + 1, d_.grid.x - 1); ++x)
+        for (size_t j : cells_[cell_id({x, y, z})]) visit(j);
+}
+
+// As neighbours.glsl: i's list, or, where it holds more than the GPU's capacity, every
+// particle in the cells around i's position now (xi) with all its images behind the
+// walls near xi. visit(j, image): the image is placed from xi.
+template <class F>
+void ReferenceSolver::for_each_neighbour(size_t i, const glm::dvec3& xi, F&& visit) const {
+  const uint32_t count = neighbour_count_.at(i);
+  if (count > d_.neighbour_capacity) {
+    const WallImages walls = walls_near(xi);
+    for_each_candidate(xi, [&](size_t j) {
+      for (const WallImage& m : walls) visit(j, m);
+    });
+  } else {
+    const Neighbour* list = neighbour_list_.data() + i * d_.neighbour_capacity;
+    for (uint32_t k = 0; k < count; ++k) visit(list[k].j, image_at(xi, int(list[k].image)));
+  }
+}
 
 }  // namespace pbflow

@@ -2,6 +2,8 @@
 // What the run loop, the tests and the benchmarks see of a solver, GPU or reference.
 #include <glm/glm.hpp>
 
+#include "shaders/white_water.h"
+
 #include <algorithm>
 #include <array>
 #include <cstdint>
@@ -71,30 +73,42 @@ struct ParticleState {
   std::vector<double> rho, lambda;
 };
 
+// A white water particle (shaders/white_water.h): its kind is the tag's low bits.
+struct WhiteParticle {
+  glm::dvec3 x, v;
+  double life;    // s left
+  uint32_t tag;   // kind, then emitter id and birth number
+  uint32_t kind() const { return tag & ((1u << WHITE_KIND_BITS) - 1u); }
+};
+
 // What capture and export read after a frame, in float: positions (xyz, w unused),
 // velocities (xyz, w unused), densities, particle ids and, where the solver was asked for
 // them (Solver::set_smoothed_positions), the smoothed positions the fluid's surface is drawn
 // from (xyz, w unused) and each one's drawn shape (two vec4s a particle, shaders/contract.h),
-// both empty otherwise, in the solver's own order (id[k] is the id of entry k). On the GPU x,
-// v, rho, x_smooth and shape lie back to back in one buffer (frame_bytes); ids are read only
-// for export.
+// both empty otherwise, in the solver's own order (id[k] is the id of entry k); and the white
+// water alive, where asked for (Solver::set_white_water): (x, life) and (v, tag's bits). On the
+// GPU they lie back to back in one buffer (frame_bytes), white water last: a count, then room for
+// the capacity's positions and velocities; ids are read only for export.
 struct ParticleFrame {
   std::vector<glm::vec4> x, v;
   std::vector<float> rho;
   std::vector<uint32_t> id;
   std::vector<glm::vec4> x_smooth;
   std::vector<glm::vec4> shape;
+  std::vector<glm::vec4> white_x, white_v;
 };
-// Where each array of the frame buffer starts, in bytes, for n particles (render_common.glsl
-// reads the same layout in floats).
+// Where each array of the frame buffer starts, in bytes, for n particles and room for `white`
+// white water particles (render_common.glsl reads the same layout in floats).
 struct FrameOffsets {
-  size_t x, v, rho, x_smooth, shape, end;
+  size_t x, v, rho, x_smooth, shape, white_count, white_x, white_v, end;
 };
-inline FrameOffsets frame_offsets(size_t n) {
-  const size_t vec4s = n * sizeof(glm::vec4), floats = n * sizeof(float);
-  return {0, vec4s, 2 * vec4s, 2 * vec4s + floats, 3 * vec4s + floats, 5 * vec4s + floats};
+inline FrameOffsets frame_offsets(size_t n, size_t white = 0) {
+  const size_t vec4s = n * sizeof(glm::vec4), floats = n * sizeof(float), white_vec4s = white * sizeof(glm::vec4);
+  const size_t white_count = 5 * vec4s + floats, white_x = white_count + WHITE_HEADER_BYTES;
+  return {0, vec4s, 2 * vec4s, 2 * vec4s + floats, 3 * vec4s + floats, white_count, white_x, white_x + white_vec4s,
+          white_x + 2 * white_vec4s};
 }
-inline size_t frame_bytes(size_t n) { return frame_offsets(n).end; }
+inline size_t frame_bytes(size_t n, size_t white = 0) { return frame_offsets(n, white).end; }
 
 // A drawn shape's two vec4s, as shaders/shape_layout.glsl lays them out: the ellipsoid's
 // matrix T, in particle radii (the identity draws the sphere), and its longest semi-axis.
@@ -128,6 +142,16 @@ class Solver {
   // From the next advance() on, each frame also smooths the positions (x_smooth), for a
   // capture that draws the fluid's surface; off, a frame costs no more than its steps.
   virtual void set_smoothed_positions(bool on) { smoothed_positions_ = on; }
+  // From the next advance() on, each frame also moves the white water and makes more
+  // (scene key white_water.*): for a capture or an export that shows it. It writes nothing
+  // of the fluid's: a run's stats are the same with it or without. Off, it costs nothing.
+  virtual void set_white_water(bool on) = 0;
+  // The most alive at once: the frame buffer's room for white water (frame_bytes), the
+  // scene's cap where it has white water at all (0 where white_water.enabled is false),
+  // on or off; none is alive while off.
+  virtual size_t white_water_capacity() const = 0;
+  virtual std::vector<WhiteParticle> white_water() const = 0;  // those alive, in no set order
+  virtual void upload_white_water(const std::vector<WhiteParticle>& w) = 0;  // at most the capacity
 
  protected:
   bool smoothed_positions_ = false;

@@ -1,8 +1,8 @@
 // Shared by the render shaders (prepended after #version and shape_layout.glsl by
 // capture/gl_objects.cpp):
 // the per-frame uniforms and the particle buffer in the solver's frame layout
-// (vec4 x[n], vec4 v[n], float rho[n], vec4 x_smooth[n], vec4 shape[2n]: frame_offsets in
-// solver.hpp).
+// (vec4 x[n], vec4 v[n], float rho[n], vec4 x_smooth[n], vec4 shape[2n], then white water's
+// count and room: frame_offsets in solver.hpp).
 
 const int STYLE_FLUID = 0, STYLE_PARTICLES = 1, STYLE_DENSITY = 2, STYLE_SPEED = 3, STYLE_NORMALS = 4;
 const int PASS_SHADED = 0;
@@ -25,6 +25,7 @@ layout(std140, binding = 0) uniform Frame {
   int pass;
   float colour_scale;  // the value drawn at the top of the colour ramp (density, speed styles)
   float rho0;
+  int white_capacity;  // white water's room in the particle buffer (white_water.vert)
 };
 
 layout(std430, binding = 0) readonly buffer Particles { float particle_data[]; };

@@ -1,0 +1,84 @@
+// The reference's white water (shaders/white_water.h): white_water_emit.comp and
+// white_water_advect.comp in double, in the same order.
+#include <algorithm>
+#include <cmath>
+
+#include "sim/kernels.hpp"
+#include "sim/reference_solver.hpp"
+#include "sim/white_water.hpp"
+
+namespace pbflow {
+
+using glm::dvec3;
+
+void ReferenceSolver::set_white_water(bool on) { white_water_ = on && d_.white_water.enabled; }
+
+size_t ReferenceSolver::white_water_capacity() const {
+  return d_.white_water.enabled ? size_t(d_.white_water.max_particles) : 0;
+}
+
+void ReferenceSolver::upload_white_water(const std::vector<WhiteParticle>& w) {
+  white.assign(w.begin(), w.begin() + std::min(w.size(), white_water_capacity()));
+}
+
+void ReferenceSolver::white_water_advect(double elapsed) {
+  std::vector<WhiteParticle> alive;
+  for (WhiteParticle p : white) {
+    // The fluid around it: its density (the kind) and its velocity, weighted as the potentials.
+    double density = 0, weights = 0;
+    dvec3 carried(0.0);
+    for_each_candidate(p.x, [&](size_t j) {
+      const dvec3 d = state.x[j] - p.x;
+      const double r2 = glm::dot(d, d);
+      if (r2 >= d_.h * d_.h) return;
+      density += kernels::poly6(r2, d_.h);
+      const double w = kernels::position_weight(d, d_.h);
+      carried += w * state.v[j];
+      weights += w;
+    });
+    const uint32_t kind = white_water_kind(d_.mass * density / d_.rho0);
+    if (weights > 0) carried /= weights;
+    if (kind == WHITE_SPRAY)
+      p.v += elapsed * d_.gravity;
+    else if (kind == WHITE_FOAM)
+      p.v = carried;
+    else
+      p.v += -WHITE_BUOYANCY * elapsed * d_.gravity + WHITE_DRAG * (carried - p.v);
+    p.x += elapsed * p.v;
+    const dvec3 inside = glm::clamp(p.x, d_.wall_min, d_.wall_max);
+    for (int a = 0; a < 3; ++a)
+      if (inside[a] != p.x[a]) p.v[a] = 0;  // stopped by the wall
+    p.x = inside;
+    p.life -= elapsed;
+    p.tag = (p.tag & ~((1u << WHITE_KIND_BITS) - 1u)) | kind;
+    if (p.life > 0 && alive.size() < white_water_capacity()) alive.push_back(p);
+  }
+  white = std::move(alive);
+}
+
+void ReferenceSolver::white_water_emit(double elapsed, uint32_t frame) {
+  if (!neighbours_current_) build_neighbours(state.x);  // else the last step's, as density()
+  const double unit = std::sqrt(glm::length(d_.gravity) * d_.h);  // white_water.h's speed unit
+  for (size_t i = 0; i < state.x.size(); ++i) {
+    const dvec3 xi = state.x[i], vi = state.v[i];
+    double trapped = 0, weights = 0;
+    dvec3 towards(0.0);
+    for_each_neighbour(i, xi, [&](size_t j, const WallImage& m) {
+      const dvec3 d = m.of(state.x[j]) - xi, vij = vi - m.sign * state.v[j];
+      const double w = kernels::position_weight(d, d_.h), r = glm::length(d), s = glm::length(vij);
+      weights += w;
+      towards += w * d;
+      if (r > 0 && s > 0) trapped += w * s * (1 + glm::dot(vij, d) / (s * r));
+    });
+    WhitePotentials p{trapped / weights / unit, glm::length(towards) / (weights * d_.h), 0, glm::length(vi) / unit};
+    if (p.surface > 0) p.outward = glm::dot(vi, -glm::normalize(towards)) / unit;
+    const uint32_t born = white_water_born(p, d_.white_water.emission * elapsed, uint32_t(i), frame);
+    for (uint32_t b = 0; b < born && white.size() < white_water_capacity(); ++b) {
+      const WhiteRandom r(uint32_t(i), b, frame);
+      white.push_back({xi + d_.spacing * (r.offset() - 0.5), vi, d_.white_water.lifetime * (0.5 + r.life()),
+                       (uint32_t(i) * WHITE_MOST_BORN + b) << WHITE_KIND_BITS | WHITE_FOAM});
+    }
+  }
+}
+
+}  // namespace pbflow

@@ -1,0 +1,58 @@
+#version 450
+// White water's births (shaders/white_water.h): each fluid particle's potentials from its
+// neighbours and their images behind the walls (an image's velocity mirrored: fluid running
+// into a wall meets its image head on), then its births appended after the living, each a
+// spacing's cube around it at its velocity, as foam until the next advect reads the fluid
+// around it. Past the capacity, births are dropped; the count still counts them (readers
+// take the smaller).
+#extension GL_GOOGLE_include_directive : require
+layout(local_size_x_id = 0) in;
+#include "common.glsl"
+#include "white_water.glsl"
+
+layout(binding = 1, rgba32f) uniform readonly imageBuffer x;
+layout(binding = 2, rgba32f) uniform readonly imageBuffer v;
+layout(std430, binding = 3) readonly buffer Id { uint id[]; };
+layout(std430, binding = 4) buffer WhiteCount { uint white_count; };
+layout(std430, binding = 5) writeonly buffer WhiteX { vec4 white_x[]; };  // (x, life)
+layout(std430, binding = 6) writeonly buffer WhiteV { vec4 white_v[]; };  // (v, tag's bits)
+#define NEIGHBOUR_BINDING 7
+#define NEIGHBOUR_CAPACITY_ID 1
+#include "neighbours.glsl"
+
+// The scene's keys (gpu/key_constants.hpp).
+layout(constant_id = 100) const float WHITE_WATER_LIFETIME = 1.5;
+layout(constant_id = 101) const float WHITE_WATER_EMISSION = 60.0;
+layout(constant_id = 102) const int WHITE_WATER_MAX_PARTICLES = 1;
+layout(constant_id = 3) const float SPACING = 0.02;  // after WALK_CELLS (neighbours.glsl)
+
+void main() {
+  uint i;
+  if (!neighbour_pass_particle(i)) return;
+  vec3 xi = imageLoad(x, int(i)).xyz, vi = imageLoad(v, int(i)).xyz;
+  WallImages walls = walls_near(xi);
+  float trapped = 0.0, weights = 0.0;
+  vec3 towards = vec3(0.0);
+  int image;
+  FOR_EACH_NEIGHBOUR(i, xi, walls, j, image) {
+    vec3 d = mirror(walls, image, imageLoad(x, int(j)).xyz) - xi;
+    vec3 vij = vi - mirror_sign(image) * imageLoad(v, int(j)).xyz;
+    float w = position_weight(d), r = length(d), s = length(vij);
+    weights += w;
+    towards += w * d;
+    trapped += r > 0.0 && s > 0.0 ? w * s * (1.0 + dot(vij, d) / (s * r)) : 0.0;
+  }
+  float unit = sqrt(length(sim.gravity) * sim.h), surface = length(towards) / (weights * sim.h);
+  float outward = surface > 0.0 ? dot(vi, -normalize(towards)) / unit : 0.0;
+  uint emitter = id[i];
+  uint born = white_water_born(trapped / weights / unit, surface, outward, length(vi) / unit,
+                               WHITE_WATER_EMISSION * sim.elapsed, emitter, sim.frame);
+  for (uint b = 0u; b < born; ++b) {
+    uint k = atomicAdd(white_count, 1u);
+    if (k >= uint(WHITE_WATER_MAX_PARTICLES)) return;
+    uint seed = white_seed(emitter, b, sim.frame);
+    vec3 offset = vec3(white_unit(seed, 1u), white_unit(seed, 2u), white_unit(seed, 3u)) - 0.5;
+    white_x[k] = vec4(xi + SPACING * offset, WHITE_WATER_LIFETIME * (0.5 + white_unit(seed, 4u)));
+    white_v[k] = vec4(vi, uintBitsToFloat((emitter * WHITE_MOST_BORN + b) << WHITE_KIND_BITS | WHITE_FOAM));
+  }
+}
