@@ -26,20 +26,19 @@ void main() {
   if (k >= min(white_count_in, uint(WHITE_WATER_MAX_PARTICLES))) return;
   vec4 xl = white_x_in[k], vt = white_v_in[k];
   vec3 p = xl.xyz, u = vt.xyz;
-  float density = 0.0, weights = 0.0;
+  float density = 0.0;
   vec3 carried = vec3(0.0);
   ivec3 first = first_cell(p), last = last_cell(p);
   for (int z = first.z; z <= last.z; ++z)
     for (int y = first.y; y <= last.y; ++y)
       for (uint j = row_begin(first, y, z), end = row_end(last, y, z); j < end; ++j) {
         vec3 d = imageLoad(x, int(j)).xyz - p;
-        float r2 = dot(d, d), w = position_weight(d);  // 0 from h on, as poly6
-        density += poly6(r2);
+        float w = poly6(dot(d, d));  // the density, and the fluid's velocity interpolated with it
+        density += w;
         carried += w * imageLoad(v, int(j)).xyz;
-        weights += w;
       }
   uint kind = white_water_kind(sim.mass * density / sim.rho0);
-  if (weights > 0.0) carried /= weights;
+  if (density > 0.0) carried /= density;
   float dt = sim.elapsed;
   if (kind == WHITE_SPRAY)
     u += dt * sim.gravity;

@@ -30,6 +30,8 @@ void main() {
   uint i;
   if (!neighbour_pass_particle(i)) return;
   vec3 xi = imageLoad(x, int(i)).xyz, vi = imageLoad(v, int(i)).xyz;
+  float unit = sqrt(length(sim.gravity) * sim.h);
+  if (length(vi) / unit <= WHITE_SPEED_MIN) return;  // too slow to make any: most of a calm fluid skips the walk
   WallImages walls = walls_near(xi);
   float trapped = 0.0, weights = 0.0;
   vec3 towards = vec3(0.0);
@@ -42,7 +44,7 @@ void main() {
     towards += w * d;
     trapped += r > 0.0 && s > 0.0 ? w * s * (1.0 + dot(vij, d) / (s * r)) : 0.0;
   }
-  float unit = sqrt(length(sim.gravity) * sim.h), surface = length(towards) / (weights * sim.h);
+  float surface = length(towards) / (weights * sim.h);
   float outward = surface > 0.0 ? dot(vi, -normalize(towards)) / unit : 0.0;
   uint emitter = id[i];
   uint born = white_water_born(trapped / weights / unit, surface, outward, length(vi) / unit,

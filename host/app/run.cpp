@@ -220,7 +220,7 @@ void prepare_start(Solver& solver, const Scene& scene, const Derived& d, bool qu
 // What the frames add up to, for the summary and the exit status.
 struct RunTotals {
   int frames = 0;  // complete
-  double sum_mean = 0, worst = 0, sum_step_ms = 0;
+  double sum_mean = 0, worst = 0, sum_step_ms = 0, sum_white_water_ms = 0;
   EnergyGain energy;
   std::string diverged;  // the message, where the watch stopped the run
 };
@@ -262,6 +262,7 @@ RunTotals simulate_frames(const Scene& scene, const Derived& d, Solver& solver, 
     totals.sum_mean += s.mean_compression;
     totals.worst = std::max(totals.worst, s.max_compression);
     totals.sum_step_ms += s.step_ms;
+    totals.sum_white_water_ms += s.white_water_ms;
     progress.update(frame, t, wall());
   }
   if (capture) capture->finish();  // the frames' files and rows, the video: also when stopped early
@@ -278,7 +279,11 @@ void print_summary(const RunOptions& o, const Scene& scene, const RunTotals& tot
   std::cout << "particles " << particles << ", steps " << steps << ", wall " << wall << " s, "
             << (steps > 0 ? double(particles) * steps / solver_s : 0.0) << " particle-steps/s (solver time "
             << solver_s << " s), mean compression " << totals.sum_mean / scene.frames << ", max compression "
-            << totals.worst << "\nenergy change " << 100 * totals.energy.last()
+            << totals.worst;
+  if (totals.sum_white_water_ms > 0)
+    std::cout << ", white water " << totals.sum_white_water_ms / (scene.frames - 1) << " ms per frame ("
+              << 100 * totals.sum_white_water_ms / totals.sum_step_ms << " % of a step)";
+  std::cout << "\nenergy change " << 100 * totals.energy.last()
             << " % of the initial potential energy (largest gain " << 100 * totals.energy.largest()
             << " %)\nreal-time factor " << simulated_s / std::max(wall - render_s, 1e-9) << " simulating";
   if (capture)

@@ -663,7 +663,7 @@ FrameStats GpuSolver::advance(int steps) {
   auto start = std::chrono::steady_clock::now();
   // While profiling a step marks the end of each pass group, the grid and lists twice in
   // an ldc step that bins at x (the first after an upload).
-  const uint32_t marks = 2 + (profiling_ ? uint32_t(steps) * (kPassGroups + 2) : 0);
+  const uint32_t marks = 4 + (profiling_ ? uint32_t(steps) * (kPassGroups + 2) : 0);
   if (timer_->capacity() < marks) timer_ = std::make_unique<vk::GpuTimer>(ctx_, marks);
   segments_.clear();
   begin();
@@ -683,9 +683,12 @@ FrameStats GpuSolver::advance(int steps) {
   const uint32_t end = timer_->mark(cmd_);
   record_measures();
   if (smoothed_positions_) smoothed_positions();
+  uint32_t white_begin = 0, white_end = 0;  // timed apart from the steps: what white water adds to a frame
   if (white_water_) {
+    white_begin = timer_->mark(cmd_);
     white_water_advect(steps * d_.dt);
     white_water_emit(steps * d_.dt, frames_advanced_);
+    white_end = timer_->mark(cmd_);
   }
   ++frames_advanced_;
   finish();
@@ -701,6 +704,7 @@ FrameStats GpuSolver::advance(int steps) {
       s.iterations += double(static_cast<const FrameResult*>(result_.mapped())->iterations) / steps;
     if (timer_->available())
       for (size_t k = 0; k < segments_.size(); ++k) s.pass_ms[size_t(segments_[k])] += (t[k + 1] - t[k]) / steps;
+    if (timer_->available() && white_water_) s.white_water_ms = t[white_end] - t[white_begin];
   }
   return s;
 }

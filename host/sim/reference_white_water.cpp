@@ -24,20 +24,17 @@ void ReferenceSolver::upload_white_water(const std::vector<WhiteParticle>& w) {
 void ReferenceSolver::white_water_advect(double elapsed) {
   std::vector<WhiteParticle> alive;
   for (WhiteParticle p : white) {
-    // The fluid around it: its density (the kind) and its velocity, weighted as the potentials.
-    double density = 0, weights = 0;
+    // The fluid around it: its density (the kind) and its velocity interpolated with the same kernel.
+    double density = 0;
     dvec3 carried(0.0);
     for_each_candidate(p.x, [&](size_t j) {
       const dvec3 d = state.x[j] - p.x;
-      const double r2 = glm::dot(d, d);
-      if (r2 >= d_.h * d_.h) return;
-      density += kernels::poly6(r2, d_.h);
-      const double w = kernels::position_weight(d, d_.h);
+      const double w = kernels::poly6(glm::dot(d, d), d_.h);
+      density += w;
       carried += w * state.v[j];
-      weights += w;
     });
     const uint32_t kind = white_water_kind(d_.mass * density / d_.rho0);
-    if (weights > 0) carried /= weights;
+    if (density > 0) carried /= density;
     if (kind == WHITE_SPRAY)
       p.v += elapsed * d_.gravity;
     else if (kind == WHITE_FOAM)
@@ -61,6 +58,7 @@ void ReferenceSolver::white_water_emit(double elapsed, uint32_t frame) {
   const double unit = std::sqrt(glm::length(d_.gravity) * d_.h);  // white_water.h's speed unit
   for (size_t i = 0; i < state.x.size(); ++i) {
     const dvec3 xi = state.x[i], vi = state.v[i];
+    if (glm::length(vi) / unit <= WHITE_SPEED_MIN) continue;  // too slow to make any (white_water_born's gate)
     double trapped = 0, weights = 0;
     dvec3 towards(0.0);
     for_each_neighbour(i, xi, [&](size_t j, const WallImage& m) {

@@ -37,6 +37,7 @@ struct FrameStats {
   double potential_energy = 0;
   double step_ms = 0;  // mean time of one step (GPU timestamps, else wall time); 0 when no step ran
   double iterations = 0;  // constraint iterations per step, on average (adaptive runs vary)
+  double white_water_ms = 0;  // GPU time of the frame's white water passes (GpuSolver; 0 while off)
   // Mean GPU time per step of each pass group; filled only while profiling (GpuSolver).
   std::array<double, kPassGroups> pass_ms{};
   Divergence divergence;
