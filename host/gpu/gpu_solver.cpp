@@ -57,7 +57,6 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
       viscosity_pass_(d.solver.viscosity_pass()),
       vorticity_pass_(d.solver.vorticity > 0),
       correction_pass_(d.solver.method == Method::Ldc),
-      white_capacity_(uint32_t(d.white_water.max_particles)),
       lists_(particle_program("neighbour_lists",
                               std::array<vk::Constant, 2>{{
                                   {"NEIGHBOUR_CAPACITY", d.neighbour_capacity},
@@ -91,6 +90,7 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
       obstacles_(ctx, plan_.obstacles),
       overflow_groups_(ctx, plan_.overflow_groups),
       watch_buf_(ctx, plan_.watch),
+      white_capacity_(uint32_t(d.white_water.max_particles)),
       cmd_(ctx),
       timer_(std::make_unique<vk::GpuTimer>(ctx, 2)) {
   for (auto& b : vec4_) b = vk::Buffer(ctx, plan_.particle_vec4);

@@ -137,6 +137,13 @@ class GpuSolver : public Solver {
   vk::Buffer x_lambda_, x_lambda_spare_;  // (x_pred, lambda) and its smoothing spare (constraint_lambda.comp)
   vk::Buffer omega_, partials_, result_, obstacles_;
   vk::Buffer shape_;  // the drawn shapes, two vec4s a particle, where smoothed positions are asked for
+  vk::Buffer check_, indirect_;
+  // The cell walkers' dispatch (neighbour_lists.comp), and its copy for an adaptive
+  // iteration pair: zero where the pair does not run (check_converged.comp).
+  vk::Buffer overflow_groups_, overflow_gated_;
+  vk::Buffer coarse_sums_, coarse_phi_, coarse_grad_;
+  vk::Buffer watch_buf_;  // watch.comp: flags, first step, counts, the step being watched
+  uint32_t step_in_frame_ = 0;  // adaptive iterations: the last check's measures, dispatch arguments + count
   // White water, where asked for: two lists (the living, and the next frame's), each a count
   // and the capacity's (x, life) and (v, tag); white_current_ the living's.
   bool white_water_ = false;
@@ -145,13 +152,6 @@ class GpuSolver : public Solver {
   vk::Program white_advect_;
   std::array<vk::Buffer, 2> white_count_, white_x_, white_v_;
   int white_current_ = 0;
-  vk::Buffer check_, indirect_;
-  // The cell walkers' dispatch (neighbour_lists.comp), and its copy for an adaptive
-  // iteration pair: zero where the pair does not run (check_converged.comp).
-  vk::Buffer overflow_groups_, overflow_gated_;
-  vk::Buffer coarse_sums_, coarse_phi_, coarse_grad_;
-  vk::Buffer watch_buf_;  // watch.comp: flags, first step, counts, the step being watched
-  uint32_t step_in_frame_ = 0;  // adaptive iterations: the last check's measures, dispatch arguments + count
   vk::CommandList cmd_;
   std::unique_ptr<vk::GpuTimer> timer_;
   bool profiling_ = false;
