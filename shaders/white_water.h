@@ -4,22 +4,22 @@
 #ifndef PBFLOW_SHADERS_WHITE_WATER_H
 #define PBFLOW_SHADERS_WHITE_WATER_H
 
-// A fluid particle's potentials, each mapped onto [0, 1] between its two thresholds, in units
-// of sqrt(|g| h), the speed of a fall through one kernel radius (so that they mean the same at
-// any spacing):
+// A fluid particle's potentials, each mapped onto [0, 1] between its two thresholds, speeds in
+// units of the scene's flow speed (Derived::flow_speed, a fall through the domain's height, 4.4
+// m/s in the dam break), so that they mean the same at any spacing:
 // - trapped air: the kernel-weighted mean over the neighbours of |v_ij| (1 - v^_ij . x^_ij),
 //   the speed at which fluid closes in on it (a front folding over, a wave hitting a wall);
 // - wave crest: at a free surface (its neighbours' weighted centre lies off it by WHITE_SURFACE_*
 //   kernel radii), its speed out along the surface's normal;
 // - kinetic energy, as a speed: slow fluid makes none, whatever the other two read.
-#define WHITE_TRAPPED_AIR_MIN 1.0
-#define WHITE_TRAPPED_AIR_MAX 4.0
+#define WHITE_TRAPPED_AIR_MIN 0.15
+#define WHITE_TRAPPED_AIR_MAX 0.6
 #define WHITE_SURFACE_MIN 0.08
 #define WHITE_SURFACE_MAX 0.2
-#define WHITE_CREST_MIN 1.0
-#define WHITE_CREST_MAX 4.0
-#define WHITE_SPEED_MIN 2.0
-#define WHITE_SPEED_MAX 6.0
+#define WHITE_CREST_MIN 0.15
+#define WHITE_CREST_MAX 0.6
+#define WHITE_SPEED_MIN 0.3
+#define WHITE_SPEED_MAX 0.85
 // At most this many born per fluid particle per frame (the tag's room, below).
 #define WHITE_MOST_BORN 4u
 

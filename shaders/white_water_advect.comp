@@ -2,7 +2,7 @@
 // White water's frame (shaders/white_water.h): each living particle reads the fluid around it
 // (the grid's 27 cells at the last build, as the reference's for_each_candidate; no wall
 // images), becomes spray, foam or bubble by its density, moves as that kind does, stops at the
-// walls, ages, and is copied to the next frame's list if it still lives. One thread a slot of
+// walls and obstacles (as a fluid particle's prediction does), ages, and is copied to the next frame's list if it still lives. One thread a slot of
 // the capacity: the living are the first min(count, capacity).
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x_id = 0) in;
@@ -18,6 +18,8 @@ layout(std430, binding = 5) readonly buffer WhiteVIn { vec4 white_v_in[]; };
 layout(std430, binding = 6) buffer WhiteCountOut { uint white_count_out; };
 layout(std430, binding = 7) writeonly buffer WhiteXOut { vec4 white_x_out[]; };
 layout(std430, binding = 8) writeonly buffer WhiteVOut { vec4 white_v_out[]; };
+#define OBSTACLES_BINDING 9
+#include "obstacles.glsl"
 
 layout(constant_id = 100) const int WHITE_WATER_MAX_PARTICLES = 1;  // the scene's key (gpu/key_constants.hpp)
 
@@ -46,9 +48,8 @@ void main() {
     u = carried;
   else
     u += -WHITE_BUOYANCY * dt * sim.gravity + WHITE_DRAG * (carried - u);
-  p += dt * u;
-  vec3 inside = project_to_walls(p);
-  u = mix(u, vec3(0.0), notEqual(inside, p));  // stopped by the wall
+  vec3 to = p + dt * u, inside = project_out_of_solids(stop_at_solids(p, to));
+  u = mix(u, vec3(0.0), notEqual(inside, to));  // stopped by a wall or an obstacle
   float life = xl.w - dt;
   if (life <= 0.0) return;
   uint slot = atomicAdd(white_count_out, 1u);

@@ -25,12 +25,13 @@ layout(constant_id = 100) const float WHITE_WATER_LIFETIME = 1.5;
 layout(constant_id = 101) const float WHITE_WATER_EMISSION = 60.0;
 layout(constant_id = 102) const int WHITE_WATER_MAX_PARTICLES = 1;
 layout(constant_id = 3) const float SPACING = 0.02;  // after WALK_CELLS (neighbours.glsl)
+layout(constant_id = 4) const float FLOW_SPEED = 4.4;  // Derived::flow_speed, m/s
 
 void main() {
   uint i;
   if (!neighbour_pass_particle(i)) return;
   vec3 xi = imageLoad(x, int(i)).xyz, vi = imageLoad(v, int(i)).xyz;
-  float unit = sqrt(length(sim.gravity) * sim.h);
+  float unit = FLOW_SPEED;
   if (length(vi) / unit <= WHITE_SPEED_MIN) return;  // too slow to make any: most of a calm fluid skips the walk
   WallImages walls = walls_near(xi);
   float trapped = 0.0, weights = 0.0;

@@ -145,6 +145,44 @@ TEST_F(WhiteWater, MovesAgreeWithTheReference) {
   EXPECT_LT(a.life, 1e-5);
 }
 
+// Spray thrown down at the box of dam_obstacle stops on its top, as the reference's: no
+// particle ends inside it (grown by half a spacing, as for the fluid; 10 um of float's rounding).
+TEST_F(WhiteWater, SprayStopsAtAnObstacleAsTheReferences) {
+  const Scene scene = load_scene("dam_obstacle", {"particle_spacing=0.03"});
+  const Derived d = derive(scene);
+  const double frame_time = scene.solver.substeps * d.dt;
+  std::vector<WhiteParticle> thrown;
+  for (int i = 0; i < 10; ++i)
+    for (int k = 0; k < 10; ++k)  // above the box's top (0.9-1.0 x 0.1-0.3 m, 0.3 m high), falling at 5 m/s
+      thrown.push_back({glm::dvec3(0.86 + 0.018 * i, 0.36, 0.06 + 0.028 * k), glm::dvec3(0.5, -5, 0), 1.0,
+                        uint32_t(i * 10 + k) << WHITE_KIND_BITS | WHITE_SPRAY});
+  GpuSolver g(test::gpu(), d, initial_particles(scene));
+  g.set_white_water(true);
+  g.upload_white_water(thrown);
+  g.begin();
+  g.grid_at_positions();
+  g.white_water_advect(frame_time);
+  g.finish();
+  ReferenceSolver r(d, initial_particles(scene));
+  r.set_white_water(true);
+  r.upload_white_water(thrown);
+  r.build_grid(r.state.x);
+  r.white_water_advect(frame_time);
+  const std::vector<WhiteParticle> moved = g.white_water();
+  ASSERT_EQ(moved.size(), thrown.size());
+  size_t stopped = 0;
+  const Obstacle inner = d.obstacles[0].grown(-1e-5);  // on its surface in float is not inside
+  for (const WhiteParticle& p : moved) {
+    EXPECT_FALSE(inner.contains(p.x)) << p.x.x << " " << p.x.y << " " << p.x.z;
+    stopped += p.v == glm::dvec3(0.0);
+  }
+  EXPECT_GT(stopped, 20u) << "some land on the box";
+  const Agreement a = agree(moved, r.white);
+  EXPECT_EQ(a.same_kind, thrown.size());
+  EXPECT_LT(a.x, 1e-5);
+  EXPECT_LT(a.v, 1e-4);
+}
+
 // The passes read the fluid and write nothing of it: its state after them is the same, bit for
 // bit, as before them.
 TEST_F(WhiteWater, ThePassesLeaveTheFluidAsItWas) {

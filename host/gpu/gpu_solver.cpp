@@ -214,7 +214,7 @@ void GpuSolver::set_smoothed_positions(bool on) {
 void GpuSolver::set_white_water(bool on) {
   white_water_ = on && d_.white_water.enabled;
   if (!white_water_ || white_advect_.pipeline() != VK_NULL_HANDLE) return;
-  white_emit_ = neighbour_pass("white_water_emit", {{"SPACING", float(d_.spacing)}});
+  white_emit_ = neighbour_pass("white_water_emit", {{"SPACING", float(d_.spacing)}, {"FLOW_SPEED", float(d_.flow_speed)}});
   white_advect_ = particle_program("white_water_advect");
   for (int k = 0; k < 2; ++k) {
     white_count_[k] = vk::Buffer(ctx_, sizeof(uint32_t));
@@ -264,6 +264,7 @@ void GpuSolver::white_water_advect(double elapsed) {
   cmd_.bind("white_count_out", white_count_[next]);
   cmd_.bind("white_x_out", white_x_[next]);
   cmd_.bind("white_v_out", white_v_[next]);
+  cmd_.bind("obstacles", obstacles_);
   cmd_.dispatch(white_capacity_);
   white_current_ = next;
 }

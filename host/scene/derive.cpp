@@ -24,6 +24,7 @@ Derived derive(const Scene& scene) {
   // Ten times the speed of a fall through the whole domain (at least 1 m/s): no flow of the
   // scene reaches it, a blow-up passes it within a few steps.
   d.speed_limit = 10.0 * std::max(fall_speed(scene), 1.0);
+  d.flow_speed = std::max(fall_speed(scene), 0.1);
   d.rho0 = scene.solver.rest_density;
   d.mass = lattice_mass(s, d.h, d.rho0);
   const double gradient_sq = lattice_gradient_sq(s, d.h, d.mass, d.rho0);

@@ -121,6 +121,9 @@ struct Derived {
   WhiteWaterParams white_water;  // max_particles resolved
   std::vector<Obstacle> obstacles;  // grown by half a spacing: where particle centres may not be
   double speed_limit;  // m/s: the divergence watch stops a run with a particle faster than this
+  // m/s: the scale of the scene's flows, a fall through the domain's height (at least 0.1 m/s:
+  // a scene without gravity has one too), white water's unit of speed (shaders/white_water.h).
+  double flow_speed;
 
   SimConstants to_gpu(uint32_t count) const;
 };

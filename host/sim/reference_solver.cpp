@@ -149,11 +149,14 @@ constexpr double kContact = 1e-3;
 void ReferenceSolver::predict() {
   for (size_t i = 0; i < state.x.size(); ++i) {
     state.v[i] += d_.gravity * d_.dt;
-    // Each obstacle can only shorten the move, so the last shortening is the first entry.
-    dvec3 to = state.x[i] + state.v[i] * d_.dt;
-    for (const Obstacle& o : d_.obstacles) to = stop_at(o, state.x[i], to, kContact * d_.h);
-    state.x_pred[i] = project_out_of_solids(to);
+    state.x_pred[i] = move_outside_solids(state.x[i], state.x[i] + state.v[i] * d_.dt);
   }
+}
+
+dvec3 ReferenceSolver::move_outside_solids(const dvec3& from, dvec3 to) const {
+  // Each obstacle can only shorten the move, so the last shortening is the first entry.
+  for (const Obstacle& o : d_.obstacles) to = stop_at(o, from, to, kContact * d_.h);
+  return project_out_of_solids(to);
 }
 
 void ReferenceSolver::constraint_lambda() {

@@ -110,6 +110,9 @@ class ReferenceSolver : public Solver {
   glm::ivec3 cell_of(const glm::dvec3& x) const;
   size_t cell_id(const glm::ivec3& c) const { return (size_t(c.z) * d_.grid.y + c.y) * d_.grid.x + c.x; }
   glm::dvec3 project_out_of_solids(glm::dvec3 x) const;  // out of the obstacles, then into the walls
+  // The move from -> to stopped at the first obstacle on its way, then out of solids
+  // (obstacles.glsl's predicted_position).
+  glm::dvec3 move_outside_solids(const glm::dvec3& from, glm::dvec3 to) const;
 
   double mean_compression() const;  // of state.rho
   // The eight coarse nodes around x with their trilinear weights (shaders/coarse_deposit.comp).

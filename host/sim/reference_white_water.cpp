@@ -1,7 +1,6 @@
 // The reference's white water (shaders/white_water.h): white_water_emit.comp and
 // white_water_advect.comp in double, in the same order.
 #include <algorithm>
-#include <cmath>
 
 #include "sim/kernels.hpp"
 #include "sim/reference_solver.hpp"
@@ -41,11 +40,10 @@ void ReferenceSolver::white_water_advect(double elapsed) {
       p.v = carried;
     else
       p.v += -WHITE_BUOYANCY * elapsed * d_.gravity + WHITE_DRAG * (carried - p.v);
-    p.x += elapsed * p.v;
-    const dvec3 inside = glm::clamp(p.x, d_.wall_min, d_.wall_max);
+    const dvec3 to = p.x + elapsed * p.v, moved = move_outside_solids(p.x, to);
     for (int a = 0; a < 3; ++a)
-      if (inside[a] != p.x[a]) p.v[a] = 0;  // stopped by the wall
-    p.x = inside;
+      if (moved[a] != to[a]) p.v[a] = 0;  // stopped by a wall or an obstacle
+    p.x = moved;
     p.life -= elapsed;
     p.tag = (p.tag & ~((1u << WHITE_KIND_BITS) - 1u)) | kind;
     if (p.life > 0 && alive.size() < white_water_capacity()) alive.push_back(p);
@@ -55,7 +53,7 @@ void ReferenceSolver::white_water_advect(double elapsed) {
 
 void ReferenceSolver::white_water_emit(double elapsed, uint32_t frame) {
   if (!neighbours_current_) build_neighbours(state.x);  // else the last step's, as density()
-  const double unit = std::sqrt(glm::length(d_.gravity) * d_.h);  // white_water.h's speed unit
+  const double unit = d_.flow_speed;  // white_water.h's speed unit
   for (size_t i = 0; i < state.x.size(); ++i) {
     const dvec3 xi = state.x[i], vi = state.v[i];
     if (glm::length(vi) / unit <= WHITE_SPEED_MIN) continue;  // too slow to make any (white_water_born's gate)

@@ -14,7 +14,7 @@ namespace pbflow {
 // Ihmsen et al.'s clamped ramp: 0 at `lo`, 1 from `hi`.
 inline double white_ramp(double v, double lo, double hi) { return std::clamp((v - lo) / (hi - lo), 0.0, 1.0); }
 
-// A fluid particle's potentials (white_water.h), speeds in its unit sqrt(|g| h): the trapped
+// A fluid particle's potentials (white_water.h), speeds in its unit (Derived::flow_speed): the trapped
 // air's closing speed, how far off it its neighbours' centre lies (kernel radii), its speed out
 // along the surface's normal, and its speed.
 struct WhitePotentials {
