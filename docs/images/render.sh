@@ -10,7 +10,7 @@ out=docs/images
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 # scene and the frame shown (60 fps)
-for pick in dam_break:36 drop:21 double_dam_break:30 dam_obstacle:24 hydrostatic:30; do
+for pick in dam_break:36 drop:24 double_dam_break:30 dam_obstacle:24 hydrostatic:30; do
   scene=${pick%:*} frame=${pick#*:}
   build/pbflow run "$scene" --frames $((frame + 1)) --quiet --out "$tmp/$scene"
   cp "$tmp/$scene/frames/frame_$(printf %05d "$frame").png" "$out/${scene}.png"
