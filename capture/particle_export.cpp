@@ -57,7 +57,7 @@ std::vector<Column> white_water_columns(const ParticleFrame& f) {
   for (size_t k = 0; k < n; ++k) {
     for (int a = 0; a < 3; ++a) c[0].values.push_back(f.white_x[k][a]), c[1].values.push_back(f.white_v[k][a]);
     c[2].values.push_back(f.white_x[k].w);
-    c[3].values.push_back(float(std::bit_cast<uint32_t>(f.white_v[k].w) & ((1u << WHITE_KIND_BITS) - 1u)));
+    c[3].values.push_back(float(WhiteParticle::unpacked(f.white_x[k], f.white_v[k]).kind()));
   }
   return c;
 }

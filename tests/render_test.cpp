@@ -437,6 +437,34 @@ TEST_F(RenderTest, ZeroCopyAndReadBackGiveTheSameImage) {
   EXPECT_EQ(differing, 0) << "zero-copy and read-back images differ";
 }
 
+// The same for the fluid style with white water: the frame's white water part reaches GL alike
+// both ways, and it is drawn (the image differs from the one without it).
+TEST_F(RenderTest, WhiteWaterReachesTheFrameAlikeByZeroCopyAndReadBack) {
+  Scene scene = load_scene("dam_break", {"particle_spacing=0.04", "white_water.emission=1000"});
+  GpuSolver solver(test::gpu(), derive(scene), initial_particles(scene));
+  solver.set_smoothed_positions(true);
+  solver.set_white_water(true);
+  for (int frame = 0; frame < 30; ++frame) solver.advance(scene.solver.substeps);
+  ASSERT_GT(solver.white_water().size(), 50u);
+  auto shared = capture::make_particle_transfer(solver, &test::gpu(), *gl_, true);
+  auto readback = capture::make_particle_transfer(solver, &test::gpu(), *gl_, false);
+  if (std::string(shared->name()).find("zero-copy") == std::string::npos)
+    GTEST_SKIP() << "this Vulkan/GL pair cannot share memory; read-back only";
+  capture::View v = view(Style::Fluid, 0.5 * scene.particle_spacing);
+  v.camera = scene.camera;
+  v.domain = scene.domain;
+  capture::Renderer renderer(v);
+  const uint32_t n = uint32_t(solver.particle_count()), room = uint32_t(solver.white_water_capacity());
+  Image a = renderer.render(shared->update(solver), n, room);
+  Image b = renderer.render(readback->update(solver), n, room);
+  Image without = renderer.render(readback->update(solver), n, 0);
+  int differing = 0, drawn = 0;
+  for (int y = 0; y < v.height; ++y)
+    for (int x = 0; x < v.width; ++x) differing += !same_pixel(a, b, x, y), drawn += !same_pixel(b, without, x, y);
+  EXPECT_EQ(differing, 0) << "zero-copy and read-back images differ";
+  EXPECT_GT(drawn, 50) << "white water should show";
+}
+
 // The renderer draws on the device the solver runs on: asked for the Vulkan device's UUID the
 // context is made on it (llvmpipe for lavapipe here, as zero-copy needs), and asked for one
 // no EGL device has it says so rather than draw elsewhere.

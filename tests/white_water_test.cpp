@@ -9,9 +9,11 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <sstream>
 
+#include "capture/particle_export.hpp"
 #include "capture/png.hpp"
 #include "gpu/gpu_solver.hpp"
 #include "sim/reference_solver.hpp"
@@ -253,6 +255,44 @@ std::vector<size_t> white_counts(const fs::path& dir, int frames) {
     counts.push_back(count);
   }
   return counts;
+}
+
+// A white water file holds each particle as written: position, velocity, life and kind (PLY's
+// records; the VTK file's arrays by name).
+TEST(WhiteWaterExport, FilesHoldEachParticlesPositionVelocityLifeAndKind) {
+  const fs::path dir = test::fresh_dir("white_export");
+  fs::create_directories(dir);
+  ParticleFrame f;
+  const std::vector<WhiteParticle> written = {{{0.1, 0.2, 0.3}, {1, -2, 3}, 0.75, 7u << WHITE_KIND_BITS | WHITE_SPRAY},
+                                              {{0.4, 0.5, 0.6}, {0, 0, 0}, 1.5, 9u << WHITE_KIND_BITS | WHITE_BUBBLE}};
+  for (const WhiteParticle& p : written) {
+    const auto [x_life, v_tag] = p.packed();
+    f.white_x.push_back(x_life);
+    f.white_v.push_back(v_tag);
+  }
+  capture::write_white_water(dir / "w.ply", capture::ExportFormat::Ply, f);
+  capture::write_white_water(dir / "w.vtp", capture::ExportFormat::Vtk, f);
+  const auto [count, props] = ply_header(dir / "w.ply");
+  EXPECT_EQ(count, written.size());
+  EXPECT_EQ(props, "x y z vx vy vz life kind");
+  std::ifstream in(dir / "w.ply", std::ios::binary);
+  const std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const size_t body = data.find("end_header\n") + std::strlen("end_header\n");
+  ASSERT_EQ(data.size() - body, written.size() * 8 * sizeof(float));
+  for (size_t k = 0; k < written.size(); ++k) {
+    float r[8];
+    std::memcpy(r, data.data() + body + k * sizeof r, sizeof r);
+    const WhiteParticle& w = written[k];
+    EXPECT_EQ(glm::dvec3(r[0], r[1], r[2]), glm::dvec3(glm::vec3(w.x)));
+    EXPECT_EQ(glm::dvec3(r[3], r[4], r[5]), glm::dvec3(glm::vec3(w.v)));
+    EXPECT_EQ(r[6], float(w.life));
+    EXPECT_EQ(r[7], float(w.kind()));
+  }
+  std::ifstream vtp_in(dir / "w.vtp", std::ios::binary);
+  const std::string vtp((std::istreambuf_iterator<char>(vtp_in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(vtp.find("NumberOfPoints=\"2\""), std::string::npos);
+  for (const char* name : {"velocity", "life", "kind"})
+    EXPECT_NE(vtp.find(std::string("Name=\"") + name + "\""), std::string::npos) << name;
 }
 
 // `--export` writes a white water file per frame: none in a tank at rest, some in the dam break.

@@ -197,8 +197,9 @@ ParticleFrame GpuSolver::read_frame() const {
                   {},
                   {}};
   for (const WhiteParticle& p : white_water()) {
-    f.white_x.emplace_back(glm::vec3(p.x), float(p.life));
-    f.white_v.emplace_back(glm::vec3(p.v), std::bit_cast<float>(p.tag));
+    const auto [x_life, v_tag] = p.packed();
+    f.white_x.push_back(x_life);
+    f.white_v.push_back(v_tag);
   }
   return f;
 }
@@ -230,7 +231,7 @@ std::vector<WhiteParticle> GpuSolver::white_water() const {
   const auto x = white_x_[white_current_].download<glm::vec4>(count), v = white_v_[white_current_].download<glm::vec4>(count);
   std::vector<WhiteParticle> out;
   for (uint32_t k = 0; k < count; ++k)
-    out.push_back({glm::dvec3(x[k]), glm::dvec3(v[k]), x[k].w, std::bit_cast<uint32_t>(v[k].w)});
+    out.push_back(WhiteParticle::unpacked(x[k], v[k]));
   return out;
 }
 
@@ -239,8 +240,9 @@ void GpuSolver::upload_white_water(const std::vector<WhiteParticle>& w) {
   const uint32_t count = uint32_t(std::min<size_t>(w.size(), white_capacity_));
   std::vector<glm::vec4> x, v;
   for (uint32_t k = 0; k < count; ++k) {
-    x.emplace_back(glm::vec3(w[k].x), float(w[k].life));
-    v.emplace_back(glm::vec3(w[k].v), std::bit_cast<float>(w[k].tag));
+    const auto [x_life, v_tag] = w[k].packed();
+    x.push_back(x_life);
+    v.push_back(v_tag);
   }
   white_current_ = 0;
   white_count_[0].upload(std::span<const uint32_t>(&count, 1));

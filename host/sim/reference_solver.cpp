@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <chrono>
 #include <cmath>
 #include <numbers>
@@ -531,8 +530,9 @@ ParticleFrame ReferenceSolver::read_frame() const {
     for (const glm::vec4& half : encode_shape(drawn.shape[i], drawn.longest_axis[i])) f.shape.push_back(half);
   }
   for (const WhiteParticle& p : white) {
-    f.white_x.emplace_back(glm::vec3(p.x), float(p.life));
-    f.white_v.emplace_back(glm::vec3(p.v), std::bit_cast<float>(p.tag));
+    const auto [x_life, v_tag] = p.packed();
+    f.white_x.push_back(x_life);
+    f.white_v.push_back(v_tag);
   }
   return f;
 }

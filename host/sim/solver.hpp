@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cstdint>
 #include <string>
 #include <tuple>
@@ -80,6 +81,13 @@ struct WhiteParticle {
   double life;    // s left
   uint32_t tag;   // kind, then emitter id and birth number
   uint32_t kind() const { return tag & ((1u << WHITE_KIND_BITS) - 1u); }
+  // As the GPU's lists and the frame hold it: (x, life) and (v, the tag's bits).
+  std::array<glm::vec4, 2> packed() const {
+    return {glm::vec4(glm::vec3(x), float(life)), glm::vec4(glm::vec3(v), std::bit_cast<float>(tag))};
+  }
+  static WhiteParticle unpacked(const glm::vec4& x_life, const glm::vec4& v_tag) {
+    return {glm::dvec3(x_life), glm::dvec3(v_tag), x_life.w, std::bit_cast<uint32_t>(v_tag.w)};
+  }
 };
 
 // What capture and export read after a frame, in float: positions (xyz, w unused),

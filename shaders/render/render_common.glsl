@@ -75,8 +75,8 @@ vec3 sky(vec3 dir) {
   float h = dir.y;
   vec3 above = mix(vec3(0.82, 0.87, 0.92), vec3(0.30, 0.50, 0.82), clamp(h * 1.6, 0.0, 1.0));
   vec3 below = mix(vec3(0.55, 0.55, 0.52), vec3(0.35, 0.34, 0.32), clamp(-h * 3.0, 0.0, 1.0));
-  vec3 sun_dir = world_direction(light_view.xyz);
-  float sun = pow(max(dot(dir, sun_dir), 0.0), 600.0) * 6.0 + pow(max(dot(dir, sun_dir), 0.0), 12.0) * 0.25;
+  float towards_sun = max(dot(dir, world_direction(light_view.xyz)), 0.0);
+  float sun = pow(towards_sun, 600.0) * 6.0 + pow(towards_sun, 12.0) * 0.25;
   return (h >= 0.0 ? above : below) + vec3(1.0, 0.95, 0.85) * sun;
 }
 
