@@ -192,7 +192,7 @@ void announce(const RunOptions& o, const Scene& scene, const Derived& d, const n
   if (white_water)
     std::cerr << "pbflow: white water on, at most " << d.white_water.max_particles << " particles"
               << (chosen.contains("white_water.max_particles") ? " (chosen)" : "")
-              << " (white_water.enabled=false: none)\n";
+              << "; --param white_water.enabled=false turns it off\n";
   if (capture && o.verbose) std::cerr << "pbflow: rendering with " << capture->description() << "\n";
 }
 
