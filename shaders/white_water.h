@@ -12,8 +12,8 @@
 // - wave crest: at a free surface (its neighbours' weighted centre lies off it by WHITE_SURFACE_*
 //   kernel radii), its speed out along the surface's normal;
 // - kinetic energy, as a speed: slow fluid makes none, whatever the other two read.
-#define WHITE_TRAPPED_AIR_MIN 0.15
-#define WHITE_TRAPPED_AIR_MAX 0.6
+#define WHITE_TRAPPED_AIR_MIN 0.04
+#define WHITE_TRAPPED_AIR_MAX 0.16
 #define WHITE_SURFACE_MIN 0.08
 #define WHITE_SURFACE_MAX 0.2
 #define WHITE_CREST_MIN 0.15

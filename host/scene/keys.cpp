@@ -123,7 +123,7 @@ const SceneKey kKeys[] = {
     // Ihmsen et al. 2012 give foam 2-5 s; shorter keeps a demo's floor from turning white.
     {"white_water.lifetime", K::Number, "1.5", 1.5, KeyRange{0, 60, true}, "s",
      "mean life of a white water particle (each lives 0.5-1.5 times it)", "", &W::lifetime},
-    {"white_water.emission", K::Number, "60", 60.0, KeyRange{0, 1e4}, "1/s",
+    {"white_water.emission", K::Number, "35", 35.0, KeyRange{0, 1e4}, "1/s",
      "white water born per fluid particle per second where air is trapped or a crest runs out fast", "",
      &W::emission},
     {"camera.eye", K::Vector, "framing the domain", {}, {}, "m",
