@@ -49,7 +49,7 @@ class FrameCapture {
   // The fluid's surface is drawn from the solver's smoothed positions (Solver::set_smoothed_positions).
   bool draws_surface() const { return capture::draws_surface(renderer_.view().style); }
   // And white water over it (Solver::set_white_water): the fluid style.
-  bool draws_white_water() const { return renderer_.view().style == Style::Fluid; }
+  bool draws_white_water() const { return capture::draws_white_water(renderer_.view().style); }
   double seconds() const { return seconds_; }  // the run's time in write() and finish() so far
   double drawing_seconds() const { return drawing_seconds_; }  // of which particles to GL, drawing, reading back
   double gpu_drawing_seconds() const { return gpu_drawing_seconds_; }  // the GPU's time drawing (timer queries)

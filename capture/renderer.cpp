@@ -179,7 +179,7 @@ const Image& Renderer::render(GLuint buffer, uint32_t count, uint32_t white_capa
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buffer);
   if (fluid) {
     fluid_surface(count);
-    if (white_capacity > 0 && view_.style == Style::Fluid) white_water(count, white_capacity);
+    if (white_capacity > 0 && draws_white_water(view_.style)) white_water(count, white_capacity);
   } else {
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);

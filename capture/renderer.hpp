@@ -17,6 +17,8 @@ enum class Style { Fluid, Particles, Density, Speed, Normals };
 inline constexpr Style kStyles[] = {Style::Fluid, Style::Particles, Style::Density, Style::Speed, Style::Normals};
 // The styles that draw the fluid's surface (from the smoothed positions), not its particles.
 inline bool draws_surface(Style s) { return s == Style::Fluid || s == Style::Normals; }
+// The styles that draw white water over it (the normals style is the surface's debug view).
+inline bool draws_white_water(Style s) { return s == Style::Fluid; }
 Style parse_style(const std::string& name);  // throws InputError naming the choices
 const char* style_name(Style style);
 

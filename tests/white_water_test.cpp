@@ -11,6 +11,7 @@
 #include <fstream>
 #include <iterator>
 #include <map>
+#include <memory>
 #include <sstream>
 
 #include "capture/particle_export.hpp"
@@ -44,6 +45,20 @@ const Splash& splash() {
     return s;
   }();
   return s;
+}
+
+// Solvers at the splash, white water on (none alive yet).
+std::unique_ptr<GpuSolver> gpu_at(const Splash& s) {
+  auto g = std::make_unique<GpuSolver>(test::gpu(), s.d, initial_particles(s.scene));
+  g->set_white_water(true);
+  g->upload(s.state);
+  return g;
+}
+std::unique_ptr<ReferenceSolver> reference_at(const Splash& s) {
+  auto r = std::make_unique<ReferenceSolver>(s.d, initial_particles(s.scene));
+  r->set_white_water(true);
+  r->upload(s.state);
+  return r;
 }
 
 std::map<uint32_t, WhiteParticle> by_birth(const std::vector<WhiteParticle>& w) {  // the tag without its kind
@@ -83,16 +98,14 @@ class WhiteWater : public test::GpuTest {};
 // tip a birth count at its threshold: 1 % leeway), placed, launched and aged alike.
 TEST_F(WhiteWater, BirthsAgreeWithTheReference) {
   const Splash& s = splash();
-  GpuSolver g(test::gpu(), s.d, initial_particles(s.scene));
-  g.set_white_water(true);
-  g.upload(s.state);
+  auto gpu_solver = gpu_at(s);
+  GpuSolver& g = *gpu_solver;
   g.begin();
   g.grid_at_positions();
   g.white_water_emit(s.frame_time, 7);
   g.finish();
-  ReferenceSolver r(s.d, initial_particles(s.scene));
-  r.set_white_water(true);
-  r.upload(s.state);
+  auto reference = reference_at(s);
+  ReferenceSolver& r = *reference;
   r.build_grid(r.state.x);
   r.white_water_emit(s.frame_time, 7);
   ASSERT_GT(r.white.size(), 100u) << "the splash should make white water";
@@ -108,9 +121,8 @@ TEST_F(WhiteWater, BirthsAgreeWithTheReference) {
 // its kind moves, stopped at the walls, aged; those whose life ends are gone in both.
 TEST_F(WhiteWater, MovesAgreeWithTheReference) {
   const Splash& s = splash();
-  ReferenceSolver r(s.d, initial_particles(s.scene));
-  r.set_white_water(true);
-  r.upload(s.state);
+  auto reference = reference_at(s);
+  ReferenceSolver& r = *reference;
   r.build_grid(r.state.x);
   r.white_water_emit(s.frame_time, 7);
   std::vector<WhiteParticle> start = r.white;
@@ -118,9 +130,8 @@ TEST_F(WhiteWater, MovesAgreeWithTheReference) {
   for (size_t k = 0; k < start.size(); k += 10) start[k].life = 0.5 * s.frame_time;  // these die this frame
   for (size_t k = 1; k < start.size(); k += 10) start[k].x.y += 0.3;                 // these fly as spray
 
-  GpuSolver g(test::gpu(), s.d, initial_particles(s.scene));
-  g.set_white_water(true);
-  g.upload(s.state);
+  auto gpu_solver = gpu_at(s);
+  GpuSolver& g = *gpu_solver;
   g.upload_white_water(start);
   g.begin();
   g.grid_at_positions();
@@ -189,9 +200,8 @@ TEST_F(WhiteWater, SprayStopsAtAnObstacleAsTheReferences) {
 // bit, as before them.
 TEST_F(WhiteWater, ThePassesLeaveTheFluidAsItWas) {
   const Splash& s = splash();
-  GpuSolver g(test::gpu(), s.d, initial_particles(s.scene));
-  g.set_white_water(true);
-  g.upload(s.state);
+  auto gpu_solver = gpu_at(s);
+  GpuSolver& g = *gpu_solver;
   g.begin();
   g.grid_at_positions();
   g.density();
@@ -265,11 +275,7 @@ TEST(WhiteWaterExport, FilesHoldEachParticlesPositionVelocityLifeAndKind) {
   ParticleFrame f;
   const std::vector<WhiteParticle> written = {{{0.1, 0.2, 0.3}, {1, -2, 3}, 0.75, 7u << WHITE_KIND_BITS | WHITE_SPRAY},
                                               {{0.4, 0.5, 0.6}, {0, 0, 0}, 1.5, 9u << WHITE_KIND_BITS | WHITE_BUBBLE}};
-  for (const WhiteParticle& p : written) {
-    const auto [x_life, v_tag] = p.packed();
-    f.white_x.push_back(x_life);
-    f.white_v.push_back(v_tag);
-  }
+  add_white_water(f, written);
   capture::write_white_water(dir / "w.ply", capture::ExportFormat::Ply, f);
   capture::write_white_water(dir / "w.vtp", capture::ExportFormat::Vtk, f);
   const auto [count, props] = ply_header(dir / "w.ply");

@@ -196,11 +196,7 @@ ParticleFrame GpuSolver::read_frame() const {
                   smoothed_current_ ? shape_.download<glm::vec4>(2 * n_) : std::vector<glm::vec4>{},
                   {},
                   {}};
-  for (const WhiteParticle& p : white_water()) {
-    const auto [x_life, v_tag] = p.packed();
-    f.white_x.push_back(x_life);
-    f.white_v.push_back(v_tag);
-  }
+  add_white_water(f, white_water());
   return f;
 }
 
@@ -238,17 +234,13 @@ std::vector<WhiteParticle> GpuSolver::white_water() const {
 void GpuSolver::upload_white_water(const std::vector<WhiteParticle>& w) {
   if (!white_water_) return;
   const uint32_t count = uint32_t(std::min<size_t>(w.size(), white_capacity_));
-  std::vector<glm::vec4> x, v;
-  for (uint32_t k = 0; k < count; ++k) {
-    const auto [x_life, v_tag] = w[k].packed();
-    x.push_back(x_life);
-    v.push_back(v_tag);
-  }
+  ParticleFrame packed;
+  add_white_water(packed, {w.begin(), w.begin() + count});
   white_current_ = 0;
   white_count_[0].upload(std::span<const uint32_t>(&count, 1));
   if (count) {
-    white_x_[0].upload(std::span<const glm::vec4>(x));
-    white_v_[0].upload(std::span<const glm::vec4>(v));
+    white_x_[0].upload(std::span<const glm::vec4>(packed.white_x));
+    white_v_[0].upload(std::span<const glm::vec4>(packed.white_v));
   }
 }
 

@@ -529,11 +529,7 @@ ParticleFrame ReferenceSolver::read_frame() const {
     f.x_smooth.emplace_back(glm::vec3(drawn.x[i]), 0.0f);
     for (const glm::vec4& half : encode_shape(drawn.shape[i], drawn.longest_axis[i])) f.shape.push_back(half);
   }
-  for (const WhiteParticle& p : white) {
-    const auto [x_life, v_tag] = p.packed();
-    f.white_x.push_back(x_life);
-    f.white_v.push_back(v_tag);
-  }
+  add_white_water(f, white);
   return f;
 }
 

@@ -118,6 +118,14 @@ inline FrameOffsets frame_offsets(size_t n, size_t white = 0) {
           white_x + 2 * white_vec4s};
 }
 inline size_t frame_bytes(size_t n, size_t white = 0) { return frame_offsets(n, white).end; }
+// White water into a frame's two arrays, packed (WhiteParticle::packed).
+inline void add_white_water(ParticleFrame& f, const std::vector<WhiteParticle>& white) {
+  for (const WhiteParticle& p : white) {
+    const auto [x_life, v_tag] = p.packed();
+    f.white_x.push_back(x_life);
+    f.white_v.push_back(v_tag);
+  }
+}
 
 // A drawn shape's two vec4s, as shaders/shape_layout.glsl lays them out: the ellipsoid's
 // matrix T, in particle radii (the identity draws the sphere), and its longest semi-axis.
