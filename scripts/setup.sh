@@ -12,7 +12,7 @@ packages=(
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers glslc
   libglm-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libepoxy-dev libpng-dev
   nlohmann-json3-dev libcli11-dev googletest libgtest-dev
-  libcivetweb-dev libturbojpeg0-dev libavcodec-dev libswscale-dev libavutil-dev
+  libboost-dev libturbojpeg0-dev libavcodec-dev libswscale-dev libavutil-dev
   python3-matplotlib ffmpeg
 )
 if [[ "${1:-}" == "--test" ]]; then

@@ -1,5 +1,5 @@
 #pragma once
-// SIGINT and SIGTERM during a run: caught and remembered, so that the run stops between
+// SIGINT, SIGTERM and SIGHUP during a run: caught and remembered, so that the run stops between
 // frames with its files whole (run.cpp), instead of dying in the middle of a write.
 namespace pbflow {
 
@@ -12,5 +12,7 @@ class InterruptGuard {
 
   int signal() const;  // the signal received, 0 while none
 };
+
+const char* signal_name(int signal);  // "SIGINT", "SIGTERM", "SIGHUP"
 
 }  // namespace pbflow

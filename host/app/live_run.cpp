@@ -94,12 +94,14 @@ struct LiveRun::Stage {
   }
   // The scene's lanes, one a setting (none given: the scene's own), from the first's relaxed
   // start, and their renderer: what a run starts with and a new scene brings.
-  void load(const RunOptions& o, const std::vector<LiveSetting>& settings, const vk::Context* ctx) {
+  void load(const RunOptions& o, const std::vector<LiveSetting>& settings, const vk::Context* ctx,
+            const std::function<void(const std::string&)>& before_load) {
     capture.reset();
     lanes.clear();
     options = o;
     const Scene base = load_scene(o.scene, scene_overrides(o));
     scene_substeps = base.solver.substeps;
+    if (before_load) before_load(o.scene);
     for (const LiveSetting& s : settings.empty() ? std::vector<LiveSetting>{setting_of(base)} : settings) {
       const Scene lane = lane_scene(o, s);
       if (lanes.empty()) scene = lane;
@@ -111,6 +113,32 @@ struct LiveRun::Stage {
     start = first.download();
     for (Lane& lane : lanes) lane.solver->upload(start);
     draw_anew(ctx, scene.camera);
+  }
+  // What the run is, to go back to where a viewer's change fails half way.
+  struct Saved {
+    RunOptions options;
+    Scene scene;
+    int scene_substeps;
+    std::vector<LiveSetting> settings;  // substeps resolved
+    std::vector<ParticleState> now;     // each lane's
+    ParticleState start;
+    Camera camera;
+  };
+  Saved save() const {
+    Saved s{options, scene, scene_substeps, {}, {}, start, capture->camera()};
+    for (const Lane& lane : lanes) s.settings.push_back(lane.setting), s.now.push_back(lane.solver->download());
+    return s;
+  }
+  void restore(const Saved& s, const vk::Context* ctx) {
+    capture.reset();
+    lanes.clear();  // before the old are made again: one run's memory at a time
+    options = s.options, scene = s.scene, scene_substeps = s.scene_substeps, start = s.start;
+    for (size_t i = 0; i < s.settings.size(); ++i) {
+      const Scene lane = lane_scene(options, s.settings[i]);
+      lanes.push_back({s.settings[i], make_solver(ctx, derive(lane), initial_particles(lane))});
+      lanes.back().solver->upload(s.now[i]);
+    }
+    draw_anew(ctx, s.camera);
   }
   // The first lane under another setting, its particles carried over.
   void change_setting(const LiveSetting& s, const vk::Context* ctx) {
@@ -145,8 +173,19 @@ struct LiveRun::Stage {
   }
 };
 
+// The frame loop's state: the clock, what is shown, the budget held.
+struct LiveRun::Pace {
+  RealtimeFactor realtime;
+  uint64_t number = 0;  // frames drawn
+  double sim_time = 0;  // since the last (re)start
+  double other_ms = 0;  // a frame's work besides simulating: the last frame's drawing
+  bool paused = false, first = true;
+  std::optional<FrameBudget> budget;
+  std::shared_ptr<const std::vector<FrontPoint>> front;
+};
+
 LiveRun::LiveRun(const LiveOptions& options)
-    : options_(options.run), panels_(std::max<size_t>(1, options.compare.size())) {
+    : options_(options.run), panels_(std::max<size_t>(1, options.compare.size())), before_load_(options.before_load) {
   if (options.compare.size() > kMaxPanels)
     throw InputError("--compare takes at most " + std::to_string(kMaxPanels) + " settings");
   if (!options.compare.empty() && options.frame_budget_ms > 0)
@@ -217,7 +256,7 @@ void LiveRun::simulate(const LiveOptions& o, std::promise<void>& ready) {
     ctx = make_context(o.run.device, o.run.validate);
     if (ctx) device_ = ctx->info();
     check_scene(o.run.scene);
-    stage.load(o.run, o.compare, ctx.get());
+    stage.load(o.run, o.compare, ctx.get(), o.before_load);
     fps_ = stage.scene.fps;  // before the encoder's thread starts, which reads it
     describe(stage.about());
     ready.set_value();
@@ -279,128 +318,164 @@ std::vector<FrontPoint> LiveRun::measure_front(Stage& stage, const vk::Context* 
   return measured;
 }
 
+// What the viewers asked since the last frame, taken at once: the newest of each kind.
+struct LiveRun::Asked {
+  bool step = false, redraw = false, restart = false;
+  std::optional<bool> paused;
+  std::optional<LiveCommand> setting, style, scene, budget;
+  std::vector<LiveCommand> cameras;
+};
+
 // The frames, at the scene's clock, and the viewers' commands between them. A frame is due a
 // period after the last; one that is late is drawn at once and the clock starts again from it
-// (the run then goes as fast as it can).
+// (the run then goes as fast as it can). The wait for the next frame ends at once for a command
+// or a stop, so that a low fps holds up neither.
 void LiveRun::run_frames(Stage& stage, const vk::Context* ctx, double budget_ms) {
   auto period = [&] {
     return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / stage.scene.fps));
   };
-  RealtimeFactor realtime;
-  uint64_t number = 0;
-  double sim_time = 0, other_ms = 0;
-  bool paused = false, first = true;
-  std::optional<FrameBudget> budget;
-  std::shared_ptr<const std::vector<FrontPoint>> front;
-  // The budget held from here: the front measured where the run is, its first choice taken.
-  auto hold_budget = [&](double ms) {
-    budget.reset();
-    front.reset();
-    if (ms <= 0) return;
-    if (other_ms == 0) {  // no frame drawn yet: the first choice needs what drawing costs
-      const Clock::time_point began = Clock::now();
-      stage.capture->draw(stage.solvers());
-      other_ms = ms_since(began);
-    }
-    budget.emplace(ms, measure_front(stage, ctx), stage.lanes[0].setting);
-    front = std::make_shared<const std::vector<FrontPoint>>(budget->front());
-    if (const std::optional<LiveSetting> chosen = budget->decide_now(other_ms)) stage.change_setting(*chosen, ctx);
-  };
-  hold_budget(budget_ms);
+  Pace pace;
+  hold_budget(stage, ctx, pace, budget_ms);
   Clock::time_point due = Clock::now();
   while (!stopping_) {
-    bool step = false, redraw = false;
-    std::optional<LiveSetting> setting;
-    std::optional<std::string> style, scene;
-    std::optional<double> new_budget;
-    {
-      std::unique_lock lock(commands_mutex_);
-      if (paused && commands_.empty()) commands_changed_.wait_for(lock, std::chrono::milliseconds(100));
-      for (; !commands_.empty(); commands_.pop_front()) {
-        const LiveCommand& c = commands_.front();
-        switch (c.kind) {
-          case LiveCommand::Kind::Pause: paused = true; break;
-          case LiveCommand::Kind::Resume: paused = false; break;
-          case LiveCommand::Kind::Step: step = paused = true; break;
-          case LiveCommand::Kind::Restart:
-            for (Lane& lane : stage.lanes) lane.solver->upload(stage.start);
-            sim_time = 0, first = true;
-            break;
-          case LiveCommand::Kind::Setting: setting = c.setting, redraw = true; break;
-          case LiveCommand::Kind::Style: style = c.style, redraw = true; break;
-          case LiveCommand::Kind::Camera: stage.capture->set_camera(moved(stage.capture->camera(), c)), redraw = true; break;
-          case LiveCommand::Kind::Scene: scene = c.scene; break;
-          case LiveCommand::Kind::Budget: new_budget = c.budget_ms; break;
-        }
-      }
-    }
+    Asked asked = take_commands(pace.paused ? Clock::now() + std::chrono::milliseconds(100) : due);
     if (stopping_) break;
-    if (scene) {  // the new scene's start, under the settings the run has (a held budget measures it anew)
-      std::vector<LiveSetting> settings;  // at the new scene's own substeps
-      for (const Lane& lane : stage.lanes) settings.push_back({lane.setting.method, lane.setting.iterations, 0});
-      RunOptions o = stage.options;
-      o.scene = *scene;
-      stage.load(o, settings, ctx);
-      fps_ = stage.scene.fps;
-      sim_time = 0, first = true;
-      if (budget && !new_budget) new_budget = budget->budget_ms();
+    if (asked.paused) pace.paused = *asked.paused;
+    if (asked.restart) {
+      for (Lane& lane : stage.lanes) lane.solver->upload(stage.start);
+      pace.sim_time = 0, pace.first = true;
     }
-    if (setting) {  // the viewer's choice, at the scene's substeps: a budget held gives it back
-      stage.change_setting(*setting, ctx);
-      budget.reset(), front.reset();
-    }
-    if (style) {
-      stage.options.style = *style;
-      stage.draw_anew(ctx, stage.capture->camera());
-    }
-    if (new_budget) hold_budget(*new_budget);
-    if (scene || setting || new_budget) describe(stage.about());
-    if (paused && !step && !first && !redraw && !scene) {
-      realtime.restart();
-      due = Clock::now();
+    const bool changed = apply(stage, ctx, pace, asked);
+    const Clock::time_point now = Clock::now();
+    if (pace.paused && !asked.step && !pace.first && !asked.redraw && !changed) {
+      pace.realtime.restart();
+      due = now;
       continue;
     }
-    const bool advance = !first && (!paused || step);
-    auto frame = std::make_shared<LiveFrame>();
-    const Clock::time_point began = Clock::now();
-    for (const Lane& lane : stage.lanes)
-      frame->panels.push_back({lane.setting, lane.solver->advance(advance ? lane.setting.substeps : 0)});  // 0: measures only
-    frame->simulate_ms = ms_since(began);
-    if (advance) sim_time += 1.0 / stage.scene.fps;
-    realtime.add(advance ? 1.0 / stage.scene.fps : 0.0);
-    first = false;
-    frame->number = ++number;
-    frame->sim_time = sim_time;
-    frame->realtime_factor = paused ? 0.0 : realtime.value();
-    frame->paused = paused;
-    frame->scene = stage.scene.name;
-    frame->about = description();
-    frame->budget_ms = budget ? budget->budget_ms() : 0;
-    frame->front = front;
-    const Clock::time_point simulated = Clock::now();
-    auto image = std::make_shared<const capture::Image>(stage.capture->draw(stage.solvers()));
-    frame->draw_ms = ms_since(simulated);
-    other_ms = frame->draw_ms;
-    frame->drawn_unix_ms =
-        std::chrono::duration<double, std::milli>(std::chrono::system_clock::now().time_since_epoch()).count();
-    if (budget && advance) {
-      budget->add(frame->simulate_ms, frame->draw_ms);
-      if (const std::optional<LiveSetting> chosen = budget->decide()) {
-        stage.change_setting(*chosen, ctx);
-        describe(stage.about());
-      }
-    }
-    {
-      std::lock_guard lock(frames_mutex_);  // the encoder takes the newest; one it missed is dropped
-      drawn_ = std::move(frame);
-      drawn_image_ = std::move(image);
-      drawn_changed_.notify_all();
-    }
+    const bool advance = !pace.first && (pace.paused ? asked.step : now >= due);
+    if (!advance && !pace.first && !asked.redraw && !changed) continue;  // not due yet, nothing to show
+    draw_frame(stage, ctx, pace, advance);
+    if (!advance) continue;
     due += period();
-    const Clock::time_point now = Clock::now();
-    if (now < due) std::this_thread::sleep_until(due);
-    else if (now - due > period()) due = now;  // behind: as fast as it can, the clock from here
+    if (Clock::now() - due > period()) due = Clock::now();  // behind: as fast as it can, the clock from here
   }
+}
+
+LiveRun::Asked LiveRun::take_commands(Clock::time_point until) {
+  Asked asked;
+  std::unique_lock lock(commands_mutex_);
+  commands_changed_.wait_until(lock, until, [&] { return stopping_ || !commands_.empty(); });
+  for (; !commands_.empty(); commands_.pop_front()) {
+    LiveCommand& c = commands_.front();
+    switch (c.kind) {
+      case LiveCommand::Kind::Pause: asked.paused = true; break;
+      case LiveCommand::Kind::Resume: asked.paused = false; break;
+      case LiveCommand::Kind::Step: asked.step = true, asked.paused = true; break;
+      case LiveCommand::Kind::Restart: asked.restart = true; break;
+      case LiveCommand::Kind::Setting: asked.setting = std::move(c), asked.redraw = true; break;
+      case LiveCommand::Kind::Style: asked.style = std::move(c), asked.redraw = true; break;
+      case LiveCommand::Kind::Camera: asked.cameras.push_back(std::move(c)), asked.redraw = true; break;
+      case LiveCommand::Kind::Scene: asked.scene = std::move(c); break;
+      case LiveCommand::Kind::Budget: asked.budget = std::move(c); break;
+    }
+  }
+  return asked;
+}
+
+// The viewers' changes, each whole or not at all: one the run cannot take (a scene that fails
+// to load) is undone, the run goes on as it was and the viewer who asked is told. Returns
+// whether the scene, setting or budget changed.
+bool LiveRun::apply(Stage& stage, const vk::Context* ctx, Pace& pace, Asked& asked) {
+  for (const LiveCommand& c : asked.cameras) stage.capture->set_camera(moved(stage.capture->camera(), c));
+  auto attempt = [&](const std::optional<LiveCommand>& c, const std::function<void()>& change) {
+    if (!c) return false;
+    const Stage::Saved saved = stage.save();
+    try {
+      change();
+      return true;
+    } catch (const std::exception& e) {
+      stage.restore(saved, ctx);  // where this fails too the run stops, as it must
+      if (c->refused) c->refused(e.what());
+      return false;
+    }
+  };
+  std::optional<double> new_budget = asked.budget ? std::optional<double>(asked.budget->budget_ms) : std::nullopt;
+  const bool scene = attempt(asked.scene, [&] {  // the new scene's start, under the settings the run has
+    std::vector<LiveSetting> settings;            // at the new scene's own substeps
+    for (const Lane& lane : stage.lanes) settings.push_back({lane.setting.method, lane.setting.iterations, 0});
+    RunOptions o = stage.options;
+    o.scene = asked.scene->scene;
+    stage.load(o, settings, ctx, before_load_);
+  });
+  if (scene) {
+    fps_ = stage.scene.fps;
+    pace.sim_time = 0, pace.first = true;
+    if (pace.budget && !new_budget) new_budget = pace.budget->budget_ms();  // measured anew
+  }
+  const bool setting = attempt(asked.setting, [&] { stage.change_setting(asked.setting->setting, ctx); });
+  if (setting) pace.budget.reset(), pace.front.reset();  // the viewer's choice: a budget held gives it back
+  attempt(asked.style, [&] {
+    stage.options.style = asked.style->style;
+    stage.draw_anew(ctx, stage.capture->camera());
+  });
+  const bool budget = new_budget && attempt(asked.budget ? asked.budget : asked.scene, [&] {
+    hold_budget(stage, ctx, pace, *new_budget);
+  });
+  if (scene || setting || budget) describe(stage.about());
+  return scene || setting || budget;
+}
+
+// The budget held from here: the front measured where the run is, its first choice taken.
+void LiveRun::hold_budget(Stage& stage, const vk::Context* ctx, Pace& pace, double ms) {
+  pace.budget.reset();
+  pace.front.reset();
+  if (ms <= 0) return;
+  if (pace.other_ms == 0) {  // no frame drawn yet: the first choice needs what drawing costs
+    const Clock::time_point began = Clock::now();
+    stage.capture->draw(stage.solvers());
+    pace.other_ms = ms_since(began);
+  }
+  pace.budget.emplace(ms, measure_front(stage, ctx), stage.lanes[0].setting);
+  pace.front = std::make_shared<const std::vector<FrontPoint>>(pace.budget->front());
+  if (const std::optional<LiveSetting> chosen = pace.budget->decide_now(pace.other_ms))
+    stage.change_setting(*chosen, ctx);
+}
+
+// One frame: the lanes advanced a frame (or measured only), drawn, and handed to the encoder.
+void LiveRun::draw_frame(Stage& stage, const vk::Context* ctx, Pace& pace, bool advance) {
+  auto frame = std::make_shared<LiveFrame>();
+  const Clock::time_point began = Clock::now();
+  for (const Lane& lane : stage.lanes)
+    frame->panels.push_back({lane.setting, lane.solver->advance(advance ? lane.setting.substeps : 0)});  // 0: measures only
+  frame->simulate_ms = ms_since(began);
+  if (advance) pace.sim_time += 1.0 / stage.scene.fps;
+  pace.realtime.add(advance ? 1.0 / stage.scene.fps : 0.0);
+  pace.first = false;
+  frame->number = ++pace.number;
+  frame->sim_time = pace.sim_time;
+  frame->realtime_factor = pace.paused ? 0.0 : pace.realtime.value();
+  frame->paused = pace.paused;
+  frame->scene = stage.scene.name;
+  frame->about = description();
+  frame->budget_ms = pace.budget ? pace.budget->budget_ms() : 0;
+  frame->front = pace.front;
+  const Clock::time_point simulated = Clock::now();
+  auto image = std::make_shared<const capture::Image>(stage.capture->draw(stage.solvers()));
+  frame->draw_ms = ms_since(simulated);
+  pace.other_ms = frame->draw_ms;
+  frame->drawn_unix_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::system_clock::now().time_since_epoch()).count();
+  if (pace.budget && advance) {
+    pace.budget->add(frame->simulate_ms, frame->draw_ms);
+    if (const std::optional<LiveSetting> chosen = pace.budget->decide()) {
+      stage.change_setting(*chosen, ctx);
+      describe(stage.about());
+    }
+  }
+  std::lock_guard lock(frames_mutex_);  // the encoder takes the newest; one it missed is dropped
+  drawn_ = std::move(frame);
+  drawn_image_ = std::move(image);
+  drawn_changed_.notify_all();
 }
 
 // The encoder's thread: JPEG for every frame it takes, and H.264 while a viewer takes it, made

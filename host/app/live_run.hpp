@@ -6,6 +6,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <deque>
+#include <functional>
 #include <future>
 #include <memory>
 #include <mutex>
@@ -25,6 +26,9 @@ struct LiveOptions {
   RunOptions run;                    // the scene and image options, as `pbflow run` takes them
   std::vector<LiveSetting> compare;  // --compare: these settings side by side from one start; empty: one run
   double frame_budget_ms = 0;        // --frame-budget: hold a frame within this by choosing accuracy; 0: off
+  // Called on the run's thread before a scene's solvers are made (the tests make a load fail
+  // here: what a device that runs out of memory does); none in a user's run.
+  std::function<void(const std::string& scene)> before_load;
 };
 // At most this many settings side by side.
 inline constexpr size_t kMaxPanels = 4;
@@ -68,6 +72,9 @@ struct LiveCommand {
   double pan_x = 0, pan_y = 0;      // Camera: the target moved by these fractions of that distance
   std::string scene;       // Scene: a built-in scene's name, checked with check_scene()
   double budget_ms = 0;    // Budget: 0 turns it off
+  // Called on the run's thread where the run could not take it (a scene that failed to load):
+  // the run goes on as it was, and whoever asked is told why.
+  std::function<void(const std::string& why)> refused;
 };
 
 class LiveRun {
@@ -99,8 +106,14 @@ class LiveRun {
 
  private:
   struct Stage;
+  struct Pace;
+  struct Asked;
   void simulate(const LiveOptions& options, std::promise<void>& ready);
   void run_frames(Stage& stage, const vk::Context* ctx, double budget_ms);
+  Asked take_commands(std::chrono::steady_clock::time_point until);
+  bool apply(Stage& stage, const vk::Context* ctx, Pace& pace, Asked& asked);
+  void hold_budget(Stage& stage, const vk::Context* ctx, Pace& pace, double ms);
+  void draw_frame(Stage& stage, const vk::Context* ctx, Pace& pace, bool advance);
   std::vector<FrontPoint> measure_front(Stage& stage, const vk::Context* ctx);
   void encode();
   void encode_frames();
@@ -109,6 +122,7 @@ class LiveRun {
 
   const RunOptions options_;  // as given: what check_scene() checks against
   const size_t panels_;
+  const std::function<void(const std::string&)> before_load_;
   std::optional<vk::DeviceInfo> device_;  // the solver's; none for the reference solver
   std::atomic<bool> stopping_{false};
   std::atomic<int> h264_viewers_{0};

@@ -172,8 +172,6 @@ void check_video_outside(const std::filesystem::path& video, const std::filesyst
                        ", which the run owns: name a file elsewhere");
 }
 
-std::string signal_name(int signal) { return signal == SIGINT ? "SIGINT" : "SIGTERM"; }
-
 }  // namespace
 
 namespace {
@@ -304,7 +302,7 @@ int stopped_early(const RunTotals& totals, const InterruptGuard& interrupt, RunD
     return 3;
   }
   if (int signal = interrupt.signal()) {
-    std::string m = "interrupted by " + signal_name(signal) + "; " + frames_complete(totals.frames);
+    std::string m = "interrupted by " + std::string(signal_name(signal)) + "; " + frames_complete(totals.frames);
     std::cerr << "pbflow: " << m << "\n";
     dir.end("interrupted", m, wall);
     return 128 + signal;

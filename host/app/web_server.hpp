@@ -1,60 +1,66 @@
 #pragma once
-// The live view's server (civetweb): one page, embedded in the binary, at "/", and one
-// WebSocket at "/ws" that carries the newest frames and measures out and commands in. Nothing
-// else is served: no file is ever read from disk. Each viewer has a thread of its own that
-// sends the newest frame when the last has gone out, so a slow or stalled viewer drops frames
-// and holds at most one, and never holds up the run or another viewer (docs/serve.md).
-#include <list>
+// The live view's server (Boost.Beast over Asio, on one thread of its own): one page, embedded
+// in the binary, at "/", and one WebSocket at "/ws" that carries the newest frames and measures
+// out and commands in. Nothing else is served: no file is ever read from disk. Every byte from
+// a client is bounded before it is held (a request's head; a command's size, read from its
+// frame header before its payload) and checked before it is used (UTF-8, masking, JSON); a
+// viewer whose send stalls is closed, never sent a cut frame; only the server's own page may
+// open the socket (docs/serve.md, "A server that trusts no client").
 #include <memory>
-#include <mutex>
 #include <string>
-#include <thread>
 
 #include "app/live_run.hpp"
-
-struct mg_context;
-struct mg_connection;
 
 namespace pbflow {
 
 struct ServerLimits {
-  int viewers = 16;                  // WebSocket connections at once; one more is refused
-  int connections = 64;              // civetweb's worker threads: connections served at once
-  size_t max_message = 4096;         // bytes of a command; a longer message closes its connection
-  int request_timeout_ms = 10000;    // a request (or a frame's send) that takes longer is dropped
+  int viewers = 16;                // WebSocket connections at once; one more is refused (503)
+  int connections = 64;            // connections served at once; more wait in the listen queue
+  size_t max_head = 16384;         // bytes of a request's head; more: 431, closed
+  size_t max_message = 4096;       // bytes of a command, all its fragments; more: closed (1009), unread
+  int request_timeout_ms = 10000;  // a request, a handshake or one send that takes longer: closed
+  size_t max_replies = 8;          // replies waiting for a viewer; more are dropped
+};
+
+// Where `serve` listens: one numeric address and port, bound before the scene's set-up so that
+// a port in use is said at once.
+class Listener {
+ public:
+  // `text`: "ADDRESS:PORT", an IPv4 address or a bracketed IPv6 one, the port 0 (any free one)
+  // to 65535. InputError naming the problem: anything else, or an address that cannot be bound.
+  explicit Listener(const std::string& text);
+  ~Listener();
+  Listener(Listener&&) noexcept;
+  Listener& operator=(Listener&&) noexcept;
+
+  int port() const;
+  bool loopback() const;      // only this machine can reach it: anyone here may steer
+  std::string host() const;   // as a URL names it: "127.0.0.1", "[::1]"
+
+ private:
+  friend class WebServer;
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
 };
 
 class WebServer {
  public:
-  // Listens on `listen` ("127.0.0.1:8080"); throws InputError where it cannot (a bad address,
-  // a port in use).
-  WebServer(const std::string& listen, LiveRun& run, ServerLimits limits = {});
-  ~WebServer();  // closes every connection and joins every viewer
+  // Serves `run` on what `listener` bound, from now. A listener beyond loopback makes a token.
+  WebServer(Listener listener, LiveRun& run, ServerLimits limits = {});
+  // Closes every connection; once it returns, nothing of the server touches `run`.
+  ~WebServer();
   WebServer(const WebServer&) = delete;
   WebServer& operator=(const WebServer&) = delete;
 
-  int port() const { return port_; }
-  // Where the server listens beyond this machine: the token a viewer there must send with a
-  // command to steer ({"cmd": ..., "token": ...}); empty on loopback, where anyone may.
-  const std::string& token() const { return token_; }
+  int port() const;
+  // What a viewer sends with each steering command ({"cmd": ..., "token": ...}) where the
+  // server listens beyond loopback; empty on loopback, where anyone may steer.
+  const std::string& token() const;
+
+  struct Impl;  // web_server.cpp's
 
  private:
-  struct Viewer;
-  static int page(mg_connection* conn, void* self);
-  static int ws_connect(const mg_connection* conn, void* self);
-  static void ws_ready(mg_connection* conn, void* self);
-  static int ws_data(mg_connection* conn, int bits, char* data, size_t length, void* self);
-  static void ws_close(const mg_connection* conn, void* self);
-  void send_frames(Viewer& viewer);
-  std::string answer(const char* data, size_t length, Viewer& viewer);  // a command's reply; empty: none
-
-  LiveRun& run_;
-  ServerLimits limits_;
-  mg_context* ctx_ = nullptr;
-  int port_ = 0;
-  std::string token_;
-  std::mutex viewers_mutex_;
-  std::list<std::shared_ptr<Viewer>> viewers_;  // the connected viewers: at most limits_.viewers
+  std::shared_ptr<Impl> impl_;
 };
 
 }  // namespace pbflow
