@@ -258,6 +258,7 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
       self->server_.viewers.push_back(self);
       self->ready_ = true;
       self->reply(text_of(self->server_.hello()));
+      self->offer(self->server_.run.next_frame(0, std::chrono::milliseconds(0)));  // the newest, at once
       self->read();
     });
   }

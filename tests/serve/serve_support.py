@@ -11,11 +11,12 @@ import subprocess
 import time
 
 class Client:
-    def __init__(self, port, path="/ws", timeout=10):
+    def __init__(self, port, path="/ws", timeout=10, host=None, origin=None):
         self.sock = socket.create_connection(("127.0.0.1", port), timeout=timeout)
         key = base64.b64encode(os.urandom(16)).decode()
-        self.sock.sendall((f"GET {path} HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nUpgrade: websocket\r\n"
-                           f"Connection: Upgrade\r\nSec-WebSocket-Key: {key}\r\nSec-WebSocket-Version: 13\r\n\r\n").encode())
+        origin = f"Origin: {origin}\r\n" if origin else ""
+        self.sock.sendall((f"GET {path} HTTP/1.1\r\nHost: {host or f'127.0.0.1:{port}'}\r\nUpgrade: websocket\r\n"
+                           f"Connection: Upgrade\r\n{origin}Sec-WebSocket-Key: {key}\r\nSec-WebSocket-Version: 13\r\n\r\n").encode())
         head = b""
         while b"\r\n\r\n" not in head:
             chunk = self.sock.recv(1)
@@ -45,15 +46,29 @@ class Client:
             n = struct.unpack(">Q", self._exact(8))[0]
         return b0 & 0x0F, self._exact(n)
 
-    def send(self, payload, opcode=1):
+    def send(self, payload, opcode=1, fin=True, masked=True, declared=None):
+        """One frame; `declared`: the length its header states, where that is not the payload's."""
         if isinstance(payload, str):
             payload = payload.encode()
-        mask = os.urandom(4)
-        n = len(payload)
-        head = bytes([0x80 | opcode])
-        head += bytes([0x80 | n]) if n < 126 else (bytes([0x80 | 126]) + struct.pack(">H", n) if n < 65536
-                                                    else bytes([0x80 | 127]) + struct.pack(">Q", n))
-        self.sock.sendall(head + mask + bytes(b ^ mask[i % 4] for i, b in enumerate(payload)))
+        n = len(payload) if declared is None else declared
+        bit = 0x80 if masked else 0
+        head = bytes([(0x80 if fin else 0) | opcode])
+        head += bytes([bit | n]) if n < 126 else (bytes([bit | 126]) + struct.pack(">H", n) if n < 65536
+                                                   else bytes([bit | 127]) + struct.pack(">Q", n))
+        mask = os.urandom(4) if masked else b"\0\0\0\0"
+        self.sock.sendall(head + (mask if masked else b"") + bytes(b ^ mask[i % 4] for i, b in enumerate(payload)))
+
+    def closed_with(self, timeout=10):
+        """The close code the server sends (None: the connection ended without one), reading
+        past whatever it sent before."""
+        self.sock.settimeout(timeout)
+        try:
+            while True:
+                op, data = self.receive()
+                if op == 8:
+                    return struct.unpack(">H", data[:2])[0] if len(data) >= 2 else None
+        except (ConnectionError, OSError):
+            return None
 
     def error_for(self, command, limit=300):
         """The error message the server answers `command` (a dict, sent as JSON) with."""
@@ -98,10 +113,17 @@ class Server:
         if self.port is None:
             raise RuntimeError("the server did not start: " + "".join(self.log))
 
+    def rss_kb(self):
+        """The server's resident memory, kB."""
+        with open(f"/proc/{self.process.pid}/status") as status:
+            return int(next(line for line in status if line.startswith("VmRSS:")).split()[1])
+
     def alive(self):
         return self.process.poll() is None
 
     def stop(self, sig=signal.SIGINT):
+        if self.process.poll() is not None:
+            return self.process.returncode
         self.process.send_signal(sig)
         try:
             return self.process.wait(timeout=30)

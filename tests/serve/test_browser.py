@@ -6,9 +6,11 @@ latency (drawn to shown) and bit rate of the H.264 stream are reported; the live
 screenshot there (the README's picture).
 
 Usage: test_browser.py PBFLOW_BINARY (run by ctest). Prints "N passed, N failed"."""
+import http.server
 import os
 import statistics
 import sys
+import threading
 import time
 import unittest
 
@@ -47,14 +49,14 @@ def wait_for(predicate, timeout=60, what="a condition"):
     raise AssertionError(f"timed out waiting for {what}")
 
 
-def open_page(port):
-    """Debian's Chromium, headless, on the server's page."""
+def open_page(port, address=None):
+    """Debian's Chromium, headless, on the server's page (or at `address`)."""
     options = webdriver.ChromeOptions()
     for flag in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage", "--window-size=960,720"):
         options.add_argument(flag)
     options.binary_location = "/usr/bin/chromium"
     browser = webdriver.Chrome(service=Service("/usr/bin/chromedriver"), options=options)
-    browser.get(f"http://127.0.0.1:{port}/")
+    browser.get(address or f"http://127.0.0.1:{port}/")
     return browser
 
 
@@ -182,6 +184,50 @@ class CompareBrowserTest(unittest.TestCase):
         for label in labels:
             self.assertRegex(label, r"[\d.]+ %$")
         self.assertFalse(self.browser.find_element("id", "method").is_enabled(), "a panel's setting is fixed")
+
+
+class AnotherOriginBrowserTest(unittest.TestCase):
+    """A page from another origin (a second loopback server, as any site the user opens) tries
+    to open the live server's socket and steer it: refused at the handshake."""
+
+    def test_a_page_from_another_origin_cannot_steer(self):
+        server = Server()
+        port = server.port
+
+        class Attacker(http.server.BaseHTTPRequestHandler):
+            def do_GET(self):
+                page = (f"<script>window.result = {{opened: false, closed: false}};"
+                        f"const s = new WebSocket('ws://127.0.0.1:{port}/ws');"
+                        "s.onopen = () => { window.result.opened = true;"
+                        "  s.send(JSON.stringify({cmd: 'scene', name: 'drop'})); s.send('\u00e9'); };"
+                        "s.onclose = () => { window.result.closed = true; };</script>").encode()
+                self.send_response(200)
+                self.send_header("Content-Type", "text/html")
+                self.send_header("Content-Length", str(len(page)))
+                self.end_headers()
+                self.wfile.write(page)
+
+            def log_message(self, *args):
+                pass
+
+        attacker = http.server.ThreadingHTTPServer(("127.0.0.1", 0), Attacker)
+        threading.Thread(target=attacker.serve_forever, daemon=True).start()
+        browser = open_page(port, f"http://127.0.0.1:{attacker.server_address[1]}/")
+        try:
+            wait_for(lambda: browser.execute_script("return window.result && window.result.closed;"),
+                     what="the other origin's socket to close")
+            self.assertFalse(browser.execute_script("return window.result.opened;"), "another origin opened the socket")
+            time.sleep(2)
+            self.assertTrue(server.alive())
+            viewer = Client(port)
+            for _ in range(5):
+                _, _, stats = viewer.frame()
+            self.assertEqual(stats["scene"], "hydrostatic", "another origin switched the scene")
+            viewer.sock.close()
+        finally:
+            browser.quit()
+            attacker.shutdown()
+            server.stop()
 
 
 if __name__ == "__main__":

@@ -360,12 +360,15 @@ class ServeLifetimeTest(unittest.TestCase):
 
     def test_a_bad_listen_address_or_a_port_in_use_is_one_line(self):
         server = Server()
-        for listen, expect in (("127.0.0.1:" + str(server.port), "cannot listen"), ("nonsense", "cannot listen")):
-            answer = subprocess.run([os.environ["PBFLOW_BINARY"], "serve", "hydrostatic", "--param", "particle_spacing=0.05", "--listen", listen],
-                                    capture_output=True, text=True, timeout=120)
-            self.assertEqual(answer.returncode, 2, answer.stderr)
-            self.assertIn(expect, answer.stderr)
-        server.stop()
+        try:
+            for listen, expect in (("127.0.0.1:" + str(server.port), "cannot listen"), ("nonsense", "--listen takes")):
+                answer = subprocess.run([os.environ["PBFLOW_BINARY"], "serve", "hydrostatic", "--param",
+                                         "particle_spacing=0.05", "--listen", listen],
+                                        capture_output=True, text=True, timeout=120)
+                self.assertEqual(answer.returncode, 2, answer.stderr)
+                self.assertIn(expect, answer.stderr)
+        finally:
+            server.stop()
 
 
 if __name__ == "__main__":
