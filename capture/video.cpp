@@ -78,7 +78,10 @@ VideoEncoder::VideoEncoder(const std::filesystem::path& file, int width, int hei
   std::string size = std::to_string(width) + "x" + std::to_string(height), rate = std::to_string(fps);
   std::vector<std::string> args = {ffmpeg.string(), "-y", "-loglevel", "error", "-nostdin", "-f", "rawvideo", "-pix_fmt",
                                    "rgb24", "-s", size, "-framerate", rate, "-i", "pipe:0", "-c:v", "libx264",
-                                   "-pix_fmt", "yuv420p", "-crf", "20", tmp_.string()};
+                                   "-pix_fmt", "yuv420p", "-crf", "20",
+                                   // As ffmpeg's file protocol names it: a name that starts with '-'
+                                   // or holds ':' is still a file, never an option or a protocol.
+                                   "file:" + std::filesystem::absolute(tmp_).string()};
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "capture/video.hpp"
 #include "gpu/memory_estimate.hpp"
 #include "scene/derive.hpp"
 #include "scene/parse.hpp"
@@ -279,13 +280,35 @@ TEST(Hostile, AVideoThatCannotBeReplacedIsRefusedBeforeTheRun) {
 // 6. A write that fails is reported: the listings and the run's summary into a full device.
 TEST(Hostile, AFailedWriteToStandardOutputIsAnError) {
   for (const std::vector<std::string>& args :
-       {std::vector<std::string>{"keys"}, {"scenes"},
+       {std::vector<std::string>{"keys"}, {"scenes"}, {"--version"}, {"--help"}, {"serve", "--help"},
         {"run", "--no-render", "--frames", "2", "--param", "particle_spacing=0.05", "--out",
          pbflow::test::fresh_dir("hostile_full_stdout").string()}}) {
     const CliResult r = run_pbflow(args, "/dev/full");
     EXPECT_EQ(r.status, 1) << args[0] << ": " << r.output;
     EXPECT_NE(r.output.find("cannot write the output"), std::string::npos) << args[0] << ": " << r.output;
   }
+}
+
+// White water's lists past the device's largest array are refused naming the key, before the
+// previous run is touched (once it was deleted and the particles' spacing blamed).
+TEST(Hostile, WhiteWaterPastTheDevicesLimitIsRefusedNamingItsKey) {
+  const fs::path dir = previous_run("white_water_capacity");
+  const CliResult r = run_pbflow(small_run(dir, {"--frames", "2", "--param", "white_water.max_particles=134217728"}));
+  EXPECT_EQ(r.status, 2) << r.output;
+  expect_one_line(r, "white_water.max_particles", "white water past the device's limit");
+  expect_whole(dir, "white water past the device's limit");
+}
+
+// A video named like an option is a file to ffmpeg, written where named.
+TEST(Hostile, AVideoNameThatStartsWithADashIsAFile) {
+  if (pbflow::capture::find_ffmpeg().empty()) GTEST_SKIP() << "ffmpeg is not installed (scripts/setup.sh installs it)";
+  const fs::path dir = pbflow::test::fresh_dir("hostile_dash_video");
+  fs::create_directories(dir);
+  std::string args;
+  for (const std::string& a : small_run(dir / "out", {"--frames", "3", "--video=-y.mp4"})) args += " '" + a + "'";
+  const CliResult r = run_pbflow(args, "cd '" + dir.string() + "' &&");
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_GT(fs::exists(dir / "-y.mp4") ? fs::file_size(dir / "-y.mp4") : 0u, 0u) << r.output;
 }
 
 TEST(Hostile, AFileSizeLimitIsNamedAsSuch) {

@@ -8,6 +8,8 @@ namespace pbflow::capture {
 
 class JpegEncoder {
  public:
+  static constexpr int kMaxSide = 65500;  // JPEG's largest width or height, in pixels
+
   explicit JpegEncoder(int quality = 80);
   ~JpegEncoder();
   JpegEncoder(const JpegEncoder&) = delete;

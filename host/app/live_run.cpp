@@ -188,6 +188,10 @@ LiveRun::LiveRun(const LiveOptions& options)
     : options_(options.run), panels_(std::max<size_t>(1, options.compare.size())), before_load_(options.before_load) {
   if (options.compare.size() > kMaxPanels)
     throw InputError("--compare takes at most " + std::to_string(kMaxPanels) + " settings");
+  if (int64_t(options.run.width) * int64_t(panels_) > capture::JpegEncoder::kMaxSide)
+    throw InputError("--compare draws " + std::to_string(panels_) + " panels of --width " +
+                     std::to_string(options.run.width) + " side by side, wider than a JPEG frame's " +
+                     std::to_string(capture::JpegEncoder::kMaxSide) + " pixels: lower --width");
   if (!options.compare.empty() && options.frame_budget_ms > 0)
     throw InputError("--frame-budget chooses one run's setting: it cannot be held with --compare");
   std::promise<void> ready;

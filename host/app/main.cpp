@@ -117,6 +117,7 @@ struct Commands {
 };
 
 int run_command(CLI::App& app, const Commands& c);
+int written(int status);
 
 // The options `run` and `serve` share: the scene, its setting, the device and the image.
 void add_scene_options(CLI::App* cmd, pbflow::RunOptions& o) {
@@ -251,7 +252,7 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {
-    return app.exit(e);
+    return written(app.exit(e));
   } catch (const CLI::ParseError& e) {
     std::cerr << "pbflow: " << e.what() << "\n";
     return 2;
@@ -262,8 +263,14 @@ int main(int argc, char** argv) {
   if (!c.serve.live.compare.empty() && serve_cmd->count("--width") == 0) c.serve.live.run.width = 480;
   if (!c.serve.live.compare.empty() && serve_cmd->count("--height") == 0) c.serve.live.run.height = 270;
 
-  const int status = run_command(app, c);
-  // What was printed must have reached its reader: `pbflow keys > /dev/full` is a failure.
+  return written(run_command(app, c));
+}
+
+namespace {
+
+// What was printed must have reached its reader: `pbflow keys > /dev/full` (or into a closed
+// stdout) is a failure, `--help` and `--version` among them.
+int written(int status) {
   std::cout.flush();
   if (std::fflush(stdout) != 0 || std::ferror(stdout) || !std::cout) {
     std::cerr << "pbflow: cannot write the output: " << std::strerror(errno ? errno : EIO) << "\n";
@@ -271,6 +278,8 @@ int main(int argc, char** argv) {
   }
   return status;
 }
+
+}  // namespace
 
 namespace {
 

@@ -97,7 +97,10 @@ MemoryNeed memory_need(const Derived& d, double particles, const vk::DeviceInfo*
     const double list_bytes = 8.0 * d.neighbour_capacity + 4;  // ReferenceSolver's lists, as the GPU's
     host += (kHostPerParticleCpuRun + list_bytes) * particles + kHostPerCellCpuRun * cells;
   }
-  return {uint64_t(gpu), uint64_t(host), uint64_t(largest), uint64_t(picture_bytes)};
+  const double white_on_device = device ? kDevicePerWhiteParticle * white : 0.0;
+  const double white_array = device ? sizeof(glm::vec4) * white : 0.0;  // GpuSolver's white_x_, white_v_
+  return {uint64_t(gpu), uint64_t(host), uint64_t(largest), uint64_t(picture_bytes), uint64_t(white_on_device),
+          uint64_t(white_array)};
 }
 
 uint64_t host_memory_available() {
@@ -121,9 +124,15 @@ void check_device_memory(const MemoryNeed& need, const vk::DeviceInfo& device, c
       << gib(device.max_storage_buffer_range) << " GiB in one: " << advice.particles;
     throw InputError(m.str());
   }
+  if (device.max_storage_buffer_range && need.largest_white_array > device.max_storage_buffer_range) {
+    m << "white water needs arrays of " << gib(need.largest_white_array) << " GiB, " << device.name
+      << " takes at most " << gib(device.max_storage_buffer_range) << " GiB in one: " << advice.white_water;
+    throw InputError(m.str());
+  }
   if (device.device_local_bytes && need.device > device.device_local_bytes) {
     m << "the run needs " << gib(need.device) << " GiB of GPU memory, " << device.name << " has "
-      << gib(device.device_local_bytes) << " GiB: " << advice.particles;
+      << gib(device.device_local_bytes)
+      << " GiB: " << (2 * need.white_water > need.device ? advice.white_water : advice.particles);
     throw InputError(m.str());
   }
 }
@@ -141,7 +150,10 @@ void check_memory(const MemoryNeed& need, const vk::DeviceInfo* device, const Me
     std::ostringstream m;
     m.precision(3);
     m << "the run needs " << gib(host_need) << " GiB of memory, this machine has " << gib(host)
-      << " GiB available: " << (2 * need.picture > host_need ? advice.picture : advice.particles);
+      << " GiB available: "
+      << (2 * need.picture > host_need       ? advice.picture
+          : 2 * need.white_water > host_need ? advice.white_water
+                                             : advice.particles);
     throw InputError(m.str());
   }
 }

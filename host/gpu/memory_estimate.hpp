@@ -18,6 +18,8 @@ struct MemoryNeed {
   uint64_t host = 0;    // the solver's host arrays, host copies of a frame, framebuffers
   uint64_t largest_array = 0;  // one GPU buffer (a vec4 per particle), against the storage buffer range
   uint64_t picture = 0;        // of `host`, what the image's size takes (framebuffers, the surface's targets)
+  uint64_t white_water = 0;    // of `device`, white water's lists (white_water.max_particles)
+  uint64_t largest_white_array = 0;  // one of them, against the storage buffer range
 };
 
 // The image a run draws: its pixels (0 without rendering), and whether the fluid's surface is
@@ -45,6 +47,7 @@ uint64_t host_memory_available();
 struct MemoryAdvice {
   std::string particles = "raise particle_spacing";  // the particles take most of it
   std::string picture = "lower --width and --height";  // the image does
+  std::string white_water = "lower white_water.max_particles, or set white_water.enabled=false";  // white water does
 };
 
 // Throws InputError when `need` does not fit the device: its largest array past the
