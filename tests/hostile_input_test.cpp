@@ -204,7 +204,7 @@ CliResult interrupted_at(const char* point, int signal, const std::vector<std::s
 }
 
 TEST(Hostile, AnInterruptWhileThePreviousRunIsSetAsideLeavesItWhole) {
-  for (int signal : {SIGINT, SIGTERM}) {
+  for (int signal : {SIGINT, SIGTERM, SIGHUP}) {  // SIGHUP: the terminal closed
     const fs::path dir = previous_run("signal_replace");
     const fs::path video = dir.parent_path() / "pbflow_test_hostile_signal.mp4";
     const CliResult r = interrupted_at("replace", signal, small_run(dir, {"--frames", "2", "--video", video.string()}));
@@ -309,6 +309,23 @@ TEST(Hostile, AVideoNameThatStartsWithADashIsAFile) {
   const CliResult r = run_pbflow(args, "cd '" + dir.string() + "' &&");
   EXPECT_EQ(r.status, 0) << r.output;
   EXPECT_GT(fs::exists(dir / "-y.mp4") ? fs::file_size(dir / "-y.mp4") : 0u, 0u) << r.output;
+}
+
+// A frame's files are written all or none: white water that outgrows a file-size limit (its
+// files grow with the splash, the particles' stay 56 kB) takes its frame's particles with it.
+TEST(Hostile, AFrameWhoseWhiteWaterCannotBeWrittenLeavesNoFileOfIt) {
+  const fs::path dir = pbflow::test::fresh_dir("hostile_white_water_write");
+  const CliResult r = pbflow::test::run_pbflow(
+      "run dam_break --param particle_spacing=0.04 --param white_water.emission=1000 --param "
+      "white_water.max_particles=20000 --frames 60 --no-render --export ply --quiet --out " + dir.string(),
+      "ulimit -f 200;");  // sh's blocks are 512 bytes: 100 kB
+  EXPECT_NE(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("white_water/frame_"), std::string::npos) << r.output;
+  const std::string csv = text_of(dir / "stats.csv");
+  const size_t rows = std::count(csv.begin(), csv.end(), '\n') - 1;  // less the header
+  EXPECT_GT(rows, 5u) << "the limit was met before the splash";
+  EXPECT_EQ(entries(dir / "particles"), rows);
+  EXPECT_EQ(entries(dir / "white_water"), rows);
 }
 
 TEST(Hostile, AFileSizeLimitIsNamedAsSuch) {

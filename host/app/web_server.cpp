@@ -12,6 +12,7 @@
 #include <deque>
 #include <list>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <random>
 #include <sstream>
 #include <thread>
@@ -177,10 +178,15 @@ class Viewer;
 struct WebServer::Impl : std::enable_shared_from_this<WebServer::Impl> {
   Impl(Listener listener, LiveRun& r, ServerLimits l)
       : io(std::move(listener.impl_->io)), acceptor(std::move(listener.impl_->acceptor)), run(r), limits(l),
-        loopback(acceptor.local_endpoint().address().is_loopback()), token(loopback ? "" : new_token()),
-        page(page_text()), retry(*io) {}
-  // The sessions that its pending handlers hold end while the server's state is whole.
-  ~Impl() { io.reset(); }
+        port(acceptor->local_endpoint().port()), loopback(acceptor->local_endpoint().address().is_loopback()),
+        token(loopback ? "" : new_token()), page(page_text()), retry(std::in_place, *io) {}
+  // The Asio objects go before the context they were made on; the sessions its pending
+  // handlers hold end with it, while the rest of the server's state is whole.
+  ~Impl() {
+    retry.reset();
+    acceptor.reset();
+    io.reset();
+  }
 
   void accept();
   void ended() {  // a connection closed: its place is free
@@ -193,13 +199,14 @@ struct WebServer::Impl : std::enable_shared_from_this<WebServer::Impl> {
   json hello() const;
 
   std::unique_ptr<net::io_context> io;
-  tcp::acceptor acceptor;
+  std::optional<tcp::acceptor> acceptor;
   LiveRun& run;
   const ServerLimits limits;
+  const int port;
   const bool loopback;
   const std::string token;
   const std::string page;
-  net::steady_timer retry;  // after an accept that failed (out of descriptors): try again shortly
+  std::optional<net::steady_timer> retry;  // after an accept that failed (out of descriptors): try again shortly
   int connections = 0;      // open: at most limits.connections
   bool accepting = false;
   int viewer_count = 0;     // WebSockets open or opening: at most limits.viewers
@@ -337,7 +344,10 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
     writing_ = true;
     deadline_.expires_after(request_timeout(server_));
     deadline_.async_wait([weak = weak_from_this()](beast::error_code error) {
-      if (auto self = weak.lock(); self && !error) self->close();
+      // Past the deadline of the write in flight: one that ended as this fired set another.
+      auto self = weak.lock();
+      if (self && !error && self->writing_ && self->deadline_.expiry() <= net::steady_timer::clock_type::now())
+        self->close();
     });
     const Clock::time_point began = Clock::now();
     const size_t bytes = net::buffer_size(buffers) - (frame ? header_.size() : 0);
@@ -457,14 +467,14 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
 }  // namespace
 
 void WebServer::Impl::accept() {
-  if (accepting || connections >= limits.connections || !acceptor.is_open()) return;  // full: the rest wait
+  if (accepting || connections >= limits.connections || !acceptor->is_open()) return;  // full: the rest wait
   accepting = true;
-  acceptor.async_accept([this](beast::error_code error, tcp::socket socket) {
+  acceptor->async_accept([this](beast::error_code error, tcp::socket socket) {
     accepting = false;
     if (error == net::error::operation_aborted) return;
     if (error) {
-      retry.expires_after(std::chrono::milliseconds(100));
-      return retry.async_wait([this](beast::error_code e) {
+      retry->expires_after(std::chrono::milliseconds(100));
+      return retry->async_wait([this](beast::error_code e) {
         if (!e) accept();
       });
     }
@@ -531,7 +541,7 @@ WebServer::~WebServer() {
   impl_->thread.join();
 }
 
-int WebServer::port() const { return impl_->acceptor.local_endpoint().port(); }
+int WebServer::port() const { return impl_->port; }
 const std::string& WebServer::token() const { return impl_->token; }
 
 // A command's reply (empty: none). Nothing from the client leaves here as an exception.

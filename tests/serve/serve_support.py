@@ -99,9 +99,12 @@ class Server:
     SMALL = ("--param", "particle_spacing=0.05", "--style", "particles", "--width", "160", "--height", "96")
 
     def __init__(self, scene="hydrostatic", options=SMALL):
+        env = dict(os.environ)
+        if "ASAN_OPTIONS" in env:  # AddressSanitizer's quarantine (256 MB) would read as growth
+            env["ASAN_OPTIONS"] += ":quarantine_size_mb=4"
         self.process = subprocess.Popen(
             [os.environ.get("PBFLOW_BINARY", "build/pbflow"), "serve", scene, "--listen", "127.0.0.1:0", *options],
-            stderr=subprocess.PIPE, text=True)
+            stderr=subprocess.PIPE, text=True, env=env)
         self.log = []
         self.port = None
         for line in self.process.stderr:
@@ -118,6 +121,15 @@ class Server:
         with open(f"/proc/{self.process.pid}/status") as status:
             return int(next(line for line in status if line.startswith("VmRSS:")).split()[1])
 
+    def serving(self):
+        """Whether it is alive and a new viewer gets a frame."""
+        if not self.alive():
+            return False
+        viewer = Client(self.port)
+        viewer.frame()
+        viewer.sock.close()
+        return True
+
     def alive(self):
         return self.process.poll() is None
 
@@ -130,3 +142,18 @@ class Server:
         finally:
             if self.process.poll() is None:
                 self.process.kill()
+
+
+class OneServer:
+    """A test class's mixin: one server for all its tests, the default scene's."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.server = Server()
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.server.stop()
+
+    def assert_still_serving(self):
+        self.assertTrue(self.server.serving(), "the server died")

@@ -17,7 +17,7 @@ import time
 import unittest
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from serve_support import Client, Server  # noqa: E402
+from serve_support import Client, OneServer, Server  # noqa: E402
 
 if len(sys.argv) > 1:
     os.environ["PBFLOW_BINARY"] = sys.argv.pop(1)
@@ -38,21 +38,7 @@ def reply_to(viewer, payload, limit=300):
     raise AssertionError(f"no error for {payload[:40]!r}")
 
 
-class HostileMessagesTest(unittest.TestCase):
-    @classmethod
-    def setUpClass(cls):
-        cls.server = Server()
-
-    @classmethod
-    def tearDownClass(cls):
-        cls.server.stop()
-
-    def assert_still_serving(self):
-        self.assertTrue(self.server.alive(), "the server died")
-        viewer = Client(self.server.port)
-        viewer.frame()
-        viewer.sock.close()
-
+class HostileMessagesTest(OneServer, unittest.TestCase):
     def test_text_that_is_not_utf8_closes_its_connection_only(self):
         for payload in (b"\xff\xfe{\"cmd\": \"pause\"}", b"{\"cmd\": \"\xc3\"}", b"\xed\xa0\x80"):
             viewer = Client(self.server.port)

@@ -14,7 +14,7 @@ import time
 import unittest
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from serve_support import Client, Server  # noqa: E402
+from serve_support import Client, OneServer, Server  # noqa: E402
 
 if len(sys.argv) > 1:
     os.environ["PBFLOW_BINARY"] = sys.argv.pop(1)
@@ -40,21 +40,7 @@ def status_of(answer):
     return int(answer.split(" ")[1]) if answer.startswith("HTTP/") else None
 
 
-class ServeTest(unittest.TestCase):
-    @classmethod
-    def setUpClass(cls):
-        cls.server = Server()
-
-    @classmethod
-    def tearDownClass(cls):
-        cls.server.stop()
-
-    def assert_still_serving(self):
-        self.assertTrue(self.server.alive())
-        viewer = Client(self.server.port)
-        viewer.frame()
-        viewer.sock.close()
-
+class ServeTest(OneServer, unittest.TestCase):
     def test_the_page_is_served_whole_and_nothing_else(self):
         answer = http(self.server.port, b"GET / HTTP/1.1\r\nHost: x\r\n\r\n")
         self.assertEqual(status_of(answer), 200)
@@ -351,7 +337,8 @@ class ServeLifetimeTest(unittest.TestCase):
                                 (["--compare", "sph@2"], "is not a setting"),
                                 (["--compare", "pbf@1,pbf@2,pbf@3,pbf@4,ldc@1"], "at most 4"),
                                 (["--compare", "pbf@1,pbf@2", "--frame-budget", "20"], "--frame-budget"),
-                                (["--frame-budget", "-3"], "--frame-budget")):
+                                (["--frame-budget", "-3"], "--frame-budget"),
+                                (["--compare", "pbf@1,pbf@2,pbf@3,pbf@4", "--width", "16384"], "wider than a JPEG")):
             answer = subprocess.run([os.environ["PBFLOW_BINARY"], "serve", "hydrostatic", "--param", "particle_spacing=0.05",
                                      "--listen", "127.0.0.1:0", *options], capture_output=True, text=True, timeout=120)
             self.assertEqual(answer.returncode, 2, answer.stderr)
