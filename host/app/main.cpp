@@ -183,8 +183,8 @@ void add_serve_command(CLI::App& app, Commands& c) {
   serve_cmd->add_option("--frame-budget", c.serve.live.frame_budget_ms,
                         "hold a frame within MS milliseconds by choosing the most accurate setting that fits")
       ->check(kFinite & CLI::Range(0.0, 10000.0));
-  serve_cmd->add_option("--listen", c.serve.listen, "ADDR:PORT to serve on (another address than 127.0.0.1 is reachable "
-                                                  "from other machines)")
+  serve_cmd->add_option("--listen", c.serve.listen, "ADDRESS:PORT to serve on, one numeric address ([::1] for IPv6); "
+                                                  "beyond loopback, steering needs the token it prints")
       ->capture_default_str();
 
 }

@@ -11,7 +11,7 @@ struct ServeOptions {
   std::string listen = "127.0.0.1:8080";
 };
 
-// Serves until SIGINT or SIGTERM; returns the exit status. Throws InputError for bad input.
+// Serves until SIGINT, SIGTERM or SIGHUP; returns the exit status. Throws InputError for bad input.
 int serve(const ServeOptions& o);
 
 }  // namespace pbflow
