@@ -311,21 +311,31 @@ TEST(Hostile, AVideoNameThatStartsWithADashIsAFile) {
   EXPECT_GT(fs::exists(dir / "-y.mp4") ? fs::file_size(dir / "-y.mp4") : 0u, 0u) << r.output;
 }
 
-// A frame's files are written all or none: white water that outgrows a file-size limit (its
-// files grow with the splash, the particles' stay 56 kB) takes its frame's particles with it.
-TEST(Hostile, AFrameWhoseWhiteWaterCannotBeWrittenLeavesNoFileOfIt) {
-  const fs::path dir = pbflow::test::fresh_dir("hostile_white_water_write");
-  const CliResult r = pbflow::test::run_pbflow(
-      "run dam_break --param particle_spacing=0.04 --param white_water.emission=1000 --param "
-      "white_water.max_particles=20000 --frames 60 --no-render --export ply --quiet --out " + dir.string(),
-      "ulimit -f 200;");  // sh's blocks are 512 bytes: 100 kB
-  EXPECT_NE(r.status, 0) << r.output;
-  EXPECT_NE(r.output.find("white_water/frame_"), std::string::npos) << r.output;
-  const std::string csv = text_of(dir / "stats.csv");
-  const size_t rows = std::count(csv.begin(), csv.end(), '\n') - 1;  // less the header
-  EXPECT_GT(rows, 5u) << "the limit was met before the splash";
-  EXPECT_EQ(entries(dir / "particles"), rows);
-  EXPECT_EQ(entries(dir / "white_water"), rows);
+// A frame's files are written all or none. Under a 100 kB file-size limit the particles' files
+// (56 kB) fit, but white water that outgrows it with the splash, or a 1080p PNG, does not: the
+// frame's particles go with it, and those of frames in flight behind a PNG still being written.
+TEST(Hostile, AFrameThatCannotBeWrittenWholeLeavesNoFileOfIt) {
+  struct Case {
+    std::string name, options, failing;
+    size_t least_rows;
+  } cases[] = {{"white_water", "dam_break --param white_water.emission=1000 --param white_water.max_particles=20000 "
+                               "--frames 60 --no-render", "white_water/frame_", 5},
+               {"png", "--param white_water.enabled=false --width 1920 --height 1080 --readback --frames 10",
+                "frames/frame_", 0}};
+  for (const Case& c : cases) {
+    const fs::path dir = pbflow::test::fresh_dir("hostile_frame_write_" + c.name);
+    const CliResult r = pbflow::test::run_pbflow(
+        "run " + c.options + " --param particle_spacing=0.04 --export ply --quiet --out " + dir.string(),
+        "ulimit -f 200;");  // sh's blocks are 512 bytes: 100 kB
+    EXPECT_NE(r.status, 0) << c.name << ": " << r.output;
+    EXPECT_NE(r.output.find(c.failing), std::string::npos) << c.name << ": " << r.output;
+    const std::string csv = text_of(dir / "stats.csv");
+    const size_t rows = std::count(csv.begin(), csv.end(), '\n') - 1;  // less the header
+    EXPECT_GE(rows, c.least_rows) << c.name;
+    EXPECT_EQ(entries(dir / "particles"), rows) << c.name;
+    EXPECT_EQ(entries(dir / "white_water"), c.name == "white_water" ? rows : 0u) << c.name;
+    EXPECT_EQ(manifest(dir)["frames"]["completed"], rows) << c.name;
+  }
 }
 
 TEST(Hostile, AFileSizeLimitIsNamedAsSuch) {

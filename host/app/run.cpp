@@ -223,21 +223,6 @@ struct RunTotals {
   std::string diverged;  // the message, where the watch stopped the run
 };
 
-// A frame's particle files, both or neither: where its white water cannot be written its
-// particles go too, so that the files and the rows count the same frames.
-void export_frame(const RunDirectory& dir, int frame, capture::ExportFormat format, const Solver& solver) {
-  const ParticleFrame f = solver.read_frame();
-  capture::write_particles(dir.particle_path(frame), format, f);
-  if (solver.white_water_capacity() == 0) return;
-  try {
-    capture::write_white_water(dir.white_water_path(frame), format, f);
-  } catch (...) {
-    std::error_code ignored;
-    std::filesystem::remove(dir.particle_path(frame), ignored);
-    throw;
-  }
-}
-
 // The frames: each simulated, its files written, then its stats row (a row stands for a frame
 // whole on disk). Stops at a divergence (nothing of that frame written) or an interrupt.
 RunTotals simulate_frames(const Scene& scene, const Derived& d, Solver& solver, capture::FrameCapture* capture,
@@ -258,7 +243,11 @@ RunTotals simulate_frames(const Scene& scene, const Derived& d, Solver& solver, 
       break;
     }
     // The PNG is written on the capture's threads: its row follows when the file is whole.
-    if (export_format != capture::ExportFormat::None) export_frame(dir, frame, export_format, solver);
+    if (export_format != capture::ExportFormat::None) {
+      const ParticleFrame f = solver.read_frame();
+      capture::write_particles(dir.particle_path(frame), export_format, f);
+      if (solver.white_water_capacity() > 0) capture::write_white_water(dir.white_water_path(frame), export_format, f);
+    }
     auto row = [&csv, &dir, frame, t, s] {
       csv.write(frame, t, s);
       dir.frames_done(frame + 1);
@@ -389,6 +378,7 @@ int run(const RunOptions& o) {
                    "solver.substeps per iteration, more iterations or a smaller solver.ldc_strength\n";
     if (!o.quiet) print_summary(o, scene, totals, solver->particle_count(), capture.get(), wall(), dir);
   } catch (const std::exception& e) {
+    capture.reset();  // its writes in flight land now, so that end() takes the frames they cut short
     try {
       dir.end("failed", e.what(), wall());
     } catch (const std::exception&) {  // the disk that failed may refuse the manifest too: report the first error

@@ -352,7 +352,22 @@ void RunDirectory::frames_done(int completed) {
   if (now_seconds() - last_write_ >= 1.0) write_manifest();
 }
 
+// Frames `first` on are not whole: a failure ended the run while their files were in hand (a
+// PNG still being written, particles before their white water). Their files go, by directory
+// descriptor, so that the folders hold whole frames only, as the rows do.
+void RunDirectory::drop_frames_from(int first) {
+  for (const auto& [sub, extension] : frame_folders()) {
+    if (extension.empty()) continue;
+    const int folder = openat(lock_fd_, sub, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+    if (folder < 0) continue;
+    for (int frame = first; frame < files_.frame_count; ++frame)
+      unlinkat(folder, capture::frame_file(".", frame, files_.frame_count, extension).filename().c_str(), 0);
+    close(folder);
+  }
+}
+
 void RunDirectory::end(const std::string& status, const std::string& message, double wall_seconds) {
+  drop_frames_from(manifest_["frames"]["completed"].get<int>());
   manifest_["status"] = status;
   if (!message.empty()) manifest_["message"] = message;
   manifest_["wall_seconds"] = wall_seconds;

@@ -45,7 +45,8 @@ class RunDirectory {
   bool begin(nlohmann::json about, const std::function<bool()>& stop);
   // Frames 0..completed-1 are whole on disk; the manifest catches up at most once a second.
   void frames_done(int completed);
-  // The final manifest: status complete / diverged / interrupted / failed, and why.
+  // The final manifest: status complete / diverged / interrupted / failed, and why. Files of
+  // frames past the last whole one (a failure cut them short) are removed first.
   void end(const std::string& status, const std::string& message, double wall_seconds);
 
   std::filesystem::path stats_path() const { return dir_ / "stats.csv"; }
@@ -55,6 +56,7 @@ class RunDirectory {
 
  private:
   void write_manifest();
+  void drop_frames_from(int first);
   // frames/, particles/ and white_water/ with the extension this run writes there; empty: none.
   std::array<std::pair<const char*, std::string>, 3> frame_folders() const;
 
