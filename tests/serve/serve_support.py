@@ -8,6 +8,7 @@ import signal
 import socket
 import struct
 import subprocess
+import threading
 import time
 
 class Client:
@@ -129,6 +130,18 @@ class Server:
         viewer.frame()
         viewer.sock.close()
         return True
+
+    def peak_kb_while(self, client, count):
+        """Runs client(index) on `count` threads at once; the server's peak resident memory
+        meanwhile, kB."""
+        threads = [threading.Thread(target=client, args=(index,)) for index in range(count)]
+        for t in threads:
+            t.start()
+        peak = self.rss_kb()
+        while any(t.is_alive() for t in threads):
+            peak = max(peak, self.rss_kb())
+            time.sleep(0.2)
+        return peak
 
     def alive(self):
         return self.process.poll() is None

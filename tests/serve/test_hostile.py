@@ -12,7 +12,6 @@ import socket
 import struct
 import subprocess
 import sys
-import threading
 import time
 import unittest
 
@@ -129,13 +128,7 @@ class HostileMessagesTest(OneServer, unittest.TestCase):
                     except (ConnectionError, OSError):
                         pass  # refused while the places are full, or closed: again
 
-            threads = [threading.Thread(target=hostile, args=(i,)) for i in range(16)]
-            for t in threads:
-                t.start()
-            peak = before
-            while any(t.is_alive() for t in threads):
-                peak = max(peak, server.rss_kb())
-                time.sleep(0.2)
+            peak = server.peak_kb_while(hostile, 16)
             print(f"  16 hostile viewers for 8 s: the server's memory {before} kB, peak {peak} kB")
             self.assertLess(peak - before, 64 * 1024)
             viewer = Client(server.port)

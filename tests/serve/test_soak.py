@@ -11,7 +11,6 @@ import os
 import random
 import socket
 import sys
-import threading
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -90,13 +89,7 @@ def main():
                     rounds[0] += 1
                 except (ConnectionError, OSError):
                     pass  # refused while the places were full
-        threads = [threading.Thread(target=client, args=(seed,)) for seed in range(8)]
-        for t in threads:
-            t.start()
-        peak = before_kb
-        while any(t.is_alive() for t in threads):
-            peak = max(peak, server.rss_kb())
-            time.sleep(0.5)
+        peak = server.peak_kb_while(client, 8)
         time.sleep(12)  # stalled viewers' sends time out, closed connections are let go
         viewer = Client(server.port)
         start = viewer.frame()[0]
