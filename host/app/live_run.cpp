@@ -86,6 +86,7 @@ struct LiveRun::Stage {
   std::vector<Lane> lanes;
   ParticleState start;  // relaxed and, for a tank, settled: every lane starts and restarts here
   std::unique_ptr<capture::FrameCapture> capture;
+  std::function<void(const std::string&)> before_load;  // LiveOptions::before_load
 
   std::vector<const Solver*> solvers() const {
     std::vector<const Solver*> all;
@@ -94,8 +95,7 @@ struct LiveRun::Stage {
   }
   // The scene's lanes, one a setting (none given: the scene's own), from the first's relaxed
   // start, and their renderer: what a run starts with and a new scene brings.
-  void load(const RunOptions& o, const std::vector<LiveSetting>& settings, const vk::Context* ctx,
-            const std::function<void(const std::string&)>& before_load) {
+  void load(const RunOptions& o, const std::vector<LiveSetting>& settings, const vk::Context* ctx) {
     capture.reset();
     lanes.clear();
     options = o;
@@ -105,7 +105,7 @@ struct LiveRun::Stage {
     for (const LiveSetting& s : settings.empty() ? std::vector<LiveSetting>{setting_of(base)} : settings) {
       const Scene lane = lane_scene(o, s);
       if (lanes.empty()) scene = lane;
-      lanes.push_back({setting_of(lane), make_solver(ctx, derive(lane), initial_particles(lane))});
+      lanes.push_back(make_lane(lane, ctx));
     }
     Solver& first = *lanes[0].solver;
     project_start(first);
@@ -134,8 +134,7 @@ struct LiveRun::Stage {
     lanes.clear();  // before the old are made again: one run's memory at a time
     options = s.options, scene = s.scene, scene_substeps = s.scene_substeps, start = s.start;
     for (size_t i = 0; i < s.settings.size(); ++i) {
-      const Scene lane = lane_scene(options, s.settings[i]);
-      lanes.push_back({s.settings[i], make_solver(ctx, derive(lane), initial_particles(lane))});
+      lanes.push_back(make_lane(lane_scene(options, s.settings[i]), ctx));
       lanes.back().solver->upload(s.now[i]);
     }
     draw_anew(ctx, s.camera);
@@ -154,7 +153,11 @@ struct LiveRun::Stage {
   void make_first(const LiveSetting& s, const vk::Context* ctx) {
     scene = lane_scene(options, s);
     lanes[0].solver.reset();  // before the next is made: one solver's memory at a time
-    lanes[0] = {setting_of(scene), make_solver(ctx, derive(scene), initial_particles(scene))};
+    lanes[0] = make_lane(scene, ctx);
+  }
+  // A lane of `lane`'s setting, its solver at the scene's start.
+  static Lane make_lane(const Scene& lane, const vk::Context* ctx) {
+    return {setting_of(lane), make_solver(ctx, derive(lane), initial_particles(lane))};
   }
   void draw_anew(const vk::Context* ctx, Camera camera) {  // by value: it may be the old renderer's
     capture.reset();
@@ -185,7 +188,7 @@ struct LiveRun::Pace {
 };
 
 LiveRun::LiveRun(const LiveOptions& options)
-    : options_(options.run), panels_(std::max<size_t>(1, options.compare.size())), before_load_(options.before_load) {
+    : options_(options.run), panels_(std::max<size_t>(1, options.compare.size())) {
   if (options.compare.size() > kMaxPanels)
     throw InputError("--compare takes at most " + std::to_string(kMaxPanels) + " settings");
   if (int64_t(options.run.width) * int64_t(panels_) > capture::JpegEncoder::kMaxSide)
@@ -260,7 +263,8 @@ void LiveRun::simulate(const LiveOptions& o, std::promise<void>& ready) {
     ctx = make_context(o.run.device, o.run.validate);
     if (ctx) device_ = ctx->info();
     check_scene(o.run.scene);
-    stage.load(o.run, o.compare, ctx.get(), o.before_load);
+    stage.before_load = o.before_load;
+    stage.load(o.run, o.compare, ctx.get());
     fps_ = stage.scene.fps;  // before the encoder's thread starts, which reads it
     describe(stage.about());
     ready.set_value();
@@ -409,7 +413,7 @@ bool LiveRun::apply(Stage& stage, const vk::Context* ctx, Pace& pace, Asked& ask
     for (const Lane& lane : stage.lanes) settings.push_back({lane.setting.method, lane.setting.iterations, 0});
     RunOptions o = stage.options;
     o.scene = asked.scene->scene;
-    stage.load(o, settings, ctx, before_load_);
+    stage.load(o, settings, ctx);
   });
   if (scene) {
     fps_ = stage.scene.fps;

@@ -122,7 +122,6 @@ class LiveRun {
 
   const RunOptions options_;  // as given: what check_scene() checks against
   const size_t panels_;
-  const std::function<void(const std::string&)> before_load_;
   std::optional<vk::DeviceInfo> device_;  // the solver's; none for the reference solver
   std::atomic<bool> stopping_{false};
   std::atomic<int> h264_viewers_{0};

@@ -279,10 +279,6 @@ int written(int status) {
   return status;
 }
 
-}  // namespace
-
-namespace {
-
 int run_command(CLI::App& app, const Commands& c) {
   CLI::App* scenes_cmd = app.get_subcommand("scenes");
   CLI::App* devices_cmd = app.get_subcommand("devices");

@@ -165,13 +165,6 @@ Listener::~Listener() = default;
 Listener::Listener(Listener&&) noexcept = default;
 Listener& Listener::operator=(Listener&&) noexcept = default;
 
-int Listener::port() const { return impl_->acceptor.local_endpoint().port(); }
-bool Listener::loopback() const { return impl_->acceptor.local_endpoint().address().is_loopback(); }
-std::string Listener::host() const {
-  const net::ip::address a = impl_->acceptor.local_endpoint().address();
-  return a.is_v6() ? "[" + a.to_string() + "]" : a.to_string();
-}
-
 class Viewer;
 
 // The server's state, touched only on its own thread (the pump and the run's thread post to it).

@@ -33,10 +33,6 @@ class Listener {
   Listener(Listener&&) noexcept;
   Listener& operator=(Listener&&) noexcept;
 
-  int port() const;
-  bool loopback() const;      // only this machine can reach it: anyone here may steer
-  std::string host() const;   // as a URL names it: "127.0.0.1", "[::1]"
-
  private:
   friend class WebServer;
   struct Impl;

@@ -84,21 +84,21 @@ MemoryNeed memory_need(const Derived& d, double particles, const vk::DeviceInfo*
   const double picture_bytes =
       pixels > 0 ? kRendererBytes + (kBytesPerPixel + (picture.full_surface ? kBytesPerPixelFullSurface : 0)) * pixels : 0;
   const double white = d.white_water.enabled ? double(d.white_water.max_particles) : 0.0;
+  const double white_on_device = device ? kDevicePerWhiteParticle * white : 0.0;
+  const double white_array = device ? sizeof(glm::vec4) * white : 0.0;  // GpuSolver's white_x_, white_v_
   double gpu = 0, host = kProcessBytes + picture_bytes + kHostPerWhiteParticle * white, largest = 0;
   if (device) {
     Derived on_device = d;
     on_device.neighbour_capacity = neighbour_capacity_on(d, particles, *device);
     // Capped where the count is past any machine, so that the conversion stays defined.
     const SolverBuffers plan = plan_buffers(on_device, uint64_t(std::ceil(std::min(particles, 1e15))));
-    gpu = double(plan.total()) + (pixels > 0 ? kDevicePerParticleDrawn * particles : 0.0) + kDevicePerWhiteParticle * white;
+    gpu = double(plan.total()) + (pixels > 0 ? kDevicePerParticleDrawn * particles : 0.0) + white_on_device;
     host += (kHostPerParticleGpuRun + (pixels > 0 ? kHostPerParticleDrawn : 0.0)) * particles + kDriverBytes;
     largest = double(plan.largest());
   } else {
     const double list_bytes = 8.0 * d.neighbour_capacity + 4;  // ReferenceSolver's lists, as the GPU's
     host += (kHostPerParticleCpuRun + list_bytes) * particles + kHostPerCellCpuRun * cells;
   }
-  const double white_on_device = device ? kDevicePerWhiteParticle * white : 0.0;
-  const double white_array = device ? sizeof(glm::vec4) * white : 0.0;  // GpuSolver's white_x_, white_v_
   return {uint64_t(gpu), uint64_t(host), uint64_t(largest), uint64_t(picture_bytes), uint64_t(white_on_device),
           uint64_t(white_array)};
 }
