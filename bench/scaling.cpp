@@ -71,19 +71,19 @@ Measured measure(const ScalingOptions& o, const Scene& base, const vk::Context* 
   const MemoryNeed need = memory_need(d, double(x0.size()), ctx ? &ctx->info() : nullptr);
 
   std::unique_ptr<Solver> solver = make_solver(ctx, d, x0);
-  project_start(*solver);  // as `pbflow run` starts
+  relax_start(*solver);  // as `pbflow run` starts
   if (auto* gpu = dynamic_cast<GpuSolver*>(solver.get())) gpu->set_profiling(true);
   const int substeps = scene.solver.substeps;
   const int frames = std::max(1, int(std::lround(o.seconds * scene.fps)));
   solver->advance(0);
   solver->advance(substeps);  // warm-up: pipelines, caches, first allocations
   double step_ms = 0;
-  std::array<double, kPassGroups> pass_ms{};
+  std::array<double, kStepGroups> pass_ms{};
   const auto start = std::chrono::steady_clock::now();
   for (int f = 0; f < frames; ++f) {
     const FrameStats s = solver->advance(substeps);
     step_ms += s.step_ms / frames;
-    for (size_t p = 0; p < kPassGroups; ++p) pass_ms[p] += s.pass_ms[p] / frames;
+    for (size_t p = 0; p < kStepGroups; ++p) pass_ms[p] += s.pass_ms[p] / frames;
   }
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const int steps = frames * substeps;

@@ -90,7 +90,7 @@ Outcome simulate(const Run& r, int index, double seconds, const vk::Context* ctx
   Derived d = derive(scene);
   auto x0 = initial_particles(scene);
   std::unique_ptr<Solver> solver = make_solver(ctx, d, x0);
-  project_start(*solver);  // as `pbflow run` starts
+  relax_start(*solver);  // as `pbflow run` starts
   if (scene.settle) settle(*solver, d);  // as `pbflow run` does: the tank starts in its equilibrium
   if (auto* gpu = dynamic_cast<GpuSolver*>(solver.get())) gpu->set_profiling(true);
 
@@ -98,7 +98,7 @@ Outcome simulate(const Run& r, int index, double seconds, const vk::Context* ctx
   std::ostringstream series;
   double sum_mean = 0, sum_max = 0, peak = 0, step_sum = 0, step_max = 0, iteration_sum = 0;
   std::vector<double> step_ms;  // for the median: on a shared machine a neighbour's burst moves the mean
-  std::array<double, kPassGroups> pass_sum{};
+  std::array<double, kStepGroups> pass_sum{};
   EnergyGain gain;
   FrameStats s;
   bool diverged = false;
@@ -120,7 +120,7 @@ Outcome simulate(const Run& r, int index, double seconds, const vk::Context* ctx
     step_ms.push_back(s.step_ms);
     step_max = std::max(step_max, s.step_ms);
     iteration_sum += s.iterations;
-    for (size_t p = 0; p < kPassGroups; ++p) pass_sum[p] += s.pass_ms[p];
+    for (size_t p = 0; p < kStepGroups; ++p) pass_sum[p] += s.pass_ms[p];
     measured = frame;
     if (diverged) break;
   }

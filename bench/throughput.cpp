@@ -36,7 +36,7 @@ int main(int argc, char** argv) {
     auto x0 = pbflow::initial_particles(scene);
     std::unique_ptr<pbflow::vk::Context> ctx = pbflow::make_context(device, false);
     auto solver = pbflow::make_solver(ctx.get(), d, x0);
-    pbflow::project_start(*solver);  // as `pbflow run` starts
+    pbflow::relax_start(*solver);  // as `pbflow run` starts
     solver->advance(scene.solver.substeps);  // warm-up: pipelines, caches, first sort
     double ms = 0;
     for (int f = 0; f < frames; ++f) ms += solver->advance(scene.solver.substeps).step_ms;

@@ -46,10 +46,8 @@ class FrameCapture {
   void finish();  // waits for the frames' files, then completes the video
 
   std::string description() const;  // GL platform, renderer and transfer path
-  // The fluid's surface is drawn from the solver's smoothed positions (Solver::set_smoothed_positions).
-  bool draws_surface() const { return capture::draws_surface(renderer_.view().style); }
-  // And white water over it (Solver::set_white_water): the fluid style.
-  bool draws_white_water() const { return capture::draws_white_water(renderer_.view().style); }
+  // What a frame drawn in this capture's style needs of the solver (frame_outputs).
+  FrameOutputs outputs() const { return frame_outputs(&renderer_.view().style, false); }
   double seconds() const { return seconds_; }  // the run's time in write() and finish() so far
   double drawing_seconds() const { return drawing_seconds_; }  // of which particles to GL, drawing, reading back
   double gpu_drawing_seconds() const { return gpu_drawing_seconds_; }  // the GPU's time drawing (timer queries)

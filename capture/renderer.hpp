@@ -8,6 +8,7 @@
 
 #include "capture/gl_objects.hpp"
 #include "scene/scene.hpp"
+#include "sim/solver.hpp"
 
 namespace pbflow::capture {
 
@@ -19,6 +20,11 @@ inline constexpr Style kStyles[] = {Style::Fluid, Style::Particles, Style::Densi
 inline bool draws_surface(Style s) { return s == Style::Fluid || s == Style::Normals; }
 // The styles that draw white water over it (the normals style is the surface's debug view).
 inline bool draws_white_water(Style s) { return s == Style::Fluid; }
+// What the solver must produce for frames drawn in `style` (none: nothing drawn) and, where
+// `exported`, written out: the one place that decides it (Solver::set_outputs).
+inline FrameOutputs frame_outputs(const Style* drawn, bool exported) {
+  return {drawn && draws_surface(*drawn), exported || (drawn && draws_white_water(*drawn))};
+}
 Style parse_style(const std::string& name);  // throws InputError naming the choices
 const char* style_name(Style style);
 

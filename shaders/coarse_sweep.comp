@@ -29,7 +29,7 @@ float phi_at(int k) { return WHOLE ? phi_shared[k] : phi[k]; }
 // flux), one without fluid reads 0. The
 // j-th node is on row j / per_row, at x = 2 (j % per_row) or one more, as the row's parity
 // makes the colour.
-void sweep_node(int j, int colour, float omega) {
+void sweep_node(int j, int colour, float overrelaxation) {
   int per_row = (NODES_X + 1) / 2, row = j / per_row;
   ivec3 p = ivec3(0, row % NODES_Y, row / NODES_Y);
   p.x = 2 * (j % per_row) + (colour + p.y + p.z) % 2;
@@ -48,7 +48,7 @@ void sweep_node(int j, int colour, float omega) {
     }
   }
   if (weights == 0.0) return;
-  float relaxed = mix(phi_at(k), (sum - uintBitsToFloat(sums[2 * k + 1])) / weights, omega);
+  float relaxed = mix(phi_at(k), (sum - uintBitsToFloat(sums[2 * k + 1])) / weights, overrelaxation);
   if (WHOLE) phi_shared[k] = relaxed;
   else phi[k] = relaxed;
 }
@@ -57,14 +57,14 @@ void main() {
   int per_colour = (NODES_X + 1) / 2 * NODES_Y * NODES_Z;  // Derived::Coarse::per_colour
   int first = int(thread_index());
   int stride = int(gl_NumWorkGroups.x * gl_NumWorkGroups.y * gl_WorkGroupSize.x);
-  float omega = coarse_overrelaxation();
+  float overrelaxation = coarse_overrelaxation();
   if (WHOLE) {
     for (int k = first; k < SHARED_NODES; k += stride) phi_shared[k] = phi[k];
     barrier();
   }
   for (int sweep = 0; sweep < (WHOLE ? COARSE_SWEEPS : 1); ++sweep)
     for (int c = 0; c < (WHOLE ? 2 : 1); ++c) {
-      for (int j = first; j < per_colour; j += stride) sweep_node(j, (FIRST_COLOUR + c) % 2, omega);
+      for (int j = first; j < per_colour; j += stride) sweep_node(j, (FIRST_COLOUR + c) % 2, overrelaxation);
       if (WHOLE) barrier();
     }
   if (WHOLE)

@@ -1,6 +1,6 @@
 #version 450
-// dp_i = (m/rho0) sum_j (lambda_i + lambda_j) grad W_spiky(x*_i - x*_j); x*_i += omega dp_i,
-// then out of walls and obstacles. The pass's omega keeps every density mode's gain per
+// dp_i = (m/rho0) sum_j (lambda_i + lambda_j) grad W_spiky(x*_i - x*_j); x*_i += relaxation * dp_i,
+// then out of walls and obstacles. The pass's relaxation keeps every density mode's gain per
 // step at most one (host/sim/stability.hpp): an unrelaxed Jacobi pass overshoots and makes energy.
 // Macklin & Mueller's tensile term is not here: it pushes a fixed distance a step whatever
 // dt, so smaller steps were less stable with it (the tank at rest blew up at 16 substeps),
@@ -33,5 +33,5 @@ void main() {
     vec3 d = xi - mirror(walls, image, xj.xyz);
     dp += (lambda_i + xj.w) * spiky_grad(d, length(d));
   }
-  x_out[i] = vec4(project_out_of_solids(xi + sim.omega * (sim.mass / sim.rho0) * dp), 0.0);
+  x_out[i] = vec4(project_out_of_solids(xi + sim.relaxation * (sim.mass / sim.rho0) * dp), 0.0);
 }

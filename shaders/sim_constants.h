@@ -15,7 +15,7 @@
   SIM_FIELD(vec3, wall_min) SIM_FIELD(float, rho0)                      \
   SIM_FIELD(vec3, wall_max) SIM_FIELD(float, epsilon)                   \
   SIM_FIELD(float, poly6_scale) SIM_FIELD(float, spiky_grad_scale)      \
-  SIM_FIELD(float, ldc_k) SIM_FIELD(float, omega) /* this constraint pass's under-relaxation */ \
+  SIM_FIELD(float, ldc_k) SIM_FIELD(float, relaxation) /* this constraint pass's under-relaxation */ \
   SIM_FIELD(float, elapsed) /* the white water passes': the frame's time, s */                   \
   SIM_FIELD(uint, frame) /* and the frames advanced so far, their births' random stream */
 

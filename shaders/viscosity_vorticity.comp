@@ -4,7 +4,7 @@
 // - a pairwise dashpot on the relative normal velocity,
 //   v_i -= sum_j c_ij (1 - r/h) ((v_i - v_j).d) d / r^2 (d = x_j - x_i), c_ij = SOLVER_DAMPING
 //   unless the pair is squeezed (below);
-// - the vorticity omega_i = sum_j V_j (v_j - v_i) x grad W_ij;
+// - the vorticity's curl w_i = sum_j V_j (v_j - v_i) x grad W_ij;
 // - and, as density.comp computes it, rho_i at x: the next step's LDC force and the frame's
 //   measures read it. XSPH already takes poly6 of every fluid entry; summing it over all
 //   entries (the images' too) costs an add each, where a density pass costs a walk.
@@ -26,7 +26,7 @@ layout(constant_id = 100) const float SOLVER_XSPH = 0.02;     // the scene's key
 layout(constant_id = 101) const float SOLVER_DAMPING = 0.2;
 layout(constant_id = 102) const float SOLVER_VORTICITY = 0.0;
 layout(constant_id = 2) const float DAMPING_LIMIT = 0.3;   // Derived::damping_limit
-// omega is wanted only for vorticity_force.comp; without it the curl, a cross product and a
+// The curl is wanted only for vorticity_force.comp; without it the curl, a cross product and a
 // kernel gradient per neighbour, is not computed (a constant once specialised: the driver
 // drops the branch; docs/performance.md).
 #define VORTICITY (SOLVER_VORTICITY > 0.0)
@@ -35,7 +35,7 @@ layout(binding = 1, rgba32f) uniform readonly imageBuffer x;
 // v, and in w the last lambda pass's rho (velocity_update.comp)
 layout(binding = 2, rgba32f) uniform readonly imageBuffer v_rho;
 layout(std430, binding = 3) writeonly buffer VOut { vec4 v_out[]; };
-layout(std430, binding = 4) writeonly buffer Omega { vec4 omega[]; };  // VORTICITY only
+layout(std430, binding = 4) writeonly buffer Curl { vec4 curl[]; };  // VORTICITY only
 layout(std430, binding = 5) writeonly buffer Rho { float rho[]; };
 #define NEIGHBOUR_BINDING 6
 #define NEIGHBOUR_CAPACITY_ID 4
@@ -56,7 +56,7 @@ void main() {
   vec4 own = imageLoad(v_rho, int(i));
   vec3 vi = own.xyz;
   vec3 smooth_v = vec3(0.0);
-  vec3 curl = vec3(0.0);
+  vec3 curl_i = vec3(0.0);
   vec3 damp = vec3(0.0);
   float density = 0.0;
   float rho_i = max(own.w, sim.rho0);
@@ -71,7 +71,7 @@ void main() {
     density += w;
     if (image == 0) {  // XSPH and the vorticity see the fluid only
       smooth_v += vij * w;
-      if (VORTICITY) curl += cross(vij, spiky_grad(d, sqrt(r2)));
+      if (VORTICITY) curl_i += cross(vij, spiky_grad(d, sqrt(r2)));
     }
     // The dashpot's largest eigenvalue grows with the neighbours inside h, images included
     // (by less than rho/rho0 on a squeezed lattice): a pair is damped by at most
@@ -82,6 +82,6 @@ void main() {
   }
   float volume = sim.mass / sim.rho0;
   v_out[i] = vec4(vi + (SOLVER_XSPH * volume) * smooth_v + damp, 0.0);
-  if (VORTICITY) omega[i] = vec4(volume * curl, 0.0);
+  if (VORTICITY) curl[i] = vec4(volume * curl_i, 0.0);
   rho[i] = sim.mass * density;
 }

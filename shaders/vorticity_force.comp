@@ -1,5 +1,5 @@
 #version 450
-// Vorticity confinement: f_i = eps (N x omega_i), N = eta/|eta|, eta = sum_j V_j |omega_j| grad W_ij;
+// Vorticity confinement: f_i = eps (N x w_i), N = eta/|eta|, eta = sum_j V_j |w_j| (w: the curl) grad W_ij;
 // applied as v_i += f_i dt.
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x_id = 0) in;
@@ -8,7 +8,7 @@ layout(local_size_x_id = 0) in;
 layout(constant_id = 100) const float SOLVER_VORTICITY = 0.0;  // eps, m/s (gpu/key_constants.hpp)
 
 layout(binding = 1, rgba32f) uniform readonly imageBuffer x;
-layout(binding = 2, rgba32f) uniform readonly imageBuffer omega;
+layout(binding = 2, rgba32f) uniform readonly imageBuffer curl;
 layout(std430, binding = 3) buffer V { vec4 v[]; };
 #define NEIGHBOUR_BINDING 4
 #define NEIGHBOUR_CAPACITY_ID 1
@@ -24,8 +24,8 @@ void main() {
     // The fluid only (a list holds images too); the gradient is zero from r = h on. Only eta's
     // direction is used: its shape keeps it in float's range at every spacing.
     vec3 d = xi - imageLoad(x, int(j)).xyz;
-    if (image == 0) eta += length(imageLoad(omega, int(j)).xyz) * spiky_grad_shape(d, length(d));
+    if (image == 0) eta += length(imageLoad(curl, int(j)).xyz) * spiky_grad_shape(d, length(d));
   }
   float len = length(eta);
-  if (len > 0.0) v[i].xyz += (SOLVER_VORTICITY * sim.dt / len) * cross(eta, imageLoad(omega, int(i)).xyz);
+  if (len > 0.0) v[i].xyz += (SOLVER_VORTICITY * sim.dt / len) * cross(eta, imageLoad(curl, int(i)).xyz);
 }

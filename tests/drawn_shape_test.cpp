@@ -21,7 +21,7 @@ class DrawnShapeTest : public test::GpuTest {
   // tank, by particle id.
   std::vector<glm::dmat3> shapes(const std::vector<glm::dvec3>& x) {
     GpuSolver solver(test::gpu(), d, x);
-    solver.set_smoothed_positions(true);
+    solver.set_outputs({.surface = true});
     solver.advance(0);
     const ParticleFrame f = solver.read_frame();
     std::vector<glm::dmat3> t(x.size());

@@ -17,7 +17,7 @@ struct Outcome {
 
 Outcome simulate(const Scene& scene, double seconds) {
   GpuSolver solver(test::gpu(), derive(scene), initial_particles(scene));
-  project_start(solver);  // as a run starts
+  relax_start(solver);  // as a run starts
   FrameStats s = solver.advance(0);
   EnergyGain energy;
   energy.add(s);

@@ -180,7 +180,7 @@ TEST(Export, RunWritesOneFilePerFrameStartingFromTheInitialLattice) {
   }
   Scene scene = load_scene("dam_break", {"particle_spacing=0.04"});
   ReferenceSolver start(derive(scene), initial_particles(scene));  // the start relaxed, as the run starts
-  project_start(start);
+  relax_start(start);
   const std::vector<glm::dvec3> x0 = start.download().x;
   for (int frame = 0; frame < 3; ++frame) {
     Rows ply = read_ply(capture::frame_file(dir / "ply" / "particles", frame, 3, "ply"));

@@ -218,7 +218,7 @@ TEST(Hostile, AnInterruptWhileThePreviousRunIsSetAsideLeavesItWhole) {
 
 TEST(Hostile, AnInterruptDuringTheStartUpProjectionLeavesAConsistentRun) {
   const fs::path dir = previous_run("signal_relax");
-  const CliResult r = interrupted_at("project", SIGINT, small_run(dir, {"--frames", "2"}));
+  const CliResult r = interrupted_at("relax", SIGINT, small_run(dir, {"--frames", "2"}));
   EXPECT_EQ(r.status, 130) << r.output;
   EXPECT_EQ(r.output.find("0--1"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("no frame was written"), std::string::npos) << r.output;

@@ -20,7 +20,7 @@ ParticleState two_density_slab(const Scene& scene) {
   size_t n = st.x.size();
   st.v.assign(n, glm::dvec3(0.0));
   st.x_pred = st.x;
-  st.omega.assign(n, glm::dvec3(0.0));
+  st.curl.assign(n, glm::dvec3(0.0));
   st.rho.assign(n, 0.0);
   st.lambda.assign(n, 0.0);
   return st;

@@ -22,6 +22,7 @@ struct Case {
   const char* scene;
   std::vector<std::string> params;
   bool lists = true;
+  FrameOutputs outputs = {};
 };
 
 class MemoryTest : public test::GpuTest, public ::testing::WithParamInterface<Case> {};
@@ -35,19 +36,24 @@ TEST_P(MemoryTest, TheSolverAllocatesItsPlanAndTheEstimateCoversIt) {
   uint64_t held = 0;
   {
     GpuSolver solver(test::gpu(), d, x0);
+    solver.set_outputs(GetParam().outputs);
     solver.advance(1);
     held = test::gpu().buffer_bytes() - before;
+    if (GetParam().outputs != FrameOutputs{}) {  // and an output switched off holds nothing
+      solver.set_outputs({});
+      EXPECT_EQ(test::gpu().buffer_bytes() - before, plan_buffers(d, x0.size()).total());
+    }
   }
   EXPECT_EQ(test::gpu().buffer_bytes(), before) << "every buffer is freed with the solver";
-  const uint64_t planned = plan_buffers(d, x0.size()).total();
+  const uint64_t planned = plan_buffers(d, x0.size(), GetParam().outputs).total();
   std::printf("[ memory ] %zu particles: the solver holds %llu bytes, its plan %llu\n", x0.size(),
               (unsigned long long)held, (unsigned long long)planned);
   EXPECT_EQ(held, planned);
-  EXPECT_GE(memory_need(d, double(x0.size()), &test::gpu().info()).device, held);
+  EXPECT_GE(memory_need(d, double(x0.size()), &test::gpu().info(), {}, GetParam().outputs).device, held);
 }
 
-// The buffers each option adds: none, vorticity's omega, smoothing's spare, the adaptive
-// iterations' words, obstacles, and no neighbour lists at all.
+// The buffers each option adds: none, vorticity's curl, smoothing's spare, the adaptive
+// iterations' words, obstacles, no neighbour lists at all, and every output a frame makes.
 INSTANTIATE_TEST_SUITE_P(
     Options, MemoryTest,
     ::testing::Values(Case{"defaults", "dam_break", {"particle_spacing=0.04"}},
@@ -55,7 +61,12 @@ INSTANTIATE_TEST_SUITE_P(
                            {"particle_spacing=0.04", "solver.vorticity=0.01", "solver.lambda_smoothing=2"}},
                       Case{"adaptive", "dam_break",
                            {"particle_spacing=0.04", "solver.target_compression=0.01", "solver.max_iterations=5"}},
-                      Case{"obstacles_no_lists", "dam_obstacle", {"particle_spacing=0.04"}, false}),
+                      Case{"obstacles_no_lists", "dam_obstacle", {"particle_spacing=0.04"}, false},
+                      Case{"every_output",
+                           "dam_break",
+                           {"particle_spacing=0.04", "white_water.enabled=true", "white_water.max_particles=5000"},
+                           true,
+                           {.surface = true, .white_water = true}}),
     [](const auto& info) { return std::string(info.param.name); });
 
 // A run's peak resident memory (its own, from wait4) in bytes, and its exit status.

@@ -108,7 +108,7 @@ TEST_P(PassTest, Density) {
 // The positions the fluid's surface is drawn from, at x from the lists at x: how far each
 // particle moved towards its neighbourhood's mean (small beside x itself).
 TEST_P(PassTest, SmoothedPositions) {
-  gpu.set_smoothed_positions(true);
+  gpu.set_outputs({.surface = true});
   gpu.begin();
   gpu.grid_at_positions();
   gpu.smoothed_positions();
@@ -274,12 +274,12 @@ TEST_P(PassTest, ViscosityAndVorticity) {
   ParticleState g = gpu_viscosity(gpu);
   std::vector<double> rho_at_x = reference_viscosity(ref);
   expect_close(test::compare(test::difference(g.v, input.v), test::difference(ref.state.v, input.v), "XSPH and damping dv"));
-  expect_close(test::compare(g.omega, ref.state.omega, "vorticity omega"));
+  expect_close(test::compare(g.curl, ref.state.curl, "vorticity curl"));
   expect_close(test::compare(g.rho, rho_at_x, "rho at x, summed by the viscosity pass"));
 }
 
 // Without vorticity the pass skips the curl (a specialisation constant) and keeps no
-// omega: the velocity change must still be the reference's.
+// curl: the velocity change must still be the reference's.
 TEST_P(PassTest, ViscosityWithoutVorticity) {
   Derived plain = d;
   plain.solver.vorticity = 0.0;
@@ -290,7 +290,7 @@ TEST_P(PassTest, ViscosityWithoutVorticity) {
   expect_close(test::compare(test::difference(g.v, input.v), test::difference(ref_plain.state.v, input.v),
                              "XSPH and damping dv, no vorticity"));
   expect_close(test::compare(g.rho, rho_at_x, "rho at x, summed by the viscosity pass, no vorticity"));
-  EXPECT_TRUE(g.omega.empty()) << "no vorticity storage without vorticity";
+  EXPECT_TRUE(g.curl.empty()) << "no vorticity storage without vorticity";
 }
 
 TEST_P(PassTest, VorticityForce) {
@@ -356,9 +356,9 @@ TEST_P(StepTest, SeveralStepsAgree) {
   EXPECT_LT(ev.max_abs, 1e-3 * ev.scale);
 }
 
-// The start's projection (Solver::project, sim/settle.hpp): the GPU's projections agree with the
+// The start's relaxation (Solver::relax, sim/settle.hpp): the GPU's relaxations agree with the
 // reference's, leave the fluid at rest, and take out the compression the jitter brought.
-TEST_P(StepTest, TheStartsProjectionAgreesAndDecompresses) {
+TEST_P(StepTest, TheStartsRelaxationAgreesAndDecompresses) {
   const StepCase& c = GetParam();
   Scene scene = load_scene("dam_break", {"particle_spacing=0.04", std::string("solver.method=\"") + c.method + "\"",
                                          std::string("obstacles=") + c.obstacles});
@@ -367,8 +367,8 @@ TEST_P(StepTest, TheStartsProjectionAgreesAndDecompresses) {
   GpuSolver gpu(test::gpu(), d, x0);
   ReferenceSolver ref(d, x0);
   const double seeded = ref.advance(0).mean_compression;
-  project_start(gpu);
-  project_start(ref);
+  relax_start(gpu);
+  relax_start(ref);
   const FrameStats g = gpu.advance(0), r = ref.advance(0);
   std::printf("  %s: mean compression %.5f seeded, %.5f relaxed (reference %.5f)\n", c.name, seeded,
               g.mean_compression, r.mean_compression);

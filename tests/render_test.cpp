@@ -442,8 +442,7 @@ TEST_F(RenderTest, ZeroCopyAndReadBackGiveTheSameImage) {
 TEST_F(RenderTest, WhiteWaterReachesTheFrameAlikeByZeroCopyAndReadBack) {
   Scene scene = load_scene("dam_break", {"particle_spacing=0.04", "white_water.emission=1000"});
   GpuSolver solver(test::gpu(), derive(scene), initial_particles(scene));
-  solver.set_smoothed_positions(true);
-  solver.set_white_water(true);
+  solver.set_outputs({.surface = true, .white_water = true});
   for (int frame = 0; frame < 30; ++frame) solver.advance(scene.solver.substeps);
   ASSERT_GT(solver.white_water().size(), 50u);
   auto shared = capture::make_particle_transfer(solver, &test::gpu(), *gl_, true);

@@ -194,7 +194,7 @@ TEST_P(DeepOrFineTest, ColumnHeldStillAndUnsqueezed) {
                       std::string("solver.method=\"") + c.method + "\"", "solver.iterations=" + std::to_string(c.iterations)});
   Derived d = derive(scene);
   GpuSolver solver(test::gpu(), d, initial_particles(scene));
-  project_start(solver);  // as a run starts
+  relax_start(solver);  // as a run starts
   // The settle may stop at its step limit still moving (fine_pbf2 does): what follows is judged.
   const SettleReport settled = settle(solver, d);
   std::printf("  settle: %d steps, %s\n", settled.steps, settled.converged ? "converged" : "at its step limit");

@@ -68,7 +68,7 @@ TEST(Stability, PassesAreSmoothedButAnOddCountsLast) {
       const bool last_of_odd = passes > 1 && passes % 2 && k == passes - 1;
       const double relax = passes == 1 ? 1 / d.paired_gain_max : last_of_odd ? 1 / d.jacobi_gain_max : 1.5 / d.paired_gain_max;
       EXPECT_EQ(schedule[k].smoothed, !last_of_odd) << passes << " passes, pass " << k;
-      EXPECT_NEAR(schedule[k].omega, relax, 1e-12) << passes << " passes, pass " << k;
+      EXPECT_NEAR(schedule[k].relaxation, relax, 1e-12) << passes << " passes, pass " << k;
     }
   }
   const Derived single = derive(load_scene("dam_break", {"solver.iterations=1"}));
@@ -78,7 +78,7 @@ TEST(Stability, PassesAreSmoothedButAnOddCountsLast) {
   const auto plain = single_unsmoothed.constraint_schedule(1);
   ASSERT_EQ(plain.size(), 1u);
   EXPECT_FALSE(plain[0].smoothed);
-  EXPECT_NEAR(plain[0].omega, 1 / single_unsmoothed.jacobi_gain_max, 1e-12);
+  EXPECT_NEAR(plain[0].relaxation, 1 / single_unsmoothed.jacobi_gain_max, 1e-12);
   EXPECT_EQ(derive(load_scene("dam_break")).coarse.strength, COARSE_STRENGTH);
 }
 

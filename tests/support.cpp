@@ -34,7 +34,7 @@ ParticleState jittered_state(const Scene& scene, unsigned seed) {
     st.x_pred.push_back(glm::clamp(x + glm::dvec3(jitter(rng), jitter(rng), jitter(rng)), d.wall_min, d.wall_max));
   }
   size_t n = st.x.size();
-  st.omega.assign(n, glm::dvec3(0.0));
+  st.curl.assign(n, glm::dvec3(0.0));
   st.rho.assign(n, 0.0);
   st.lambda.assign(n, 0.0);
   return st;

@@ -61,7 +61,7 @@ TEST_P(WallTest, SmoothedPositionsMoveOnlyTheFreeSurface) {
   Scene scene = load_scene("hydrostatic", {"particle_spacing=" + std::to_string(spacing)});
   Derived d = derive(scene);
   GpuSolver solver(test::gpu(), d, lattice_particles(scene));
-  solver.set_smoothed_positions(true);
+  solver.set_outputs({.surface = true});
   solver.advance(0);
   const ParticleFrame f = solver.read_frame();
   ASSERT_EQ(f.x_smooth.size(), f.x.size());

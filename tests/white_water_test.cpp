@@ -50,13 +50,13 @@ const Splash& splash() {
 // Solvers at the splash, white water on (none alive yet).
 std::unique_ptr<GpuSolver> gpu_at(const Splash& s) {
   auto g = std::make_unique<GpuSolver>(test::gpu(), s.d, initial_particles(s.scene));
-  g->set_white_water(true);
+  g->set_outputs({.white_water = true});
   g->upload(s.state);
   return g;
 }
 std::unique_ptr<ReferenceSolver> reference_at(const Splash& s) {
   auto r = std::make_unique<ReferenceSolver>(s.d, initial_particles(s.scene));
-  r->set_white_water(true);
+  r->set_outputs({.white_water = true});
   r->upload(s.state);
   return r;
 }
@@ -170,14 +170,14 @@ TEST_F(WhiteWater, SprayStopsAtAnObstacleAsTheReferences) {
       thrown.push_back({glm::dvec3(0.86 + 0.018 * i, 0.36, 0.06 + 0.028 * k), glm::dvec3(0.5, -5, 0), 1.0,
                         uint32_t(i * 10 + k) << WHITE_KIND_BITS | WHITE_SPRAY});
   GpuSolver g(test::gpu(), d, initial_particles(scene));
-  g.set_white_water(true);
+  g.set_outputs({.white_water = true});
   g.upload_white_water(thrown);
   g.begin();
   g.grid_at_positions();
   g.white_water_advect(frame_time);
   g.finish();
   ReferenceSolver r(d, initial_particles(scene));
-  r.set_white_water(true);
+  r.set_outputs({.white_water = true});
   r.upload_white_water(thrown);
   r.build_grid(r.state.x);
   r.white_water_advect(frame_time);
@@ -227,7 +227,7 @@ TEST(WhiteWaterReference, TheStatsAreTheSameWithAndWithout) {
   const Scene scene = load_scene("dam_break", {"particle_spacing=0.05"});
   const Derived d = derive(scene);
   ReferenceSolver with(d, initial_particles(scene)), without(d, initial_particles(scene));
-  with.set_white_water(true);
+  with.set_outputs({.white_water = true});
   for (int frame = 0; frame < 24; ++frame) {
     const FrameStats a = with.advance(scene.solver.substeps), b = without.advance(scene.solver.substeps);
     ASSERT_EQ(a.mean_compression, b.mean_compression) << "frame " << frame;

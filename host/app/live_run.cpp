@@ -108,7 +108,7 @@ struct LiveRun::Stage {
       lanes.push_back(make_lane(lane, ctx));
     }
     Solver& first = *lanes[0].solver;
-    project_start(first);
+    relax_start(first);
     if (scene.settle) settle(first, derive(scene));
     start = first.download();
     for (Lane& lane : lanes) lane.solver->upload(start);
@@ -163,10 +163,7 @@ struct LiveRun::Stage {
     capture.reset();
     capture = make_frame_capture(options, scene, solvers(), ctx);
     capture->set_camera(camera);
-    for (Lane& lane : lanes) {
-      lane.solver->set_smoothed_positions(capture->draws_surface());
-      lane.solver->set_white_water(capture->draws_white_water());
-    }
+    for (Lane& lane : lanes) lane.solver->set_outputs(capture->outputs());
   }
   std::string about() const {
     std::string settings;
@@ -301,16 +298,14 @@ std::vector<FrontPoint> LiveRun::measure_front(Stage& stage, const vk::Context* 
   const ParticleState now = stage.lanes[0].solver->download();
   const LiveSetting was = stage.lanes[0].setting;
   const Camera camera = stage.capture->camera();
-  const bool smoothed = stage.capture->draws_surface();  // a live frame's cost includes them
-  const bool white_water = stage.capture->draws_white_water();
+  const FrameOutputs outputs = stage.capture->outputs();  // a live frame's cost includes them
   stage.capture.reset();
   std::vector<FrontPoint> measured;
   for (const LiveSetting& candidate : budget_candidates(stage.scene_substeps)) {
     if (stopping_) break;
     stage.make_first(candidate, ctx);
     Solver& solver = *stage.lanes[0].solver;
-    solver.set_smoothed_positions(smoothed);
-    solver.set_white_water(white_water);
+    solver.set_outputs(outputs);
     solver.upload(now);
     solver.advance(candidate.substeps);
     FrontPoint p{stage.lanes[0].setting};

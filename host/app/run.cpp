@@ -64,11 +64,17 @@ std::unique_ptr<capture::FrameCapture> make_frame_capture(const RunOptions& o, c
   return std::make_unique<capture::FrameCapture>(c, solvers, vk);
 }
 
+FrameOutputs run_outputs(const RunOptions& o) {
+  const capture::Style style = capture::parse_style(o.style);
+  return capture::frame_outputs(o.render ? &style : nullptr,
+                                capture::parse_export_format(o.export_format) != capture::ExportFormat::None);
+}
+
 MemoryNeed check_run_memory(const RunOptions& o, const Scene& scene, const Derived& d, const vk::DeviceInfo* device,
                             size_t solvers) {
   const bool full_surface = o.fluid_resolution == "full";
   const double pixels = o.render ? double(o.width) * o.height * double(solvers) : 0.0;
-  MemoryNeed need = memory_need(d, particle_estimate(scene), device, {pixels, full_surface});
+  MemoryNeed need = memory_need(d, particle_estimate(scene), device, {pixels, full_surface}, run_outputs(o));
   need.device *= solvers;  // each solver's buffers and host arrays, once each
   need.host = need.picture + (need.host - need.picture) * solvers;
   MemoryAdvice advice;
@@ -90,8 +96,8 @@ class Progress {
     double left = (frames_ - 1 - frame) / std::max(rate, 1e-9);
     say("frame %d/%d  t = %.2f s  %.1f frames/s  %.0f s left", frame + 1, frames_, sim_time, rate, left);
   }
-  void projecting(int projection) {
-    if (due()) say("projecting the start: %d/%d", projection, kStartProjections);
+  void relaxing(int relaxation) {
+    if (due()) say("relaxing the start: %d/%d", relaxation, kStartRelaxations);
   }
   void settling(int step) {
     if (due()) say("settling: step %d", step);
@@ -197,9 +203,9 @@ void announce(const RunOptions& o, const Scene& scene, const Derived& d, const n
 // The start: its jittered lattice relaxed, and a tank settled where the scene asks.
 void prepare_start(Solver& solver, const Scene& scene, const Derived& d, bool quiet, Progress& progress,
                    const InterruptGuard& interrupt) {
-  project_start(solver, [&](int projection) {
-    if (projection == 1) pause_point("project");
-    progress.projecting(projection);
+  relax_start(solver, [&](int relaxation) {
+    if (relaxation == 1) pause_point("relax");
+    progress.relaxing(relaxation);
     return !interrupt.signal();
   });
   progress.done();
@@ -341,10 +347,8 @@ int run(const RunOptions& o) {
   const capture::ExportFormat export_format = capture::parse_export_format(o.export_format);
   std::unique_ptr<capture::FrameCapture> capture;
   if (o.render) capture = make_frame_capture(o, scene, {solver.get()}, ctx.get());
-  if (capture) solver->set_smoothed_positions(capture->draws_surface());
-  // White water where a frame draws it or an export writes it, and the scene has it.
-  const bool white_water = d.white_water.enabled && ((capture && capture->draws_white_water()) ||
-                                                     export_format != capture::ExportFormat::None);
+  const FrameOutputs outputs = run_outputs(o);
+  const bool white_water = outputs.white_water && d.white_water.enabled;
 
   // Everything is checked: from here the run owns DIR and replaces the previous run's files.
   RunDirectory dir(out, RunFiles{scene.frames, bool(capture),
@@ -369,7 +373,7 @@ int run(const RunOptions& o) {
     if (!o.quiet) announce(o, scene, d, chosen, *solver, capture.get(), white_water);
     Progress progress(scene.frames, !o.quiet);
     prepare_start(*solver, scene, d, o.quiet, progress, interrupt);
-    solver->set_white_water(white_water);  // from the start on: none is made while it settles
+    solver->set_outputs(outputs);  // from the start on: none is made while it settles
     totals = simulate_frames(scene, d, *solver, capture.get(), export_format, dir, csv, progress, interrupt, wall);
     if (const int status = stopped_early(totals, interrupt, dir, wall()); status != 0) return status;
     if (totals.energy.largest() > 0.01)

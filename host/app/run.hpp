@@ -51,6 +51,9 @@ std::unique_ptr<capture::FrameCapture> make_frame_capture(const RunOptions& o, c
                                                           const std::vector<const Solver*>& solvers,
                                                           const vk::Context* vk);
 
+// What each frame of the run of `o` must produce for its capture and export (capture::frame_outputs).
+FrameOutputs run_outputs(const RunOptions& o);
+
 // What the run of `o` needs, checked against `device` (null: the reference solver) and the
 // host before anything is allocated: InputError with the numbers and the option to change.
 // `solvers`: that many of the scene side by side (the live view's comparison).

@@ -28,7 +28,7 @@ GridBuffers plan_grid(const Derived& d, uint64_t particles) {
 
 }  // namespace
 
-SolverBuffers plan_buffers(const Derived& d, uint64_t particles) {
+SolverBuffers plan_buffers(const Derived& d, uint64_t particles, FrameOutputs outputs) {
   const uint64_t vec4 = particles * sizeof(glm::vec4), word = particles * sizeof(uint32_t);
   SolverBuffers b;
   b.particle_vec4 = vec4;
@@ -36,7 +36,7 @@ SolverBuffers plan_buffers(const Derived& d, uint64_t particles) {
   b.neighbour_count = (2 * particles + 1) * sizeof(uint32_t);
   b.neighbour_list = word * list_words(d.neighbour_capacity);
   b.x_lambda_spare = d.smooths_lambda() ? vec4 : 0;
-  b.omega = d.solver.vorticity > 0 ? vec4 : 0;
+  b.curl = d.solver.vorticity > 0 ? vec4 : 0;
   b.partials = 2 * partial_count(particles) * sizeof(glm::vec4);
   b.obstacles = pack_obstacles(d.obstacles).size() * sizeof(glm::vec4);
   b.watch = sizeof(WatchWords);
@@ -49,19 +49,25 @@ SolverBuffers plan_buffers(const Derived& d, uint64_t particles) {
     b.coarse_grad = nodes * sizeof(glm::vec4);
   }
   b.grid = plan_grid(d, particles);
+  if (outputs.surface) b.shape = 2 * vec4;
+  if (outputs.white_water && d.white_water.enabled) {
+    b.white_count = sizeof(uint32_t);
+    b.white_array = uint64_t(d.white_water.max_particles) * sizeof(glm::vec4);
+  }
   return b;
 }
 
 uint64_t SolverBuffers::total() const {
   uint64_t sum = (kParticleVec4s + 1) * particle_vec4 + kIdArrays * id + rho + neighbour_count + neighbour_list +
-                 x_lambda_spare + omega + partials + obstacles + watch + overflow_groups + 3 * adaptive_words +
-                 coarse_sums + coarse_phi + coarse_grad + result + grid.cell + grid.rank;
+                 x_lambda_spare + curl + partials + obstacles + watch + overflow_groups + 3 * adaptive_words +
+                 coarse_sums + coarse_phi + coarse_grad + result + grid.cell + grid.rank + shape +
+                 kWhiteLists * (white_count + 2 * white_array);
   for (uint64_t level : grid.levels) sum += level;
   return sum;
 }
 
 uint64_t SolverBuffers::largest() const {
-  return std::max({particle_vec4, neighbour_list, neighbour_count, grid.levels.front()});
+  return std::max({particle_vec4, neighbour_list, neighbour_count, grid.levels.front(), shape});
 }
 
 }  // namespace pbflow

@@ -1,13 +1,14 @@
 #pragma once
-// The device buffers of a GPU run and their sizes in bytes, from the scene alone. GpuSolver
-// and GpuGrid allocate from this plan and the memory estimate sums it, so that the estimate
-// is what a run holds (tests/memory_test.cpp measures both).
+// The device buffers of a GPU run and their sizes in bytes, from the scene and the frame's
+// outputs alone. GpuSolver and GpuGrid allocate from this plan and the memory estimate sums it,
+// so that the estimate is what a run holds (tests/memory_test.cpp measures both).
 #include <cstddef>
 #include <cstdint>
 #include <vector>
 
 #include "shaders/contract.h"
 #include "sim/params.hpp"
+#include "sim/solver.hpp"
 
 namespace pbflow {
 
@@ -46,11 +47,16 @@ struct SolverBuffers {
   uint64_t particle_vec4 = 0;               // each of those, and (x_pred, lambda)
   uint64_t id = 0, rho = 0;
   uint64_t neighbour_count = 0, neighbour_list = 0;  // counts then the overflow list; entries
-  uint64_t x_lambda_spare = 0, omega = 0;            // 0 where the scene has no smoothing, no vorticity
+  uint64_t x_lambda_spare = 0, curl = 0;             // 0 where the scene has no smoothing, no vorticity
   uint64_t partials = 0, obstacles = 0, watch = 0, overflow_groups = 0;
   uint64_t adaptive_words = 0;  // each of check_converged's three buffers; 0 without adaptive iterations
   uint64_t coarse_sums = 0, coarse_phi = 0, coarse_grad = 0;  // the coarse correction's nodes; 0 where it is off
   uint64_t result = sizeof(FrameResult);
+  // The outputs' (FrameOutputs), 0 while off: the drawn shapes (the smoothed positions take a
+  // spare vec4 array); white water's two lists (the living and the next frame's), each a count
+  // and its (x, life) and (v, tag) arrays.
+  static constexpr int kWhiteLists = 2;
+  uint64_t shape = 0, white_count = 0, white_array = 0;
   GridBuffers grid;
 
   uint64_t total() const;
@@ -69,6 +75,6 @@ constexpr uint32_t kOneGroupBlocks = 32;
 inline uint32_t list_words(uint32_t capacity) { return 4 * ((capacity + 3) / 4 + (capacity == 0)); }
 
 // `d.neighbour_capacity` as the run will use it (neighbour_capacity_on).
-SolverBuffers plan_buffers(const Derived& d, uint64_t particles);
+SolverBuffers plan_buffers(const Derived& d, uint64_t particles, FrameOutputs outputs = {});
 
 }  // namespace pbflow

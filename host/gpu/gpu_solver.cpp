@@ -99,7 +99,7 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
   // Model no more than the scene needs: the plan leaves out what its passes never use.
   if (plan_.adaptive_words)
     for (vk::Buffer* b : {&check_, &indirect_, &overflow_gated_}) *b = vk::Buffer(ctx, plan_.adaptive_words);
-  if (plan_.omega) omega_ = vk::Buffer(ctx, plan_.omega);
+  if (plan_.curl) curl_ = vk::Buffer(ctx, plan_.curl);
   if (plan_.x_lambda_spare) x_lambda_spare_ = vk::Buffer(ctx, plan_.x_lambda_spare);
   if (d.coarse.strength > 0) {
     const Derived::Coarse& c = d.coarse;
@@ -179,7 +179,7 @@ ParticleState GpuSolver::download() const {
   s.x = unpack3(at(X));
   s.v = unpack3(at(V));
   s.x_pred = unpack3(at(XPred));
-  if (vorticity_pass_) s.omega = unpack3(omega_);
+  if (vorticity_pass_) s.curl = unpack3(curl_);
   s.rho = unpack1(rho_.download<float>(n_));
   std::vector<float> lambda;
   for (const glm::vec4& xl : x_lambda_.download<glm::vec4>(n_)) lambda.push_back(xl.w);
@@ -200,29 +200,29 @@ ParticleFrame GpuSolver::read_frame() const {
   return f;
 }
 
-void GpuSolver::set_smoothed_positions(bool on) {
-  Solver::set_smoothed_positions(on);
-  if (on && positions_.lists.pipeline() == VK_NULL_HANDLE) {
-    positions_ = neighbour_pass("smoothed_positions", {});
-    shape_ = vk::Buffer(ctx_, 2 * n_ * sizeof(glm::vec4));
+void GpuSolver::set_outputs(FrameOutputs outputs) {
+  outputs.white_water = outputs.white_water && d_.white_water.enabled;
+  const bool white_was_on = outputs_.white_water;
+  outputs_ = outputs;
+  if (outputs.surface && positions_.lists.pipeline() == VK_NULL_HANDLE) positions_ = neighbour_pass("smoothed_positions", {});
+  if (outputs.white_water && white_advect_.pipeline() == VK_NULL_HANDLE) {
+    white_emit_ = neighbour_pass("white_water_emit", {{"SPACING", float(d_.spacing)}, {"FLOW_SPEED", float(d_.flow_speed)}});
+    white_advect_ = particle_program("white_water_advect");
   }
-}
-
-void GpuSolver::set_white_water(bool on) {
-  white_water_ = on && d_.white_water.enabled;
-  if (!white_water_ || white_advect_.pipeline() != VK_NULL_HANDLE) return;
-  white_emit_ = neighbour_pass("white_water_emit", {{"SPACING", float(d_.spacing)}, {"FLOW_SPEED", float(d_.flow_speed)}});
-  white_advect_ = particle_program("white_water_advect");
-  for (int k = 0; k < 2; ++k) {
-    white_count_[k] = vk::Buffer(ctx_, sizeof(uint32_t));
-    white_x_[k] = vk::Buffer(ctx_, white_capacity_ * sizeof(glm::vec4));
-    white_v_[k] = vk::Buffer(ctx_, white_capacity_ * sizeof(glm::vec4));
+  // The plan's buffers for these outputs, and none for those off.
+  const SolverBuffers plan = plan_buffers(d_, n_, outputs);
+  if (shape_.bytes() != plan.shape) shape_ = plan.shape ? vk::Buffer(ctx_, plan.shape) : vk::Buffer{};
+  if (white_was_on == outputs.white_water) return;
+  for (int k = 0; k < SolverBuffers::kWhiteLists; ++k) {
+    white_count_[k] = plan.white_count ? vk::Buffer(ctx_, plan.white_count) : vk::Buffer{};
+    white_x_[k] = plan.white_array ? vk::Buffer(ctx_, plan.white_array) : vk::Buffer{};
+    white_v_[k] = plan.white_array ? vk::Buffer(ctx_, plan.white_array) : vk::Buffer{};
   }
   upload_white_water({});
 }
 
 std::vector<WhiteParticle> GpuSolver::white_water() const {
-  if (!white_water_) return {};
+  if (!outputs_.white_water) return {};
   const uint32_t count = std::min(white_count_[white_current_].download<uint32_t>(1)[0], white_capacity_);
   const auto x = white_x_[white_current_].download<glm::vec4>(count), v = white_v_[white_current_].download<glm::vec4>(count);
   std::vector<WhiteParticle> out;
@@ -232,7 +232,7 @@ std::vector<WhiteParticle> GpuSolver::white_water() const {
 }
 
 void GpuSolver::upload_white_water(const std::vector<WhiteParticle>& w) {
-  if (!white_water_) return;
+  if (!outputs_.white_water) return;
   const uint32_t count = uint32_t(std::min<size_t>(w.size(), white_capacity_));
   ParticleFrame packed;
   add_white_water(packed, {w.begin(), w.begin() + count});
@@ -306,7 +306,7 @@ void GpuSolver::copy_frame(const vk::Buffer& dst) const {
     else
       vkCmdFillBuffer(cb, dst.handle(), to.shape, to.white_count - to.shape, 0);
     vkCmdFillBuffer(cb, dst.handle(), to.white_count, WHITE_HEADER_BYTES, 0);
-    if (white_water_) {
+    if (outputs_.white_water) {
       copy(white_count_[white_current_], to.white_count, to.white_count + sizeof(uint32_t));
       copy(white_x_[white_current_], to.white_x, to.white_v);
       copy(white_v_[white_current_], to.white_v, to.end);
@@ -443,9 +443,9 @@ void GpuSolver::constraint_smooth(const vk::Buffer* indirect) {
   }
 }
 
-void GpuSolver::constraint_apply(double omega, const vk::Buffer* indirect) {
+void GpuSolver::constraint_apply(double relaxation, const vk::Buffer* indirect) {
   // Jacobi: every particle reads the same x_pred, so the result goes to a spare array.
-  sim_.omega = float(omega);
+  sim_.relaxation = float(relaxation);
   run_neighbour_pass(apply_, indirect, [&] {
     cmd_.bind("x_lambda", x_lambda_);  // x_pred, with lambda beside it
     cmd_.bind("x_out", at(Spare0));
@@ -538,8 +538,8 @@ void GpuSolver::viscosity_vorticity() {
     cmd_.bind("x", at(X));
     cmd_.bind("v_rho", at(V));
     cmd_.bind("v_out", at(Spare0));
-    // Without vorticity the shader never touches omega (VORTICITY): any buffer fills the slot.
-    cmd_.bind("omega", vorticity_pass_ ? omega_ : at(Spare0));
+    // Without vorticity the shader never touches the curl (VORTICITY): any buffer fills the slot.
+    cmd_.bind("curl", vorticity_pass_ ? curl_ : at(Spare0));
     cmd_.bind("rho", rho_);
   });
   swap_roles(V, Spare0);
@@ -548,29 +548,9 @@ void GpuSolver::viscosity_vorticity() {
 void GpuSolver::vorticity_force() {
   run_neighbour_pass(vorticity_, nullptr, [&] {
     cmd_.bind("x", at(X));
-    cmd_.bind("omega", omega_);
+    cmd_.bind("curl", curl_);
     cmd_.bind("v", at(V));
   });
-}
-
-void GpuSolver::end_of(PassGroup group) {
-  if (!timing_steps_) return;
-  timer_->mark(cmd_);
-  segments_.push_back(group);
-}
-
-// One step: the plan's passes (sim/step_plan.hpp) in order, each group's timed segment closed
-// where the next pass belongs to another.
-void GpuSolver::record_step() {
-  const std::vector<PlannedPass> plan = step_plan(d_, density_current_);
-  for (size_t k = 0; k < plan.size(); ++k) {
-    record(plan[k]);
-    const bool last = k + 1 == plan.size();
-    if (last) watch();  // counted with the step's last group, so that the groups cover the whole step
-    if (last || plan[k + 1].group != plan[k].group) end_of(plan[k].group);
-  }
-  density_current_ = viscosity_pass_;  // the viscosity pass leaves rho at x
-  lists_built_ = true;
 }
 
 void GpuSolver::record(const PlannedPass& p, const vk::Buffer* indirect) {
@@ -579,30 +559,34 @@ void GpuSolver::record(const PlannedPass& p, const vk::Buffer* indirect) {
     case Pass::CorrectionPredict: correction_and_predict(); break;
     case Pass::Predict: predict(); break;
     case Pass::Grid: sort_by_cells(XPred, X); break;  // v is not carried: the velocity pass recomputes it
-    case Pass::Lists: neighbour_lists(at(XPred)); break;
+    case Pass::Lists: neighbour_lists(at(XPred)), lists_built_ = true; break;
     case Pass::Lambda: constraint_lambda(indirect); break;
     case Pass::Coarse: coarse_correction(); break;
     case Pass::Smooth: constraint_smooth(indirect); break;
-    case Pass::Apply: constraint_apply(p.omega, indirect); break;
+    case Pass::Apply: constraint_apply(p.relaxation, indirect); break;
     case Pass::Adaptive: adaptive_iterations(); break;
-    case Pass::Velocity: velocity_update(); break;
-    case Pass::Viscosity: viscosity_vorticity(); break;
+    case Pass::Velocity: velocity_update(), density_current_ = false; break;
+    case Pass::Viscosity: viscosity_vorticity(), density_current_ = true; break;  // it sums rho at x
     case Pass::Vorticity: vorticity_force(); break;
+    case Pass::Watch: watch(); break;
+    case Pass::Measures: record_measures(); break;
+    case Pass::Surface: smoothed_positions(); break;
+    case Pass::WhiteWaterAdvect: white_water_advect(frame_time_); break;
+    case Pass::WhiteWaterEmit: white_water_emit(frame_time_, frames_advanced_); break;
   }
 }
 
-void GpuSolver::project() {
+void GpuSolver::relax() {
   begin();
   const VkBufferCopy all{0, 0, at(X).bytes()};
   vkCmdCopyBuffer(cmd_.handle(), at(X).handle(), at(XPred).handle(), 1, &all);  // x* = x
   vk::memory_barrier(cmd_.handle());
-  for (const PlannedPass& pass : projection_plan(d_)) record(pass);  // one iteration whatever the step runs: Solver::project says why
+  for (const PlannedPass& pass : relaxation_plan(d_)) record(pass);
   swap_roles(X, XPred);
   cmd_.fill(at(V), 0);  // the sort left v in the old order: it is zero anyway
   finish();
   density_current_ = false;  // no pass summed rho at the new x
   smoothed_current_ = false;
-  lists_built_ = true;        // at the x* that is now x
 }
 
 void GpuSolver::watch() {
@@ -619,7 +603,7 @@ void GpuSolver::density_at_positions() {
   // Where the step ran its viscosity pass, that pass summed rho at x already, over the
   // same lists (viscosity_vorticity.comp).
   if (density_current_) return;
-  // The last step's lists, built at its x* (docs/design.md step 5: once per step), serve the
+  // The last step's lists, built at its x* (once per step), serve the
   // density at x, as they served its iterations and XSPH: a pair that came within h in
   // the projection adds W(r ~ h) ~ 0 (poly6 is flat there), and a grid build and list
   // pass would cost more than the density itself. Only before the first step after an
@@ -630,7 +614,6 @@ void GpuSolver::density_at_positions() {
 }
 
 void GpuSolver::record_measures() {
-  density_at_positions();
   reduce_measures(result_);
   if (d_.solver.target_compression > 0) {  // the frame's adaptive iteration count, beside the measures
     VkBufferCopy count{INDIRECT_ITERATIONS_WORD * sizeof(uint32_t), offsetof(FrameResult, iterations), sizeof(uint32_t)};
@@ -654,13 +637,46 @@ FrameStats GpuSolver::read_measures() const {
   return s;
 }
 
-FrameStats GpuSolver::advance(int steps) {
-  auto start = std::chrono::steady_clock::now();
-  // While profiling a step marks the end of each pass group, the grid and lists twice in
-  // an ldc step that bins at x (the first after an upload).
-  const uint32_t marks = 4 + (profiling_ ? uint32_t(steps) * (kPassGroups + 2) : 0);
+void GpuSolver::record_timed(const std::vector<PlannedPass>& plan) {
+  std::vector<bool> ends(plan.size());
+  for (size_t k = 0; k < plan.size(); ++k) {
+    const PassGroup group = plan[k].group, next = k + 1 < plan.size() ? plan[k + 1].group : group;
+    ends[k] = k + 1 == plan.size() || (next != group && (profiling_ || !in_step(group) || !in_step(next)));
+  }
+  const uint32_t marks = 1 + uint32_t(std::count(ends.begin(), ends.end(), true));
   if (timer_->capacity() < marks) timer_ = std::make_unique<vk::GpuTimer>(ctx_, marks);
   segments_.clear();
+  timer_->reset(cmd_);
+  timer_->mark(cmd_);
+  for (size_t k = 0; k < plan.size(); ++k) {
+    record(plan[k]);
+    if (!ends[k]) continue;
+    timer_->mark(cmd_);
+    segments_.push_back(plan[k].group);
+  }
+}
+
+void GpuSolver::read_times(FrameStats& s, int steps, double wall_ms) const {
+  s.iterations = d_.solver.iterations;
+  if (d_.solver.target_compression > 0)
+    s.iterations += double(static_cast<const FrameResult*>(result_.mapped())->iterations) / steps;
+  if (!timer_->available()) {
+    s.step_ms = wall_ms / steps;
+    return;
+  }
+  const std::vector<double> t = timer_->read_ms();
+  for (size_t k = 0; k < segments_.size(); ++k) {
+    const double ms = t[k + 1] - t[k];
+    const PassGroup group = segments_[k];
+    if (in_step(group)) s.step_ms += ms / steps;
+    if (in_step(group) && profiling_) s.pass_ms[size_t(group)] += ms / steps;
+    if (group == PassGroup::WhiteWater) s.white_water_ms += ms;
+  }
+}
+
+// One frame: the plan's passes (sim/frame_plan.hpp) in one command buffer.
+FrameStats GpuSolver::advance(int steps) {
+  const auto start = std::chrono::steady_clock::now();
   begin();
   smoothed_current_ = false;  // the steps' sorts reuse the spare slot
   const WatchWords watch_reset;
@@ -670,37 +686,12 @@ FrameStats GpuSolver::advance(int steps) {
     const uint32_t zero[4] = {0, 0, 0, 0};  // the frame's count of adaptive iterations
     cmd_.update(indirect_, zero, sizeof zero);
   }
-  timer_->reset(cmd_);
-  timer_->mark(cmd_);
-  timing_steps_ = profiling_;
-  for (int k = 0; k < steps; ++k) record_step();
-  timing_steps_ = false;  // the measures' grid build is not a step's
-  const uint32_t end = timer_->mark(cmd_);
-  record_measures();
-  if (smoothed_positions_) smoothed_positions();
-  uint32_t white_begin = 0, white_end = 0;  // timed apart from the steps: what white water adds to a frame
-  if (white_water_) {
-    white_begin = timer_->mark(cmd_);
-    white_water_advect(steps * d_.dt);
-    white_water_emit(steps * d_.dt, frames_advanced_);
-    white_end = timer_->mark(cmd_);
-  }
+  frame_time_ = steps * d_.dt;
+  record_timed(frame_plan(d_, steps, outputs_));
   ++frames_advanced_;
   finish();
   FrameStats s = read_measures();
-  if (steps > 0) {
-    std::vector<double> t = timer_->read_ms();
-    double ms = timer_->available()
-                    ? t[end]
-                    : std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    s.step_ms = ms / steps;
-    s.iterations = d_.solver.iterations;
-    if (d_.solver.target_compression > 0)
-      s.iterations += double(static_cast<const FrameResult*>(result_.mapped())->iterations) / steps;
-    if (timer_->available())
-      for (size_t k = 0; k < segments_.size(); ++k) s.pass_ms[size_t(segments_[k])] += (t[k + 1] - t[k]) / steps;
-    if (timer_->available() && white_water_) s.white_water_ms = t[white_end] - t[white_begin];
-  }
+  if (steps > 0) read_times(s, steps, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
   return s;
 }
 

@@ -14,7 +14,7 @@
 #include "sim/obstacles.hpp"
 #include "sim/params.hpp"
 #include "sim/solver.hpp"
-#include "sim/step_plan.hpp"
+#include "sim/frame_plan.hpp"
 #include "vk/buffer.hpp"
 #include "vk/commands.hpp"
 #include "vk/program.hpp"
@@ -31,13 +31,12 @@ class GpuSolver : public Solver {
   // Copies x, v, rho and the smoothed positions and shapes where asked for (frame_bytes layout) into
   // `dst` on the device: no host round trip.
   void copy_frame(const vk::Buffer& dst) const;
-  void set_smoothed_positions(bool on) override;  // builds the pass's programs when first asked
-  void set_white_water(bool on) override;          // the same
+  void set_outputs(FrameOutputs outputs) override;  // builds an output's programs when first asked
   size_t white_water_capacity() const override { return d_.white_water.enabled ? white_capacity_ : 0; }
   std::vector<WhiteParticle> white_water() const override;
   void upload_white_water(const std::vector<WhiteParticle>& w) override;
   size_t particle_count() const override { return n_; }
-  void project() override;
+  void relax() override;
   std::string device_name() const override;
 
   // Pass-level access for the tests: begin(), record passes, finish() submits and waits.
@@ -52,7 +51,7 @@ class GpuSolver : public Solver {
   // With `indirect`, group counts come from that buffer (adaptive iterations).
   void constraint_lambda(const vk::Buffer* indirect = nullptr);
   void constraint_smooth(const vk::Buffer* indirect = nullptr);  // solver.lambda_smoothing passes over lambda
-  void constraint_apply(double omega, const vk::Buffer* indirect = nullptr);
+  void constraint_apply(double relaxation, const vk::Buffer* indirect = nullptr);
   void coarse_correction();  // x_lambda's x_pred += the coarse grid's correction, from a lambda pass's rho
   void velocity_update();
   void viscosity_vorticity();
@@ -67,10 +66,10 @@ class GpuSolver : public Solver {
   // lists (white_water_emit.comp); `frame` picks their random numbers.
   void white_water_advect(double elapsed);
   void white_water_emit(double elapsed, uint32_t frame);
-  void record_step();        // one step (sim/step_plan.hpp), then the divergence watch
-  // One pass of a plan; `indirect`: the constraint passes' dispatch, where an adaptive pair is gated.
+  // One pass of a plan (sim/frame_plan.hpp); `indirect`: the constraint passes' dispatch, where
+  // an adaptive pair is gated.
   void record(const PlannedPass& pass, const vk::Buffer* indirect = nullptr);
-  void record_measures();  // grid and density at x, then the reductions
+  void record_measures();  // the reductions of rho at x, and the frame's counts beside them
 
   // Timestamps after every pass group, reported in FrameStats::pass_ms (benchmarks).
   void set_profiling(bool on) { profiling_ = on; }
@@ -104,7 +103,11 @@ class GpuSolver : public Solver {
   void neighbour_lists(const vk::Buffer& x);
   void density_at_positions();  // rho at x for the LDC force and the measures, from the last step's lists
   FrameStats read_measures() const;
-  void end_of(PassGroup group);  // closes a timed segment while profiling
+  // Records `plan`, a timer mark closing each segment of one group: every group while
+  // profiling, else the steps as one and each group of the frame's end.
+  void record_timed(const std::vector<PlannedPass>& plan);
+  // The stats' times from the segments' marks: a step's mean, its groups' while profiling, white water's.
+  void read_times(FrameStats& s, int steps, double wall_ms) const;
   void run_particle_pass(const vk::Buffer* indirect);
   void reduce_measures(const vk::Buffer& into);  // (mean c, max c, kinetic energy, max speed) of rho_, v
   void adaptive_iterations();                    // iteration pairs until the target (check_converged)
@@ -135,7 +138,7 @@ class GpuSolver : public Solver {
   int id_current_ = 0;
   vk::Buffer rho_, neighbour_count_, neighbour_list_;
   vk::Buffer x_lambda_, x_lambda_spare_;  // (x_pred, lambda) and its smoothing spare (constraint_lambda.comp)
-  vk::Buffer omega_, partials_, result_, obstacles_;
+  vk::Buffer curl_, partials_, result_, obstacles_;
   vk::Buffer shape_;  // the drawn shapes, two vec4s a particle, where smoothed positions are asked for
   vk::Buffer check_, indirect_;
   // The cell walkers' dispatch (neighbour_lists.comp), and its copy for an adaptive
@@ -146,8 +149,8 @@ class GpuSolver : public Solver {
   uint32_t step_in_frame_ = 0;  // adaptive iterations: the last check's measures, dispatch arguments + count
   // White water, where asked for: two lists (the living, and the next frame's), each a count
   // and the capacity's (x, life) and (v, tag); white_current_ the living's.
-  bool white_water_ = false;
   uint32_t white_capacity_, frames_advanced_ = 0;
+  double frame_time_ = 0;  // s the frame's steps advance, for white water
   NeighbourPass white_emit_;
   vk::Program white_advect_;
   std::array<vk::Buffer, 2> white_count_, white_x_, white_v_;
@@ -155,8 +158,7 @@ class GpuSolver : public Solver {
   vk::CommandList cmd_;
   std::unique_ptr<vk::GpuTimer> timer_;
   bool profiling_ = false;
-  bool timing_steps_ = false;  // profiling, and recording the frame's steps
-  std::vector<PassGroup> segments_;  // while profiling: the group timed between marks k and k+1
+  std::vector<PassGroup> segments_;  // the group timed between marks k and k+1
 };
 
 }  // namespace pbflow

@@ -16,20 +16,16 @@ namespace pbflow {
 
 namespace {
 
-// Host bytes per particle of a GPU run: the initial lattice (dvec3), the state uploaded once
-// (x, v, x_pred) and a frame read back for rendering or export (x, v, rho, id).
-constexpr double kHostPerParticleGpuRun = 24 + 72 + 48 + 40;
-// A drawn run's particles also carry the drawn shape on the device (two vec4s), and a frame
-// read back carries it and the smoothed positions (frame_offsets).
-constexpr double kDevicePerParticleDrawn = 2 * sizeof(glm::vec4);
-constexpr double kHostPerParticleDrawn = 3 * sizeof(glm::vec4);
-// White water, per particle of its cap: two lists of two vec4s on the device, and room for one
-// in the frame buffer and in a frame read back (whether or not it is on: Solver::white_water_capacity).
-constexpr double kDevicePerWhiteParticle = 6 * sizeof(glm::vec4), kHostPerWhiteParticle = 2 * sizeof(glm::vec4);
-// The reference solver: x, v, x_pred, omega (dvec3), rho, lambda, its cell lists, two scratch
-// dvec3 arrays, the initial lattice and a frame read back; its neighbour lists are as the
-// GPU's (8 bytes an entry, a count), bounded by the capacity.
-constexpr double kHostPerParticleCpuRun = 96 + 16 + 16 + 48 + 24 + 40, kHostPerCellCpuRun = 24;
+// Host bytes per particle of a GPU run: the initial lattice (dvec3) and the state uploaded once
+// (x, v, x_pred); a frame read back is its frame_bytes and the ids.
+constexpr double kHostPerParticleGpuRun = 24 + 72;
+// The reference solver: x, v, x_pred, curl (dvec3), rho, lambda, its cell lists, two scratch
+// dvec3 arrays and the initial lattice; its neighbour lists are as the GPU's (8 bytes an entry,
+// a count), bounded by the capacity. Its outputs: a drawn particle (ReferenceSolver::DrawnParticles)
+// and a white water particle.
+constexpr double kHostPerParticleCpuRun = 96 + 16 + 16 + 48 + 24, kHostPerCellCpuRun = 24;
+constexpr double kHostPerDrawnCpuRun = sizeof(glm::dvec3) + sizeof(glm::dmat3) + sizeof(double);
+constexpr double kHostPerWhiteCpuRun = sizeof(WhiteParticle);
 // Framebuffers and the image read back: colour and depth for the tank and for a frame (16),
 // the fluid's surface targets (24 at full size: two RG32F, R32F, depth), RGB copies; the
 // surface drawn at full size takes its targets, their smoothing and the driver's copies four
@@ -79,28 +75,38 @@ uint32_t neighbour_capacity_on(const Derived& d, double particles, const vk::Dev
   return past_range || past_texels ? 0 : d.neighbour_capacity;
 }
 
-MemoryNeed memory_need(const Derived& d, double particles, const vk::DeviceInfo* device, Picture picture) {
+MemoryNeed memory_need(const Derived& d, double particles, const vk::DeviceInfo* device, Picture picture,
+                       FrameOutputs outputs) {
   const double cells = double(d.grid.x) * d.grid.y * d.grid.z, pixels = picture.pixels;
   const double picture_bytes =
       pixels > 0 ? kRendererBytes + (kBytesPerPixel + (picture.full_surface ? kBytesPerPixelFullSurface : 0)) * pixels : 0;
-  const double white = d.white_water.enabled ? double(d.white_water.max_particles) : 0.0;
-  const double white_on_device = device ? kDevicePerWhiteParticle * white : 0.0;
-  const double white_array = device ? sizeof(glm::vec4) * white : 0.0;  // GpuSolver's white_x_, white_v_
-  double gpu = 0, host = kProcessBytes + picture_bytes + kHostPerWhiteParticle * white, largest = 0;
+  // Capped where the count is past any machine, so that the conversions stay defined.
+  const uint64_t count = uint64_t(std::ceil(std::min(particles, 1e15)));
+  const size_t white = d.white_water.enabled ? size_t(d.white_water.max_particles) : 0;
+  // A frame read back (capture, export), with room for the white water (Solver::white_water_capacity).
+  const double frame = double(frame_bytes(count, white)) + sizeof(uint32_t) * particles;
+  MemoryNeed need;
+  double host = kProcessBytes + picture_bytes + frame;
   if (device) {
     Derived on_device = d;
     on_device.neighbour_capacity = neighbour_capacity_on(d, particles, *device);
-    // Capped where the count is past any machine, so that the conversion stays defined.
-    const SolverBuffers plan = plan_buffers(on_device, uint64_t(std::ceil(std::min(particles, 1e15))));
-    gpu = double(plan.total()) + (pixels > 0 ? kDevicePerParticleDrawn * particles : 0.0) + white_on_device;
-    host += (kHostPerParticleGpuRun + (pixels > 0 ? kHostPerParticleDrawn : 0.0)) * particles + kDriverBytes;
-    largest = double(plan.largest());
+    const SolverBuffers plan = plan_buffers(on_device, count, outputs);
+    // A drawn frame is copied into a buffer the renderer shares (frame_bytes).
+    need.device = plan.total() + (pixels > 0 ? frame_bytes(count, white) : 0);
+    need.largest_array = plan.largest();
+    // White water's lists where on, and its room in the frames, on or off: each array the cap's vec4s.
+    need.white_water = SolverBuffers::kWhiteLists * (plan.white_count + 2 * plan.white_array) +
+                       (pixels > 0 ? 2 * white * sizeof(glm::vec4) : 0);
+    need.largest_white_array = white * sizeof(glm::vec4);
+    host += kHostPerParticleGpuRun * particles + kDriverBytes;
   } else {
     const double list_bytes = 8.0 * d.neighbour_capacity + 4;  // ReferenceSolver's lists, as the GPU's
-    host += (kHostPerParticleCpuRun + list_bytes) * particles + kHostPerCellCpuRun * cells;
+    host += (kHostPerParticleCpuRun + list_bytes + (outputs.surface ? kHostPerDrawnCpuRun : 0)) * particles +
+            kHostPerCellCpuRun * cells + (outputs.white_water ? kHostPerWhiteCpuRun * double(white) : 0);
   }
-  return {uint64_t(gpu), uint64_t(host), uint64_t(largest), uint64_t(picture_bytes), uint64_t(white_on_device),
-          uint64_t(white_array)};
+  need.host = uint64_t(host);
+  need.picture = uint64_t(picture_bytes);
+  return need;
 }
 
 uint64_t host_memory_available() {

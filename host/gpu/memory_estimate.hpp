@@ -6,6 +6,7 @@
 #include <string>
 
 #include "sim/params.hpp"
+#include "sim/solver.hpp"
 
 namespace pbflow {
 
@@ -18,7 +19,7 @@ struct MemoryNeed {
   uint64_t host = 0;    // the solver's host arrays, host copies of a frame, framebuffers
   uint64_t largest_array = 0;  // one GPU buffer (a vec4 per particle), against the storage buffer range
   uint64_t picture = 0;        // of `host`, what the image's size takes (framebuffers, the surface's targets)
-  uint64_t white_water = 0;    // of `device`, white water's lists (white_water.max_particles)
+  uint64_t white_water = 0;    // of `device`, white water's lists (white_water.max_particles), where on
   uint64_t largest_white_array = 0;  // one of them, against the storage buffer range
 };
 
@@ -36,8 +37,10 @@ struct Picture {
 // are no lists: every pass walks its cells (shaders/neighbours.glsl), and the run still fits.
 uint32_t neighbour_capacity_on(const Derived& d, double particles, const vk::DeviceInfo& device);
 
-// `particles` as estimated from the scene; `device` null for the reference solver.
-MemoryNeed memory_need(const Derived& d, double particles, const vk::DeviceInfo* device, Picture picture = {});
+// `particles` as estimated from the scene; `device` null for the reference solver; `outputs`
+// what each frame produces (Solver::set_outputs).
+MemoryNeed memory_need(const Derived& d, double particles, const vk::DeviceInfo* device, Picture picture = {},
+                       FrameOutputs outputs = {});
 
 // Host memory this process may still take: the least of /proc/meminfo's MemAvailable, the
 // cgroup's limit and RLIMIT_AS, each less what is in use.

@@ -61,7 +61,7 @@ SimConstants Derived::to_gpu(uint32_t count) const {
   c.poly6_scale = float(kernels::poly6_scale(h));
   c.spiky_grad_scale = float(kernels::spiky_grad_scale(h));
   c.ldc_k = float(ldc_k);
-  c.omega = 1.0f;  // set per constraint pass
+  c.relaxation = 1.0f;  // set per constraint pass
   return c;
 }
 

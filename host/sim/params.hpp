@@ -78,7 +78,7 @@ struct Derived {
   double jacobi_gain_max, paired_gain_max;
   // One constraint iteration: its under-relaxation, and whether lambda is smoothed before it.
   struct ConstraintPass {
-    double omega;  // the Jacobi under-relaxation ω
+    double relaxation;  // the Jacobi under-relaxation ω
     bool smoothed;
   };
   // A step's `passes` iterations. Pairs run smoothed at paired_gain_max's relaxation

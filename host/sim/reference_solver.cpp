@@ -19,7 +19,7 @@ ReferenceSolver::ReferenceSolver(const Derived& d, const std::vector<dvec3>& x0)
   state.x = x0;
   state.v.assign(n, dvec3(0.0));
   state.x_pred = x0;
-  state.omega.assign(n, dvec3(0.0));
+  state.curl.assign(n, dvec3(0.0));
   state.rho.assign(n, 0.0);
   state.lambda.assign(n, 0.0);
   cells_.resize(size_t(d.grid.x) * d.grid.y * d.grid.z);
@@ -202,7 +202,7 @@ void ReferenceSolver::constraint_smooth() {
   }
 }
 
-void ReferenceSolver::constraint_apply(double omega) {
+void ReferenceSolver::constraint_apply(double relaxation) {
   std::vector<dvec3> next(state.x.size());
   for (size_t i = 0; i < next.size(); ++i) {
     const dvec3 xi = state.x_pred[i];
@@ -212,7 +212,7 @@ void ReferenceSolver::constraint_apply(double omega) {
       dvec3 d = xi - m.of(state.x_pred[j]);
       dp += (state.lambda[i] + state.lambda[j]) * kernels::spiky_grad(d, d_.h);
     });
-    next[i] = project_out_of_solids(xi + omega * (d_.mass / d_.rho0) * dp);
+    next[i] = project_out_of_solids(xi + relaxation * (d_.mass / d_.rho0) * dp);
   }
   state.x_pred = std::move(next);
 }
@@ -323,7 +323,7 @@ void ReferenceSolver::viscosity_vorticity() {
       if (r2 > 0 && r2 < d_.h * d_.h) damp += c * (1 - std::sqrt(r2) / d_.h) * glm::dot(vij, d) / r2 * d;
     });
     v_next[i] = state.v[i] + d_.solver.xsph * volume * smooth + damp;
-    state.omega[i] = volume * curl;
+    state.curl[i] = volume * curl;
   }
   state.v = std::move(v_next);
 }
@@ -332,24 +332,18 @@ void ReferenceSolver::vorticity_force() {
   for (size_t i = 0; i < state.x.size(); ++i) {
     dvec3 eta(0.0);
     for_each_neighbour(i, state.x[i], [&](size_t j, const WallImage& m) {
-      if (m.axes == 0) eta += glm::length(state.omega[j]) * kernels::spiky_grad_shape(state.x[i] - state.x[j], d_.h);
+      if (m.axes == 0) eta += glm::length(state.curl[j]) * kernels::spiky_grad_shape(state.x[i] - state.x[j], d_.h);
     });
     double len = glm::length(eta);  // only its direction is used
-    if (len > 0) state.v[i] += (d_.solver.vorticity * d_.dt / len) * glm::cross(eta, state.omega[i]);
+    if (len > 0) state.v[i] += (d_.solver.vorticity * d_.dt / len) * glm::cross(eta, state.curl[i]);
   }
 }
 
-void ReferenceSolver::project() {
+void ReferenceSolver::relax() {
   state.x_pred = state.x;
-  for (const PlannedPass& pass : projection_plan(d_)) run(pass);  // one iteration whatever the step runs: Solver::project says why
+  for (const PlannedPass& pass : relaxation_plan(d_)) run(pass);
   state.x = state.x_pred;
   for (dvec3& v : state.v) v = dvec3(0.0);
-}
-
-// One step: the plan's passes (sim/step_plan.hpp) in order, as the GPU records them.
-void ReferenceSolver::step() {
-  iterations_run_ += d_.solver.iterations;
-  for (const PlannedPass& pass : step_plan(d_)) run(pass);
 }
 
 void ReferenceSolver::run(const PlannedPass& p) {
@@ -362,11 +356,16 @@ void ReferenceSolver::run(const PlannedPass& p) {
     case Pass::Lambda: constraint_lambda(); break;
     case Pass::Coarse: coarse_correction(); break;
     case Pass::Smooth: constraint_smooth(); break;
-    case Pass::Apply: constraint_apply(p.omega); break;
+    case Pass::Apply: constraint_apply(p.relaxation); break;
     case Pass::Adaptive: adaptive_iterations(); break;
     case Pass::Velocity: velocity_update(); break;
     case Pass::Viscosity: viscosity_vorticity(); break;
     case Pass::Vorticity: vorticity_force(); break;
+    case Pass::Watch: watch_step(step_in_frame_++, watch_); break;
+    case Pass::Measures: measured_ = measure(); break;
+    case Pass::Surface: drawn = smoothed_positions(); break;
+    case Pass::WhiteWaterAdvect: white_water_advect(frame_time_); break;
+    case Pass::WhiteWaterEmit: white_water_emit(frame_time_, frames_advanced_); break;
   }
 }
 
@@ -412,8 +411,7 @@ void ReferenceSolver::density_at_positions() {
   density();
 }
 
-FrameStats ReferenceSolver::measure() {
-  density_at_positions();
+FrameStats ReferenceSolver::measure() const {
   FrameStats s;
   // The domain's lowest corner along g (shaders/reduce_stats.comp).
   const dvec3 lowest = glm::mix(d_.domain_min, d_.domain_max, glm::dvec3(glm::greaterThan(d_.gravity, dvec3(0.0))));
@@ -533,25 +531,25 @@ ParticleFrame ReferenceSolver::read_frame() const {
   return f;
 }
 
+// One frame: the plan's passes (sim/frame_plan.hpp) in order, as the GPU records them.
 FrameStats ReferenceSolver::advance(int steps) {
-  auto start = std::chrono::steady_clock::now();
-  iterations_run_ = 0;
-  Divergence watch;
-  for (int k = 0; k < steps; ++k) {
-    step();
-    watch_step(k, watch);
-  }
-  double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  FrameStats s = measure();
-  drawn = smoothed_positions_ ? smoothed_positions() : DrawnParticles{};
-  if (white_water_) {
-    white_water_advect(steps * d_.dt);
-    white_water_emit(steps * d_.dt, frames_advanced_);
+  const auto start = std::chrono::steady_clock::now();
+  iterations_run_ = long(steps) * d_.solver.iterations;  // the adaptive pairs add theirs
+  step_in_frame_ = 0;
+  watch_ = {};
+  frame_time_ = steps * d_.dt;
+  drawn = {};
+  double steps_ms = -1;  // the steps' wall time, to the frame's end
+  for (const PlannedPass& pass : frame_plan(d_, steps, outputs_)) {
+    if (steps_ms < 0 && !in_step(pass.group))
+      steps_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    run(pass);
   }
   ++frames_advanced_;
-  s.step_ms = steps > 0 ? ms / steps : 0.0;
+  FrameStats s = measured_;
+  s.step_ms = steps > 0 ? steps_ms / steps : 0.0;
   s.iterations = steps > 0 ? double(iterations_run_) / steps : 0.0;
-  s.divergence = watch;
+  s.divergence = watch_;
   return s;
 }
 

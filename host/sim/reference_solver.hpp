@@ -8,7 +8,7 @@
 
 #include "sim/params.hpp"
 #include "sim/solver.hpp"
-#include "sim/step_plan.hpp"
+#include "sim/frame_plan.hpp"
 
 namespace pbflow {
 
@@ -21,17 +21,16 @@ class ReferenceSolver : public Solver {
   ParticleState download() const override { return state; }
   void upload(const ParticleState& s) override;
   size_t particle_count() const override { return state.x.size(); }
-  void project() override;
+  void relax() override;
   std::string device_name() const override { return "cpu (C++ reference)"; }
-  void set_white_water(bool on) override;
+  void set_outputs(FrameOutputs outputs) override;
   size_t white_water_capacity() const override;
   std::vector<WhiteParticle> white_water() const override { return white; }
   void upload_white_water(const std::vector<WhiteParticle>& w) override;
 
-  void step();
-  void run(const PlannedPass& pass);  // one pass of a plan (sim/step_plan.hpp)
+  void run(const PlannedPass& pass);  // one pass of a plan (sim/frame_plan.hpp)
   void adaptive_iterations();         // iteration groups until the target, as the GPU's
-  FrameStats measure();  // density at x (from the last step's lists, as the GPU), then the measures
+  FrameStats measure() const;  // the measures of rho at x (after a Density pass) and of v
 
   // The passes of one step (docs/design.md), public so that tests can run them one by one.
   void build_grid(const std::vector<glm::dvec3>& at);  // bins particles by cell
@@ -40,10 +39,10 @@ class ReferenceSolver : public Solver {
   void predict();                                      // v += g dt, x_pred
   void constraint_lambda();                            // lambda at x_pred
   void constraint_smooth();                            // lambda averaged over the neighbours, lambda_smoothing times
-  void constraint_apply(double omega);                 // x_pred += omega dp
+  void constraint_apply(double relaxation);                 // x_pred += relaxation * dp
   void coarse_correction();                            // x_pred += the coarse grid's correction, from a lambda pass's rho
   void velocity_update();                              // v from x_pred - x; x = x_pred
-  void viscosity_vorticity();                          // XSPH, omega
+  void viscosity_vorticity();                          // XSPH, the curl
   void vorticity_force();                              // v += f_vort dt
   // The positions and shapes drawn for the fluid's surface (smoothed_positions.comp), from the
   // lists of the last build (at x after build_grid), as density(). A shape is the ellipsoid's
@@ -121,9 +120,12 @@ class ReferenceSolver : public Solver {
   void watch_step(int step, Divergence& watch) const;  // the divergence watch (shaders/watch.comp)
 
   Derived d_;
-  bool white_water_ = false;
   uint32_t frames_advanced_ = 0;  // white water's random stream
+  double frame_time_ = 0;         // s the frame's steps advance, for white water
   long iterations_run_ = 0;  // constraint iterations in the current advance()
+  int step_in_frame_ = 0;    // the watch's step
+  Divergence watch_;         // what the watch saw in the current advance()
+  FrameStats measured_;      // the current advance()'s measures
   std::vector<double> coarse_phi_;  // the coarse correction's solution, the next step's start
   std::vector<std::vector<size_t>> cells_;  // particles binned by cell at the last build_grid
   // Per particle, as the GPU's lists: neighbour_capacity entries within h when the list was

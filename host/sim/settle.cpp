@@ -12,9 +12,9 @@ constexpr int kWindow = 25;         // steps over which the potential energy mus
 constexpr double kStill = 2e-4;     // relative change of the potential energy over the window
 }  // namespace
 
-void project_start(Solver& solver, const std::function<bool(int)>& progress) {
-  for (int k = 1; k <= kStartProjections; ++k) {
-    solver.project();
+void relax_start(Solver& solver, const std::function<bool(int)>& progress) {
+  for (int k = 1; k <= kStartRelaxations; ++k) {
+    solver.relax();
     if (progress && !progress(k)) return;
   }
 }

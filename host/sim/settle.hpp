@@ -23,15 +23,14 @@
 
 namespace pbflow {
 
-// Every run starts from its start relaxed: the start's jitter (scene/seeding.hpp) brings some
-// particles closer than the lattice, and released from there the solver pushed them apart and
-// lifted the fluid (the energy tests' small dam break gained up to 6.6 % of its potential
-// energy). kStartProjections projections (Solver::project) take the worst of those tests to 0.16 %
-// (thirty: 0.66 %; docs/physics.md, "The start").
-inline constexpr int kStartProjections = 40;
-// `progress(projection)`, if given, is called after each projection; false stops early (an
-// interrupt). They cost about forty steps' worth.
-void project_start(Solver& solver, const std::function<bool(int)>& progress = {});
+// Every run starts relaxed: the start's jitter (scene/seeding.hpp) brings some particles closer
+// than the lattice, and released from there the solver would push them apart and lift the
+// fluid. kStartRelaxations relaxations (Solver::relax) keep the energy tests' bound
+// (docs/physics.md, "The start").
+inline constexpr int kStartRelaxations = 40;
+// `progress(relaxation)`, if given, is called after each relaxation; false stops early (an
+// interrupt). They cost about forty single-iteration steps.
+void relax_start(Solver& solver, const std::function<bool(int)>& progress = {});
 
 struct SettleReport {
   int steps = 0;

@@ -14,11 +14,22 @@
 
 namespace pbflow {
 
-// The passes of a step, grouped as the benchmarks report them (docs/design.md's list).
-enum class PassGroup { Grid, Lists, Density, Correction, Predict, Constraints, Coarse, Velocity, Viscosity, Count };
-constexpr size_t kPassGroups = size_t(PassGroup::Count);
-constexpr const char* kPassGroupNames[kPassGroups] = {"grid", "lists", "density",  "correction", "predict",
+// The passes of a frame, grouped as the benchmarks report them: a step's groups first
+// (kStepGroups, timed per step), then the frame's end (the measures and each output).
+enum class PassGroup { Grid, Lists, Density, Correction, Predict, Constraints, Coarse, Velocity, Viscosity,
+                       Measures, Surface, WhiteWater };
+constexpr size_t kStepGroups = size_t(PassGroup::Viscosity) + 1;
+constexpr const char* kPassGroupNames[kStepGroups] = {"grid", "lists", "density",  "correction", "predict",
                                                       "constraints", "coarse", "velocity", "viscosity"};
+constexpr bool in_step(PassGroup g) { return size_t(g) < kStepGroups; }
+
+// What a frame produces besides the particles and the measures, as a capture, a live view or an
+// export asks for it (capture::frame_outputs); each costs nothing while off.
+struct FrameOutputs {
+  bool surface = false;      // smoothed positions and drawn shapes, for drawing the fluid's surface
+  bool white_water = false;  // white water moved and born (scene key white_water.*, where enabled)
+  bool operator==(const FrameOutputs&) const = default;
+};
 
 // What the divergence watch saw in a frame's steps: particles whose position or velocity
 // is not finite, faster than the scene's bound (Derived::speed_limit), or outside the
@@ -40,7 +51,7 @@ struct FrameStats {
   double iterations = 0;  // constraint iterations per step, on average (adaptive runs vary)
   double white_water_ms = 0;  // GPU time of the frame's white water passes (GpuSolver; 0 while off)
   // Mean GPU time per step of each pass group; filled only while profiling (GpuSolver).
-  std::array<double, kPassGroups> pass_ms{};
+  std::array<double, kStepGroups> pass_ms{};
   Divergence divergence;
 };
 
@@ -71,7 +82,7 @@ class EnergyGain {
 
 // Host copy of the per-particle state, indexed by particle id (the order of initial_particles).
 struct ParticleState {
-  std::vector<glm::dvec3> x, v, x_pred, omega;
+  std::vector<glm::dvec3> x, v, x_pred, curl;
   std::vector<double> rho, lambda;
 };
 
@@ -92,10 +103,10 @@ struct WhiteParticle {
 
 // What capture and export read after a frame, in float: positions (xyz, w unused),
 // velocities (xyz, w unused), densities, particle ids and, where the solver was asked for
-// them (Solver::set_smoothed_positions), the smoothed positions the fluid's surface is drawn
+// them (FrameOutputs::surface), the smoothed positions the fluid's surface is drawn
 // from (xyz, w unused) and each one's drawn shape (two vec4s a particle, shaders/contract.h),
 // both empty otherwise, in the solver's own order (id[k] is the id of entry k); and the white
-// water alive, where asked for (Solver::set_white_water): (x, life) and (v, tag's bits). On the
+// water alive, where asked for (FrameOutputs::white_water): (x, life) and (v, tag's bits). On the
 // GPU they lie back to back in one buffer (frame_bytes), white water last: a count, then room for
 // the capacity's positions and velocities; ids are read only for export.
 struct ParticleFrame {
@@ -146,32 +157,28 @@ class Solver {
   virtual void upload(const ParticleState& s) = 0;  // x, v, x_pred and rho, in id order
   virtual size_t particle_count() const = 0;
   virtual std::string device_name() const = 0;
-  // One constraint projection alone: x* = x, the grid and lists at x*, a single iteration's
-  // pass (smoothed as the scene smooths) with the coarse correction beside it, x = x*. No time
-  // passes: no gravity, no LDC, no XSPH, and the velocities are zero after. A seed starts from
-  // it (sim/settle.hpp, project_start). One pass whatever the step runs: every schedule relaxes
-  // towards the same rest, so a pbf@2 run's projection costs two thirds of its two pairs and a
-  // pbf@4 run's half. The coarse correction stays: a jittered start is compressed as a whole
-  // (3.5 % at ±25 %), the longest mode there is; without it 40 projections left 0.064 % where
-  // they leave 0.011 %, and the energy tests gained up to 7 %.
-  virtual void project() = 0;
+  // One relaxation of the start: x* = x, the grid and lists at x*, a single constraint
+  // iteration (smoothed as the scene smooths) with the coarse correction beside it, x = x*. No
+  // time passes: no gravity, no LDC, no XSPH, and the velocities are zero after. One iteration
+  // whatever the step runs: every schedule relaxes towards the same rest (docs/physics.md,
+  // "The start").
+  virtual void relax() = 0;
 
-  // From the next advance() on, each frame also smooths the positions (x_smooth), for a
-  // capture that draws the fluid's surface; off, a frame costs no more than its steps.
-  virtual void set_smoothed_positions(bool on) { smoothed_positions_ = on; }
-  // From the next advance() on, each frame also moves the white water and makes more
-  // (scene key white_water.*): for a capture or an export that shows it. It writes nothing
-  // of the fluid's: a run's stats are the same with it or without. Off, it costs nothing.
-  virtual void set_white_water(bool on) = 0;
-  // The most alive at once: the frame buffer's room for white water (frame_bytes), the
-  // scene's cap where it has white water at all (0 where white_water.enabled is false),
-  // on or off; none is alive while off.
+  // From the next advance() on, each frame also produces `outputs` (frame_plan), and no more:
+  // off, an output costs no pass and holds no buffer. White water is on only where the scene
+  // enables it, and starts with none alive; it writes nothing of the fluid's, so a run's stats
+  // are the same with it or without.
+  virtual void set_outputs(FrameOutputs outputs) = 0;
+  FrameOutputs outputs() const { return outputs_; }
+  // The most white water alive at once: the frame buffer's room for it (frame_bytes), the
+  // scene's cap where it has white water at all (0 where white_water.enabled is false), on or
+  // off; none is alive while off.
   virtual size_t white_water_capacity() const = 0;
   virtual std::vector<WhiteParticle> white_water() const = 0;  // those alive, in no set order
   virtual void upload_white_water(const std::vector<WhiteParticle>& w) = 0;  // at most the capacity
 
  protected:
-  bool smoothed_positions_ = false;
+  FrameOutputs outputs_;
 };
 
 }  // namespace pbflow

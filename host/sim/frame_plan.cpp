@@ -1,4 +1,4 @@
-#include "sim/step_plan.hpp"
+#include "sim/frame_plan.hpp"
 
 namespace pbflow {
 
@@ -8,7 +8,7 @@ std::vector<PlannedPass> constraint_plan(const Derived& d, int iterations, bool 
     plan.push_back({Pass::Lambda, PassGroup::Constraints});
     if (with_coarse && plan.size() == 1 && d.coarse.strength > 0) plan.push_back({Pass::Coarse, PassGroup::Coarse});
     if (pass.smoothed) plan.push_back({Pass::Smooth, PassGroup::Constraints});
-    plan.push_back({Pass::Apply, PassGroup::Constraints, pass.omega});
+    plan.push_back({Pass::Apply, PassGroup::Constraints, pass.relaxation});
   }
   return plan;
 }
@@ -20,11 +20,11 @@ void append(std::vector<PlannedPass>& plan, const std::vector<PlannedPass>& more
 const std::vector<PlannedPass> kGridAndLists = {{Pass::Grid, PassGroup::Grid}, {Pass::Lists, PassGroup::Lists}};
 }  // namespace
 
-std::vector<PlannedPass> step_plan(const Derived& d, bool density_current) {
+std::vector<PlannedPass> step_plan(const Derived& d) {
   const SolverParams& p = d.solver;
   std::vector<PlannedPass> plan;
   if (p.method == Method::Ldc) {
-    if (!density_current) plan.push_back({Pass::Density, PassGroup::Density});
+    plan.push_back({Pass::Density, PassGroup::Density});
     plan.push_back({Pass::CorrectionPredict, PassGroup::Correction});
   } else {
     plan.push_back({Pass::Predict, PassGroup::Predict});
@@ -38,7 +38,22 @@ std::vector<PlannedPass> step_plan(const Derived& d, bool density_current) {
   return plan;
 }
 
-std::vector<PlannedPass> projection_plan(const Derived& d) {
+std::vector<PlannedPass> frame_plan(const Derived& d, int steps, FrameOutputs outputs) {
+  std::vector<PlannedPass> plan;
+  const std::vector<PlannedPass> step = step_plan(d);
+  for (int k = 0; k < steps; ++k) {
+    append(plan, step);
+    plan.push_back({Pass::Watch, step.back().group});  // timed with the step's last group
+  }
+  plan.push_back({Pass::Density, PassGroup::Measures});
+  plan.push_back({Pass::Measures, PassGroup::Measures});
+  if (outputs.surface) plan.push_back({Pass::Surface, PassGroup::Surface});
+  if (outputs.white_water && d.white_water.enabled)
+    append(plan, {{Pass::WhiteWaterAdvect, PassGroup::WhiteWater}, {Pass::WhiteWaterEmit, PassGroup::WhiteWater}});
+  return plan;
+}
+
+std::vector<PlannedPass> relaxation_plan(const Derived& d) {
   std::vector<PlannedPass> plan = kGridAndLists;
   append(plan, constraint_plan(d, 1));
   return plan;
