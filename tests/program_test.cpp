@@ -125,9 +125,8 @@ TEST_F(ProgramContract, AConstantOfAnotherTypeThanTheShadersIsRefused) {
 // viscosity_vorticity.comp) without being named at the program's creation; without them offered
 // its creation fails naming the first.
 TEST_F(ProgramContract, TheSolversKeysReachEveryPassThatDeclaresThem) {
-  Scene scene = scene_defaults();
-  scene.solver.xsph = 0.125;
-  const KeyConstants keys(scene.solver, scene.white_water);
+  const Scene scene = load_scene("dam_break", {"solver.xsph=0.125"});
+  const KeyConstants keys(derive(scene));
   auto key = [&](std::string_view name) {
     for (const vk::Constant& c : keys.constants())
       if (c.name == name) return c;

@@ -51,7 +51,7 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
     : ctx_(ctx),
       d_(d),
       sim_(d.to_gpu(checked_count(ctx, d, x0.size()))),
-      keys_(d.solver, d.white_water),
+      keys_(d),
       n_(sim_.count),
       plan_(plan_buffers(d, n_)),
       viscosity_pass_(d.solver.viscosity_pass()),

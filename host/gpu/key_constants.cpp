@@ -4,7 +4,6 @@
 #include <type_traits>
 #include <variant>
 
-#include "scene/keys.hpp"
 
 namespace pbflow {
 
@@ -14,8 +13,8 @@ std::string KeyConstants::shader_name(std::string_view key) {
   return name;
 }
 
-KeyConstants::KeyConstants(const SolverParams& p, const WhiteWaterParams& w) {
-  for (const SceneKey& k : scene_keys()) {
+KeyConstants::KeyConstants(const Derived& d) {
+  for (const ParamKey& k : d.shader_keys) {
     auto offer = [&](auto value) { constants_.emplace_back(names_.emplace_back(shader_name(k.name)), value); };
     auto offer_member = [&](const auto& params) {
       using P = std::decay_t<decltype(params)>;
@@ -23,8 +22,8 @@ KeyConstants::KeyConstants(const SolverParams& p, const WhiteWaterParams& w) {
       if (auto m = std::get_if<int P::*>(&k.target)) offer(params.**m);
       if (auto m = std::get_if<bool P::*>(&k.target)) offer(params.**m);
     };
-    offer_member(p);
-    offer_member(w);
+    offer_member(d.solver);
+    offer_member(d.white_water);
   }
 }
 

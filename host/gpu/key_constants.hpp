@@ -3,8 +3,8 @@
 // pass: a shader reads the key solver.xsph by declaring `layout(constant_id = 100) const float SOLVER_XSPH = 0.0;` (a
 // number key is a float, a whole one an int, a boolean a bool; Program refuses another type; ids
 // from 100 on, clear of a pass's own), and the host sets it from the scene. A key's row in the
-// table (scene/keys.cpp) is thus its one declaration on both sides; docs/design.md, "Adding a
-// parameter", walks through one.
+// table (scene/keys.cpp), which derive() lists in Derived::shader_keys, is thus its one
+// declaration on both sides; docs/design.md, "Adding a parameter", walks through one.
 #include <deque>
 #include <span>
 #include <string>
@@ -17,7 +17,7 @@ namespace pbflow {
 
 class KeyConstants {
  public:
-  KeyConstants(const SolverParams& p, const WhiteWaterParams& w);  // w: max_particles resolved (derive)
+  explicit KeyConstants(const Derived& d);
   KeyConstants(const KeyConstants&) = delete;  // the constants view names_
   KeyConstants& operator=(const KeyConstants&) = delete;
   KeyConstants(KeyConstants&&) = default;  // a deque's strings stay where they are

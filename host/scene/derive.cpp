@@ -4,6 +4,8 @@
 #include <cmath>
 #include <numbers>
 #include <sstream>
+#include <type_traits>
+#include <variant>
 #include <vector>
 
 #include "scene/keys.hpp"
@@ -17,6 +19,14 @@ Derived derive(const Scene& scene) {
   Derived d;
   d.solver = scene.solver;
   d.white_water = scene.white_water;
+  for (const SceneKey& k : scene_keys())
+    std::visit(
+        [&](auto member) {
+          if constexpr (std::is_constructible_v<ParamTarget, decltype(member)> &&
+                        !std::is_same_v<decltype(member), std::monostate>)
+            d.shader_keys.push_back({k.name, member});
+        },
+        k.target);
   const double s = scene.particle_spacing;
   d.h = scene.solver.kernel_ratio * s;
   d.spacing = s;

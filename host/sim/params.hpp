@@ -5,6 +5,8 @@
 
 #include <cstdint>
 #include <string>
+#include <string_view>
+#include <variant>
 #include <vector>
 
 #include "shaders/sim_constants.h"
@@ -51,6 +53,16 @@ struct WhiteWaterParams {
   double emission;    // born per fluid particle per second where every potential is full
 
   static constexpr int kChosenCapacity = -1;
+};
+
+// A solver or white water key as a shader reads it, a specialisation constant
+// (gpu/key_constants.hpp): its dotted name and the member its value lies in. derive() lists
+// every such key from the key table (scene/keys.cpp), their one declaration.
+using ParamTarget = std::variant<std::monostate, double SolverParams::*, int SolverParams::*, bool SolverParams::*,
+                                 double WhiteWaterParams::*, int WhiteWaterParams::*, bool WhiteWaterParams::*>;
+struct ParamKey {
+  std::string_view name;
+  ParamTarget target;
 };
 
 // The push-constant block every particle pass reads, generated from its one declaration in
@@ -119,6 +131,7 @@ struct Derived {
   } coarse;
   SolverParams solver;
   WhiteWaterParams white_water;  // max_particles resolved
+  std::vector<ParamKey> shader_keys;  // the keys of `solver` and `white_water`, offered to every pass
   std::vector<Obstacle> obstacles;  // grown by half a spacing: where particle centres may not be
   double speed_limit;  // m/s: the divergence watch stops a run with a particle faster than this
   // m/s: the scale of the scene's flows, a fall through the domain's height (at least 0.1 m/s:

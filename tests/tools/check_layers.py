@@ -1,22 +1,38 @@
 #!/usr/bin/env python3
 """Checks that host/, capture/ and bench/ include only their own layer and the layers below
-it (docs/design.md, "Layers"), and that no include cycle exists. Exit 1 names each breach."""
+it, as docs/design.md's layer table says (read from it: one source), and that no include
+cycle exists. Exit 1 names each breach."""
 import os
 import re
 import sys
 
-# Each layer and the layers it may include (besides its own).
-BELOW = {
-    "common": set(),
-    "vk": {"common"},
-    "sim": {"common"},
-    "scene": {"common", "sim"},
-    "gpu": {"common", "sim", "scene", "vk"},  # scene: the key table names the solver's constants
-    "io": {"common", "sim"},
-    "capture": {"common", "sim", "scene", "vk", "gpu", "io"},
-    "bench": {"common", "sim", "scene", "vk", "gpu"},
-    "app": {"common", "sim", "scene", "vk", "gpu", "io", "capture", "bench"},
-}
+DESIGN = "docs/design.md"
+
+
+def read_layers(root):
+    """docs/design.md's layer table: each layer and the layers it may include (besides its
+    own), the table's "uses" column closed over the layers below."""
+    uses, order = {}, []
+    with open(os.path.join(root, DESIGN), encoding="utf-8") as f:
+        text = f.read()
+    table = text[text.index("| layer | folder |"):].split("\n\n")[0]
+    for row in table.splitlines()[2:]:
+        cells = [c.strip() for c in row.strip("|").split("|")]
+        layer, used = cells[0], cells[-1]
+        order.append(layer)
+        uses[layer] = set(order[:-1]) if used == "all" else {u.strip() for u in used.split(",") if u.strip()}
+    below = {}
+    for layer in order:  # each row may use only rows above it, so one pass closes the sets
+        below[layer] = set(uses[layer])
+        for u in uses[layer]:
+            if u not in below:
+                raise SystemExit(f"{DESIGN}: layer {layer} uses {u}, which is not a row above it")
+            below[layer] |= below[u]
+        if layer != "common":
+            below[layer].add("common")
+    return below
+
+
 MAX_CPP_PER_FOLDER = 10
 
 
@@ -49,6 +65,7 @@ def report_cycles(name, graph):
 
 
 def main(root):
+    below = read_layers(root)
     files = {}
     for top in ("host", "capture", "bench"):
         for folder, _, names in os.walk(os.path.join(root, top)):
@@ -84,7 +101,7 @@ def main(root):
                 continue
             graph[f].append(target)
             a, b = layer_of(f), layer_of(target)
-            if a != b and b not in BELOW[a]:
+            if a != b and b not in below.get(a, ()):
                 print(f"{f}: layer {a} includes {target} from layer {b}, which is not below it")
                 problems = True
     # Module cycles: a .cpp and its header count as one node (params.cpp -> scene.hpp -> params.hpp).
