@@ -1,27 +1,31 @@
 #!/usr/bin/env bash
 # The CPU peer beside pbflow, in the same minutes: SPlisHSPlasH's PBF (2 OpenMP threads,
 # Release build) on its own dam break (bench/peer/peer_dam_break_pbf.json: 6859 particles,
-# pbf@2, dt 4 ms, 2 s) and `pbflow run bench/scenes/peer_dam_break.json --no-render`,
-# alternated. Why alternated: a shared machine drifts by up to 1.5x from minute to minute,
-# and did so between the sessions whose figures the docs quote; only runs taken side by
+# dt 4 ms, 2 s) and `pbflow run bench/scenes/peer_dam_break.json --no-render`, alternated:
+# a shared machine drifts by up to 1.5x from minute to minute, so only runs taken side by
 # side compare.
-#   bench/peer.sh [ROUNDS] [ITERATIONS]   (defaults 3 and 2: the peer scene's pbf@2)
-#     -> a line per run, then the medians and the ratio
-# Time: the peer's is its own "Time sum: SimStep" (the steps only: no set-up and no volume
-# map build); pbflow's the whole run's wall time (set-up, measures and stats included), so
-# the ratio leans the peer's way.
-# The peer: SPlisHSPlasH at $commit, cloned into $PEER_SRC (default
+#   bench/peer.sh [ROUNDS] [PBFLOW_ITERATIONS] [PEER_ITERATIONS]   (defaults 3, 3 and 4)
+#     -> a line per round, then the medians and the ratio
+# Each side has its own iteration count: the fair comparison is at equal accuracy, and each
+# side's mean compression is printed beside its time (pbflow's from its summary, the peer's
+# from its own densities, exported as VTK and read by bench/peer/compression.py).
+# Time: the peer's is its own "Time sum: SimStep" (the steps only: no set-up, volume map or
+# export); pbflow's the whole run's wall time (set-up, measures and stats included), so the
+# ratio leans the peer's way.
+# The peer: SPlisHSPlasH at $commit, cloned into $PEER_SRC (any path; default
 # bench_out/peer/SPlisHSPlasH) and built there once (~10 min on two cores). Its GUI library
 # needs X11 headers, which this script installs (Debian packages, as scripts/setup.sh does).
 # A machine without network brings its own checkout: PEER_SRC=DIR, used as it is.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-rounds="${1:-3}"
-iterations="${2:-2}"
-[[ "$rounds" =~ ^[1-9][0-9]*$ && "$iterations" =~ ^[1-9][0-9]*$ ]] ||
-  { echo "peer.sh: ROUNDS and ITERATIONS must be positive whole numbers (got '$rounds', '$iterations')" >&2; exit 2; }
+rounds="${1:-3}" ours_iterations="${2:-3}" peer_iterations="${3:-4}"
+for n in "$rounds" "$ours_iterations" "$peer_iterations"; do
+  [[ "$n" =~ ^[1-9][0-9]*$ ]] ||
+    { echo "peer.sh: ROUNDS and the iteration counts must be positive whole numbers (got '$n')" >&2; exit 2; }
+done
 commit=c5a063ddd33d0172ce951f412fec769929ff57ee
-src="${PEER_SRC:-bench_out/peer/SPlisHSPlasH}"
+# Absolute: the peer resolves a scene's relative paths against its own bin/.
+src="$(realpath -m "${PEER_SRC:-bench_out/peer/SPlisHSPlasH}")"
 sim="$src/bin/SPHSimulator"
 [ -x build/pbflow ] || { echo "peer.sh: build/pbflow is missing: run scripts/setup.sh first" >&2; exit 1; }
 
@@ -35,30 +39,51 @@ if [ ! -x "$sim" ]; then
   cmake -S "$src" -B "$src/build" -DCMAKE_BUILD_TYPE=Release -DUSE_PYTHON_BINDINGS=OFF
   cmake --build "$src/build" --target SPHSimulator -j "$(nproc)"
 fi
-# The scene names its tank's mesh relative to itself: it goes beside the peer's own scenes.
-scene="$src/data/Scenes/peer_dam_break_pbf$iterations.json"
-sed "s/\"minIterations\": 2, \"maxIterations\": 2/\"minIterations\": $iterations, \"maxIterations\": $iterations/" \
-  bench/peer/peer_dam_break_pbf.json > "$scene"
-grep -q "\"maxIterations\": $iterations," "$scene" || { echo "peer.sh: could not set the peer's iterations" >&2; exit 1; }
+# The scene names its tank's mesh relative to itself: it goes beside the peer's own scenes,
+# with the peer's iterations and its densities exported for its compression.
+scene="$src/data/Scenes/peer_dam_break_pbf$peer_iterations.json"
+python3 - "$peer_iterations" bench/peer/peer_dam_break_pbf.json "$scene" <<'PY'
+import json, sys
+iterations, source, target = int(sys.argv[1]), sys.argv[2], sys.argv[3]
+scene = json.load(open(source))
+c = scene["Configuration"]
+c["PBF"].update(minIterations=iterations, maxIterations=iterations)
+c.update(enableVTKExport=True, particleAttributes="density", dataExportFPS=25)
+json.dump(scene, open(target, "w"), indent=1)
+PY
+rho0=$(python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["Materials"][0]["density0"])' "$scene")
 
 out="$(mktemp -d)"
 trap 'rm -rf "$out"' EXIT
-peer_run() {  # -> seconds of SimStep
-  OMP_NUM_THREADS=2 "$sim" --no-gui --output-dir "$out/peer" "$scene" > "$out/peer.log"
-  awk '/^Time sum: SimStep:/ { printf "%.2f", $4 / 1000 }' "$out/peer.log"
+fail() {  # keeps the logs: the run that failed is the one to read
+  trap - EXIT
+  echo "peer.sh: $1 (logs in $out)" >&2
+  exit 1
+}
+peer_run() {  # -> "seconds-of-SimStep mean-compression"
+  rm -rf "$out/peer"
+  OMP_NUM_THREADS=2 "$sim" --no-gui --output-dir "$out/peer" "$scene" > "$out/peer.log" 2>&1 ||
+    fail "SPlisHSPlasH failed: $(tail -n 3 "$out/peer.log" | tr '\n' ' ')"
+  local seconds compression
+  seconds=$(awk '/^Time sum: SimStep:/ { printf "%.2f", $4 / 1000 }' "$out/peer.log")
+  compression=$(bench/peer/compression.py "$rho0" $(find "$out/peer" -name 'ParticleData_*.vtk')) ||
+    fail "no density from the peer's VTK files"
+  echo "$seconds $compression"
 }
 pbflow_run() {  # -> "wall-seconds mean-compression particle-steps" (from its summary line)
-  build/pbflow run bench/scenes/peer_dam_break.json --iterations "$iterations" --no-render --out "$out/pbflow" 2>/dev/null |
+  build/pbflow run bench/scenes/peer_dam_break.json --iterations "$ours_iterations" --no-render --out "$out/pbflow" \
+    2> "$out/pbflow.log" |
     sed -n 's/^particles \([0-9]*\), steps \([0-9]*\), wall \([0-9.]*\) s,.*mean compression \([0-9.e-]*\),.*/\3 \4 \1*\2/p'
 }
+percent() { awk -v c="$1" 'BEGIN { printf "%.3f", 100 * c }'; }
 peer_run > /dev/null  # not counted: the first run also builds the tank's volume map (cached on disk)
 peer=() ours=()
 for ((r = 1; r <= rounds; ++r)); do
-  p=$(peer_run)
+  read -r p pc < <(peer_run)
   read -r w c work < <(pbflow_run)
-  [ -n "$p" ] && [ -n "$w" ] || { echo "peer.sh: a run printed no time (see $out)" >&2; trap - EXIT; exit 1; }
-  printf 'round %d: SPlisHSPlasH PBF %s s (steps), pbflow %.2f s (wall), mean compression %.4f %%\n' \
-    "$r" "$p" "$w" "$(awk -v c="$c" 'BEGIN { print 100 * c }')"
+  [ -n "${p:-}" ] && [ -n "${w:-}" ] || fail "a run printed no time"
+  printf 'round %d: SPlisHSPlasH pbf@%d %s s (steps), mean compression %s %%; pbflow pbf@%d %.2f s (wall), %s %%\n' \
+    "$r" "$peer_iterations" "$p" "$(percent "$pc")" "$ours_iterations" "$w" "$(percent "$c")"
   peer+=("$p") ours+=("$w")
 done
 median() { printf '%s\n' "$@" | sort -g | awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
