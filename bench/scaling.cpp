@@ -110,6 +110,36 @@ Measured measure(const ScalingOptions& o, const Scene& base, const vk::Context* 
   return m;
 }
 
+// Each count in turn, until one would pass the budget or does not fit.
+std::vector<Measured> measure_counts(const ScalingOptions& o, const std::vector<int>& counts, const Scene& base,
+                                     const vk::Context* ctx) {
+  const bool tty = isatty(STDERR_FILENO);
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<Measured> rows;
+  for (int count : counts) {
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (!rows.empty()) {  // cost grows with the particles: the next count takes about this long
+      const double predicted = rows.back().wall_s * 3 * count / rows.back().particles;  // set-up and warm-up too
+      if (elapsed + predicted > 60 * o.budget_minutes) {
+        std::fprintf(stderr, "%sstopped before %d particles: about %.0f s more would pass --budget-minutes %g\n",
+                     tty ? "\n" : "", count, predicted, o.budget_minutes);
+        break;
+      }
+    }
+    try {
+      rows.push_back(measure(o, base, ctx, count));
+    } catch (const InputError& e) {  // the device (or host) cannot hold this count: the model ends here
+      std::fprintf(stderr, "%sstopped at %d particles: %s\n", tty ? "\n" : "", count, e.what());
+      break;
+    }
+    const Measured& m = rows.back();
+    std::fprintf(stderr, "%s[%zu/%zu] %.0f particles: %.2f ms per step%s", tty ? "\r" : "", rows.size(), counts.size(),
+                 m.particles, m.step_ms, tty ? "   " : "\n");
+  }
+  if (tty) std::fprintf(stderr, "\n");
+  return rows;
+}
+
 }  // namespace
 
 int run_scaling(const ScalingOptions& o) {
@@ -130,30 +160,7 @@ int run_scaling(const ScalingOptions& o) {
   std::error_code error;
   fs::create_directories(o.out, error);
   if (error) throw InputError("cannot create --out " + o.out + ": " + error.message());
-  const bool tty = isatty(STDERR_FILENO);
-  const auto start = std::chrono::steady_clock::now();
-  std::vector<Measured> rows;
-  for (int count : counts) {
-    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (!rows.empty()) {  // cost grows with the particles: the next count takes about this long
-      const double predicted = rows.back().wall_s * 3 * count / rows.back().particles;  // set-up and warm-up too
-      if (elapsed + predicted > 60 * o.budget_minutes) {
-        std::fprintf(stderr, "%sstopped before %d particles: about %.0f s more would pass --budget-minutes %g\n",
-                     tty ? "\n" : "", count, predicted, o.budget_minutes);
-        break;
-      }
-    }
-    try {
-      rows.push_back(measure(o, base, ctx.get(), count));
-    } catch (const InputError& e) {  // the device (or host) cannot hold this count: the model ends here
-      std::fprintf(stderr, "%sstopped at %d particles: %s\n", tty ? "\n" : "", count, e.what());
-      break;
-    }
-    const Measured& m = rows.back();
-    std::fprintf(stderr, "%s[%zu/%zu] %.0f particles: %.2f ms per step%s", tty ? "\r" : "", rows.size(), counts.size(),
-                 m.particles, m.step_ms, tty ? "   " : "\n");
-  }
-  if (tty) std::fprintf(stderr, "\n");
+  std::vector<Measured> rows = measure_counts(o, counts, base, ctx.get());
   if (rows.empty()) throw InputError("--scaling: no particle count could run (see above)");
 
   // Cost against particles: the straight line, weighted by 1/ms^2 so that every count's

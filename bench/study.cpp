@@ -84,35 +84,20 @@ Scene scene_of(const Run& r, double seconds) {
   return load_scene(r.scene, overrides);
 }
 
-Outcome simulate(const Run& r, int index, double seconds, const vk::Context* ctx) {
-  const Scene scene = scene_of(r, seconds);
-  const int frames = scene.frames;
-  Derived d = derive(scene);
-  auto x0 = initial_particles(scene);
-  std::unique_ptr<Solver> solver = make_solver(ctx, d, x0);
-  relax_start(*solver);  // as `pbflow run` starts
-  if (scene.settle) settle(*solver, d);  // as `pbflow run` does: the tank starts in its equilibrium
-  if (auto* gpu = dynamic_cast<GpuSolver*>(solver.get())) gpu->set_profiling(true);
+// A frame's row of series.csv.
+std::string series_row(int run, int frame, double fps, const FrameStats& s) {
+  return std::to_string(run) + "," + std::to_string(frame) + "," + number(frame / fps) + "," + number(s.mean_compression) +
+         "," + number(s.max_compression) + "," + number(s.kinetic_energy) + "," + number(s.potential_energy) + "\n";
+}
 
-  const double height0 = mean_height(solver->read_frame());
-  std::ostringstream series;
+// A run's measured frames (every frame after frame 0), summed.
+struct Tally {
   double sum_mean = 0, sum_max = 0, peak = 0, step_sum = 0, step_max = 0, iteration_sum = 0;
   std::vector<double> step_ms;  // for the median: on a shared machine a neighbour's burst moves the mean
   std::array<double, kStepGroups> pass_sum{};
-  EnergyGain gain;
-  FrameStats s;
-  bool diverged = false;
-  int measured = 0;  // frames after frame 0
-  for (int frame = 0; frame < frames; ++frame) {
-    s = solver->advance(frame == 0 ? 0 : scene.solver.substeps);
-    series << index << "," << frame << "," << number(frame / scene.fps) << "," << number(s.mean_compression) << ","
-           << number(s.max_compression) << "," << number(s.kinetic_energy) << "," << number(s.potential_energy)
-           << "\n";
-    gain.add(s);
-    // A blown-up run (particles piled at 10x rest density, or NaN) only gets slower as
-    // its neighbour lists grow: it is recorded as diverged and stopped.
-    diverged = diverged || s.divergence.any() || !std::isfinite(s.kinetic_energy) || !(s.max_compression < kBlownUp);
-    if (frame == 0) continue;
+  int measured = 0;
+
+  void add(const FrameStats& s, int frame) {
     sum_mean += s.mean_compression;
     sum_max += s.max_compression;
     peak = std::max(peak, s.max_compression);
@@ -122,10 +107,42 @@ Outcome simulate(const Run& r, int index, double seconds, const vk::Context* ctx
     iteration_sum += s.iterations;
     for (size_t p = 0; p < kStepGroups; ++p) pass_sum[p] += s.pass_ms[p];
     measured = frame;
+  }
+  double median_step() {
+    if (step_ms.empty()) return 0.0;
+    std::nth_element(step_ms.begin(), step_ms.begin() + step_ms.size() / 2, step_ms.end());
+    return step_ms[step_ms.size() / 2];
+  }
+};
+
+Outcome simulate(const Run& r, int index, double seconds, const vk::Context* ctx) {
+  const Scene scene = scene_of(r, seconds);
+  Derived d = derive(scene);
+  auto x0 = initial_particles(scene);
+  std::unique_ptr<Solver> solver = make_solver(ctx, d, x0);
+  relax_start(*solver);  // as `pbflow run` starts
+  if (scene.settle) settle(*solver, d);  // as `pbflow run` does: the tank starts in its equilibrium
+  if (auto* gpu = dynamic_cast<GpuSolver*>(solver.get())) gpu->set_profiling(true);
+
+  const double height0 = mean_height(solver->read_frame());
+  std::ostringstream series;
+  Tally t;
+  EnergyGain gain;
+  FrameStats s;
+  bool diverged = false;
+  for (int frame = 0; frame < scene.frames; ++frame) {
+    s = solver->advance(frame == 0 ? 0 : scene.solver.substeps);
+    series << series_row(index, frame, scene.fps, s);
+    gain.add(s);
+    // A blown-up run (particles piled at 10x rest density, or NaN) only gets slower as
+    // its neighbour lists grow: it is recorded as diverged and stopped.
+    diverged = diverged || s.divergence.any() || !std::isfinite(s.kinetic_energy) || !(s.max_compression < kBlownUp);
+    if (frame == 0) continue;
+    t.add(s, frame);
     if (diverged) break;
   }
-  const double step_mean = step_sum / measured;
-  std::nth_element(step_ms.begin(), step_ms.begin() + step_ms.size() / 2, step_ms.end());
+  const int measured = t.measured;
+  const double step_mean = t.step_sum / measured;
   std::vector<std::string> row = {std::to_string(index),
                                   solver->device_name(),
                                   r.scene,
@@ -138,14 +155,14 @@ Outcome simulate(const Run& r, int index, double seconds, const vk::Context* ctx
                                   std::to_string(scene.solver.substeps),
                                   number(measured / scene.fps),
                                   number(step_mean),
-                                  number(step_ms.empty() ? 0.0 : step_ms[step_ms.size() / 2]),
-                                  number(step_max),
-                                  number(iteration_sum / measured)};
-  for (double p : pass_sum) row.push_back(number(p / measured));
+                                  number(t.median_step()),
+                                  number(t.step_max),
+                                  number(t.iteration_sum / measured)};
+  for (double p : t.pass_sum) row.push_back(number(p / measured));
   row.push_back(number(double(x0.size()) / (step_mean * 1e-3)));
-  row.push_back(number(sum_mean / measured));
-  row.push_back(number(sum_max / measured));
-  row.push_back(number(peak));
+  row.push_back(number(t.sum_mean / measured));
+  row.push_back(number(t.sum_max / measured));
+  row.push_back(number(t.peak));
   row.push_back(number(s.mean_compression));
   row.push_back(number(1000.0 * (height0 - mean_height(solver->read_frame()))));
   row.push_back(number(s.kinetic_energy));
@@ -154,14 +171,13 @@ Outcome simulate(const Run& r, int index, double seconds, const vk::Context* ctx
   row.push_back(diverged ? "1" : "0");
   row.push_back(diverged                          ? "diverged"
                 : gain.largest() > kGainsEnergy    ? "gains energy"
-                : sum_mean / measured > kCompressed ? "compressed"
+                : t.sum_mean / measured > kCompressed ? "compressed"
                                                     : "stable");
   return {row, series.str()};
 }
 
-}  // namespace
-
-int run_study(const StudyOptions& options) {
+// The study's runs from its options (each list's default where it is empty), each option checked.
+std::vector<Run> plan_runs(const StudyOptions& options, double& seconds) {
   StudyOptions o = options;
   if (o.stability) {  // the map's defaults, each unless given
     if (o.scenes.empty()) o.scenes = {"dam_break", "drop"};
@@ -175,7 +191,7 @@ int run_study(const StudyOptions& options) {
   if (counts.empty()) counts = o.quick ? std::vector<int>{4000} : std::vector<int>{10000, 40000, 160000};
   if (iterations.empty()) iterations = o.quick ? std::vector<int>{1, 2, 3} : std::vector<int>{1, 2, 3, 4, 6, 8};
   if (!o.targets.empty() && o.iterations.empty()) iterations.clear();  // --targets alone: adaptive runs only
-  const double seconds = o.seconds > 0 ? o.seconds : o.quick ? 1.0 : 2.0;
+  seconds = o.seconds > 0 ? o.seconds : o.quick ? 1.0 : 2.0;
   for (int n : o.substeps)
     if (n < 1 || n > 1000) throw InputError("--substeps: from 1 to 1000");
   const std::vector<int> substeps = o.substeps.empty() ? std::vector<int>{0} : o.substeps;
@@ -205,7 +221,14 @@ int run_study(const StudyOptions& options) {
           for (double K : ks) runs.push_back({scene, "ldc", count, 1, K, t, sub});
         }
       }
+  return runs;
+}
 
+}  // namespace
+
+int run_study(const StudyOptions& o) {
+  double seconds = 0;
+  const std::vector<Run> runs = plan_runs(o, seconds);
   // One device for the sitting, as a user's process has: NVIDIA's driver refused a 30th
   // instance made and destroyed in one process (H200, driver 580), and each costs a start.
   std::unique_ptr<vk::Context> ctx = make_context(o.device, false);

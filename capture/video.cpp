@@ -29,14 +29,10 @@ std::filesystem::path find_ffmpeg() {
   return {};
 }
 
-
-VideoEncoder::VideoEncoder(const std::filesystem::path& file, int width, int height, double fps)
-    : file_(file), width_(width), height_(height) {
-  const std::string extension = file.extension().string();
-  if (extension != ".mp4" && extension != ".mkv" && extension != ".mov")
-    throw InputError("--video " + file.string() + " needs the extension .mp4, .mkv or .mov (H.264)");
-  // Checked now, not after the whole run: what is there must be a regular file that the rename
-  // at the end can replace (an immutable or append-only file cannot be opened for writing).
+namespace {
+// Checked now, not after the whole run: what is at `file` must be a regular file that the rename
+// at the end can replace (an immutable or append-only file cannot be opened for writing).
+void check_replaceable(const std::filesystem::path& file) {
   std::error_code exists_error;
   const std::filesystem::file_status there = std::filesystem::symlink_status(file, exists_error);
   if (std::filesystem::is_directory(there)) throw InputError("--video " + file.string() + " is a directory: name a file");
@@ -48,6 +44,15 @@ VideoEncoder::VideoEncoder(const std::filesystem::path& file, int width, int hei
       throw InputError("--video " + file.string() + " exists and cannot be replaced: " + std::strerror(errno));
     close(existing);
   }
+}
+}  // namespace
+
+VideoEncoder::VideoEncoder(const std::filesystem::path& file, int width, int height, double fps)
+    : file_(file), width_(width), height_(height) {
+  const std::string extension = file.extension().string();
+  if (extension != ".mp4" && extension != ".mkv" && extension != ".mov")
+    throw InputError("--video " + file.string() + " needs the extension .mp4, .mkv or .mov (H.264)");
+  check_replaceable(file);
   std::filesystem::path ffmpeg = find_ffmpeg();
   if (ffmpeg.empty()) throw InputError("--video needs ffmpeg, which is not on PATH (apt-get install ffmpeg)");
   if (width % 2 || height % 2) throw InputError("--video needs an even --width and --height (H.264 with 4:2:0)");

@@ -316,6 +316,13 @@ int stopped_early(const RunTotals& totals, const InterruptGuard& interrupt, RunD
   return 0;
 }
 
+void warn_of_energy(const EnergyGain& energy) {
+  if (energy.largest() > 0.01)
+    std::cerr << "pbflow: warning: the run gained energy (" << 100 * energy.largest()
+              << " % of the initial potential energy at most; a sound solver loses it): fewer "
+                 "solver.substeps per iteration, more iterations or a smaller solver.ldc_strength\n";
+}
+
 // The run's end: complete, or failed where the validation layer or GL reported anything.
 int finish(const vk::Context* ctx, const capture::FrameCapture* capture, RunDirectory& dir, double wall) {
   std::string problem;
@@ -376,10 +383,7 @@ int run(const RunOptions& o) {
     solver->set_outputs(outputs);  // from the start on: none is made while it settles
     totals = simulate_frames(scene, d, *solver, capture.get(), export_format, dir, csv, progress, interrupt, wall);
     if (const int status = stopped_early(totals, interrupt, dir, wall()); status != 0) return status;
-    if (totals.energy.largest() > 0.01)
-      std::cerr << "pbflow: warning: the run gained energy (" << 100 * totals.energy.largest()
-                << " % of the initial potential energy at most; a sound solver loses it): fewer "
-                   "solver.substeps per iteration, more iterations or a smaller solver.ldc_strength\n";
+    warn_of_energy(totals.energy);
     if (!o.quiet) print_summary(o, scene, totals, solver->particle_count(), capture.get(), wall(), dir);
   } catch (const std::exception& e) {
     capture.reset();  // its writes in flight land now, so that end() takes the frames they cut short

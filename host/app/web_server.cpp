@@ -537,6 +537,57 @@ WebServer::~WebServer() {
 int WebServer::port() const { return impl_->port; }
 const std::string& WebServer::token() const { return impl_->token; }
 
+namespace {
+
+// A command's number `key` within [lo, hi], `fallback` where it is left out.
+double number(const json& message, const char* key, double fallback, double lo, double hi) {
+  if (!message.contains(key)) return fallback;
+  const json& v = message[key];
+  if (!v.is_number() || !(v.get<double>() >= lo && v.get<double>() <= hi)) {
+    std::ostringstream m;
+    m << "'" << key << "' must be a number in [" << lo << ", " << hi << "]";
+    throw InputError(m.str());
+  }
+  return v.get<double>();
+}
+
+std::string text(const json& message, const char* key) {
+  return message.value(key, json()).is_string() ? message[key].get<std::string>() : "";
+}
+
+// The arguments of a command of c.kind into c, each checked: InputError names the first wrong.
+void read_arguments(const json& message, const LiveRun& run, LiveCommand& c) {
+  using Kind = LiveCommand::Kind;
+  if ((c.kind == Kind::Setting || c.kind == Kind::Budget) && run.panels() > 1)
+    throw InputError("each panel of --compare keeps its setting");
+  if (c.kind == Kind::Setting) {
+    c.setting.method = text(message, "method");
+    if (c.setting.method != "pbf" && c.setting.method != "ldc") throw InputError("'method' must be \"pbf\" or \"ldc\"");
+    const double iterations = number(message, "iterations", 2, 1, kMaxLiveIterations);
+    if (iterations != std::floor(iterations)) throw InputError("'iterations' must be a whole number");
+    c.setting.iterations = int(iterations);
+  } else if (c.kind == Kind::Scene) {
+    c.scene = text(message, "name");
+    const std::vector<BuiltinScene> scenes = builtin_scenes();
+    std::string names;
+    for (const BuiltinScene& b : scenes) names += (names.empty() ? "" : ", ") + b.name;
+    if (std::none_of(scenes.begin(), scenes.end(), [&](const BuiltinScene& b) { return b.name == c.scene; }))
+      throw InputError("'name' must be a built-in scene: " + names);
+    run.check_scene(c.scene);
+  } else if (c.kind == Kind::Budget) {
+    c.budget_ms = number(message, "ms", 0, 0, 10000);
+  } else if (c.kind == Kind::Style) {
+    c.style = text(message, "style");
+    capture::parse_style(c.style);  // InputError naming the styles
+  } else if (c.kind == Kind::Camera) {
+    c.orbit_x = number(message, "orbit_x", 0, -7, 7), c.orbit_y = number(message, "orbit_y", 0, -7, 7);
+    c.zoom = number(message, "zoom", 1, 0.1, 10);
+    c.pan_x = number(message, "pan_x", 0, -10, 10), c.pan_y = number(message, "pan_y", 0, -10, 10);
+  }
+}
+
+}  // namespace
+
 // A command's reply (empty: none). Nothing from the client leaves here as an exception.
 std::string WebServer::Impl::answer(const std::string& text, const std::shared_ptr<Viewer>& viewer) try {
   json message;
@@ -556,16 +607,6 @@ std::string WebServer::Impl::answer(const std::string& text, const std::shared_p
   }
   if (!token.empty() && message.value("token", json()) != json(token))
     return error_message("steering this server needs the token it printed ({\"cmd\": ..., \"token\": ...})");
-  auto number = [&](const char* key, double fallback, double lo, double hi) {
-    if (!message.contains(key)) return fallback;
-    const json& v = message[key];
-    if (!v.is_number() || !(v.get<double>() >= lo && v.get<double>() <= hi)) {
-      std::ostringstream m;
-      m << "'" << key << "' must be a number in [" << lo << ", " << hi << "]";
-      throw InputError(m.str());
-    }
-    return v.get<double>();
-  };
   using Kind = LiveCommand::Kind;
   static const std::pair<const char*, Kind> kinds[] = {{"pause", Kind::Pause},     {"resume", Kind::Resume},
                                                        {"step", Kind::Step},       {"restart", Kind::Restart},
@@ -578,32 +619,7 @@ std::string WebServer::Impl::answer(const std::string& text, const std::shared_p
                          "' (pause, resume, step, restart, setting, style, camera, scene, budget, stream)");
   LiveCommand c{kind->second};
   try {
-    if ((c.kind == Kind::Setting || c.kind == Kind::Budget) && run.panels() > 1)
-      throw InputError("each panel of --compare keeps its setting");
-    if (c.kind == Kind::Setting) {
-      c.setting.method = message.value("method", json()).is_string() ? message["method"].get<std::string>() : "";
-      if (c.setting.method != "pbf" && c.setting.method != "ldc")
-        throw InputError("'method' must be \"pbf\" or \"ldc\"");
-      const double iterations = number("iterations", 2, 1, kMaxLiveIterations);
-      if (iterations != std::floor(iterations)) throw InputError("'iterations' must be a whole number");
-      c.setting.iterations = int(iterations);
-    } else if (c.kind == Kind::Scene) {
-      c.scene = message.value("name", json()).is_string() ? message["name"].get<std::string>() : "";
-      const std::vector<BuiltinScene> scenes = builtin_scenes();
-      std::string names;
-      for (const BuiltinScene& b : scenes) names += (names.empty() ? "" : ", ") + b.name;
-      if (std::none_of(scenes.begin(), scenes.end(), [&](const BuiltinScene& b) { return b.name == c.scene; }))
-        throw InputError("'name' must be a built-in scene: " + names);
-      run.check_scene(c.scene);
-    } else if (c.kind == Kind::Budget) {
-      c.budget_ms = number("ms", 0, 0, 10000);
-    } else if (c.kind == Kind::Style) {
-      c.style = message.value("style", json()).is_string() ? message["style"].get<std::string>() : "";
-      capture::parse_style(c.style);  // InputError naming the styles
-    } else if (c.kind == Kind::Camera) {
-      c.orbit_x = number("orbit_x", 0, -7, 7), c.orbit_y = number("orbit_y", 0, -7, 7);
-      c.zoom = number("zoom", 1, 0.1, 10), c.pan_x = number("pan_x", 0, -10, 10), c.pan_y = number("pan_y", 0, -10, 10);
-    }
+    read_arguments(message, run, c);
   } catch (const InputError& e) {
     return error_message(cmd + ": " + e.what());
   }

@@ -101,40 +101,39 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
     for (vk::Buffer* b : {&check_, &indirect_, &overflow_gated_}) *b = vk::Buffer(ctx, plan_.adaptive_words);
   if (plan_.curl) curl_ = vk::Buffer(ctx, plan_.curl);
   if (plan_.x_lambda_spare) x_lambda_spare_ = vk::Buffer(ctx, plan_.x_lambda_spare);
-  if (d.coarse.strength > 0) {
-    const Derived::Coarse& c = d.coarse;
-    std::vector<vk::Constant> grid = {{"NODES_X", uint32_t(c.nodes.x)},
-                                      {"NODES_Y", uint32_t(c.nodes.y)},
-                                      {"NODES_Z", uint32_t(c.nodes.z)},
-                                      {"CELL_X", float(c.cell.x)},
-                                      {"CELL_Y", float(c.cell.y)},
-                                      {"CELL_Z", float(c.cell.z)}};
-    coarse_deposit_ = particle_program("coarse_deposit", grid);
-    coarse_prepare_ = particle_program("coarse_prepare", grid);
-    coarse_gradient_ = particle_program("coarse_gradient", grid);
-    auto sweep = [&](uint32_t threads, uint32_t first_colour, uint32_t shared_nodes) {
-      std::vector<vk::Constant> k = grid;
-      k.insert(k.end(), {{"FIRST_COLOUR", int(first_colour)}, {"SHARED_NODES", int(shared_nodes)}});
-      return particle_program("coarse_sweep", k, threads);
-    };
-    coarse_sweep_threads_ = coarse_sweep_group(ctx, uint32_t(c.count()), uint32_t(c.per_colour()));
-    if (coarse_sweep_threads_) {
-      coarse_sweeps_.push_back(sweep(coarse_sweep_threads_, 0, uint32_t(c.count())));
-    } else {
-      coarse_sweeps_.push_back(sweep(0, 0, 0));
-      coarse_sweeps_.push_back(sweep(0, 1, 0));
-    }
-    grid.push_back({"STRENGTH", float(c.strength)});
-    coarse_apply_ = particle_program("coarse_apply", grid);
-    coarse_sums_ = vk::Buffer(ctx, plan_.coarse_sums);
-    coarse_phi_ = vk::Buffer(ctx, plan_.coarse_phi);
-    coarse_grad_ = vk::Buffer(ctx, plan_.coarse_grad);
+  if (d.coarse.strength > 0) build_coarse();
+  upload({x0, std::vector<glm::dvec3>(n_, glm::dvec3(0.0)), x0, {}, {}, {}});
+}
+
+// The coarse correction's programs and node buffers, where the scene runs it.
+void GpuSolver::build_coarse() {
+  const Derived::Coarse& c = d_.coarse;
+  std::vector<vk::Constant> grid = {{"NODES_X", uint32_t(c.nodes.x)},
+                                    {"NODES_Y", uint32_t(c.nodes.y)},
+                                    {"NODES_Z", uint32_t(c.nodes.z)},
+                                    {"CELL_X", float(c.cell.x)},
+                                    {"CELL_Y", float(c.cell.y)},
+                                    {"CELL_Z", float(c.cell.z)}};
+  coarse_deposit_ = particle_program("coarse_deposit", grid);
+  coarse_prepare_ = particle_program("coarse_prepare", grid);
+  coarse_gradient_ = particle_program("coarse_gradient", grid);
+  auto sweep = [&](uint32_t threads, uint32_t first_colour, uint32_t shared_nodes) {
+    std::vector<vk::Constant> k = grid;
+    k.insert(k.end(), {{"FIRST_COLOUR", int(first_colour)}, {"SHARED_NODES", int(shared_nodes)}});
+    return particle_program("coarse_sweep", k, threads);
+  };
+  coarse_sweep_threads_ = coarse_sweep_group(ctx_, uint32_t(c.count()), uint32_t(c.per_colour()));
+  if (coarse_sweep_threads_) {
+    coarse_sweeps_.push_back(sweep(coarse_sweep_threads_, 0, uint32_t(c.count())));
+  } else {
+    coarse_sweeps_.push_back(sweep(0, 0, 0));
+    coarse_sweeps_.push_back(sweep(0, 1, 0));
   }
-  ParticleState s;
-  s.x = x0;
-  s.v.assign(n_, glm::dvec3(0.0));
-  s.x_pred = x0;
-  upload(s);
+  grid.push_back({"STRENGTH", float(c.strength)});
+  coarse_apply_ = particle_program("coarse_apply", grid);
+  coarse_sums_ = vk::Buffer(ctx_, plan_.coarse_sums);
+  coarse_phi_ = vk::Buffer(ctx_, plan_.coarse_phi);
+  coarse_grad_ = vk::Buffer(ctx_, plan_.coarse_grad);
 }
 
 std::string GpuSolver::device_name() const { return ctx_.info().name; }

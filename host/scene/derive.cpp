@@ -15,38 +15,24 @@
 
 namespace pbflow {
 
-Derived derive(const Scene& scene) {
-  Derived d;
-  d.solver = scene.solver;
-  d.white_water = scene.white_water;
+namespace {
+
+// Every key a shader reads: those that set a SolverParams or WhiteWaterParams member.
+std::vector<ParamKey> shader_keys() {
+  std::vector<ParamKey> keys;
   for (const SceneKey& k : scene_keys())
     std::visit(
         [&](auto member) {
           if constexpr (std::is_constructible_v<ParamTarget, decltype(member)> &&
                         !std::is_same_v<decltype(member), std::monostate>)
-            d.shader_keys.push_back({k.name, member});
+            keys.push_back({k.name, member});
         },
         k.target);
-  const double s = scene.particle_spacing;
-  d.h = scene.solver.kernel_ratio * s;
-  d.spacing = s;
-  d.dt = 1.0 / (scene.fps * scene.solver.substeps);
-  // Ten times the speed of a fall through the whole domain (at least 1 m/s): no flow of the
-  // scene reaches it, a blow-up passes it within a few steps.
-  d.speed_limit = 10.0 * std::max(fall_speed(scene), 1.0);
-  d.flow_speed = std::max(fall_speed(scene), 0.1);
-  d.rho0 = scene.solver.rest_density;
-  d.mass = lattice_mass(s, d.h, d.rho0);
-  const double gradient_sq = lattice_gradient_sq(s, d.h, d.mass, d.rho0);
-  d.epsilon = scene.solver.relaxation * gradient_sq;
-  d.travel = fall_speed(scene) * d.dt / d.h;
-  if (d.solver.lambda_smoothing == SolverParams::kChosenSmoothing)
-    d.solver.lambda_smoothing = default_smoothing(d.solver.iterations, d.travel);
-  d.jacobi_gain_max = jacobi_gain_max(scene.solver.kernel_ratio, scene.solver.relaxation);
-  d.paired_gain_max =
-      d.solver.lambda_smoothing == 0
-          ? d.jacobi_gain_max
-          : jacobi_gain_max(scene.solver.kernel_ratio, scene.solver.relaxation, 0.0, d.solver.lambda_smoothing);
+  return keys;
+}
+
+// LDC's K, its stability limit and the room under its cap; the dashpot's limit.
+void derive_forces(const Scene& scene, Derived& d) {
   d.ldc_k_limit = 4.0 / (d.dt * d.dt * ldc_stiffness_max(scene.solver.kernel_ratio));
   d.ldc_k = scene.solver.method != Method::Ldc ? 0.0
             : scene.solver.ldc_k >= 0          ? scene.solver.ldc_k
@@ -59,9 +45,11 @@ Derived derive(const Scene& scene) {
   }
   d.ldc_room = d.ldc_k > 0 ? kLdcCap * d.ldc_k_limit / d.ldc_k : 1.0;
   d.damping_limit = 1.5 / damping_gain_max(scene.solver.kernel_ratio);
-  // 4/3 pi (h / spacing)^3 neighbours inside h at rho0 (33.5 at 2), rounded up to 8.
-  const double at_rest = 4.0 / 3.0 * std::numbers::pi * std::pow(scene.solver.kernel_ratio, 3);
-  d.neighbour_capacity = 8 * uint32_t(std::ceil(kNeighbourHeadroom * at_rest / 8));
+}
+
+// The domain, its walls and obstacles as the particles' centres meet them, and the grid.
+void derive_domain(const Scene& scene, Derived& d) {
+  const double s = scene.particle_spacing;
   d.gravity = scene.gravity;
   d.domain_min = scene.domain.min;
   d.domain_max = scene.domain.max;
@@ -76,14 +64,50 @@ Derived derive(const Scene& scene) {
   if (cells.x * cells.y * cells.z > 1 << 26)
     throw InputError("the domain holds too many grid cells (over 2^26) at this particle_spacing");
   d.grid = glm::ivec3(cells);
-  // Pairs always; a single iteration only where it runs smoothed (constraint_schedule): beside
-  // an unsmoothed one the correction made energy at every strength measured.
-  if (d.solver.iterations >= 2 || d.smooths_lambda()) {
-    const glm::dvec3 span = d.wall_max - d.wall_min;
-    d.coarse.nodes = glm::max(glm::ivec3(1), glm::ivec3(glm::round(span / (COARSE_CELL * s))));
-    for (int a = 0; a < 3; ++a) d.coarse.cell[a] = span[a] > 0 ? span[a] / d.coarse.nodes[a] : COARSE_CELL * s;
-    d.coarse.strength = d.solver.iterations == 1 ? COARSE_LONE_STRENGTH : COARSE_STRENGTH;
-  }
+}
+
+// The coarse correction's grid: pairs always; a single iteration only where it runs smoothed
+// (constraint_schedule): beside an unsmoothed one the correction made energy.
+void derive_coarse(double spacing, Derived& d) {
+  if (d.solver.iterations < 2 && !d.smooths_lambda()) return;
+  const glm::dvec3 span = d.wall_max - d.wall_min;
+  d.coarse.nodes = glm::max(glm::ivec3(1), glm::ivec3(glm::round(span / (COARSE_CELL * spacing))));
+  for (int a = 0; a < 3; ++a) d.coarse.cell[a] = span[a] > 0 ? span[a] / d.coarse.nodes[a] : COARSE_CELL * spacing;
+  d.coarse.strength = d.solver.iterations == 1 ? COARSE_LONE_STRENGTH : COARSE_STRENGTH;
+}
+
+}  // namespace
+
+Derived derive(const Scene& scene) {
+  Derived d;
+  d.solver = scene.solver;
+  d.white_water = scene.white_water;
+  d.shader_keys = shader_keys();
+  const double s = scene.particle_spacing;
+  d.h = scene.solver.kernel_ratio * s;
+  d.spacing = s;
+  d.dt = 1.0 / (scene.fps * scene.solver.substeps);
+  // Ten times the speed of a fall through the whole domain (at least 1 m/s): no flow of the
+  // scene reaches it, a blow-up passes it within a few steps.
+  d.speed_limit = 10.0 * std::max(fall_speed(scene), 1.0);
+  d.flow_speed = std::max(fall_speed(scene), 0.1);
+  d.rho0 = scene.solver.rest_density;
+  d.mass = lattice_mass(s, d.h, d.rho0);
+  d.epsilon = scene.solver.relaxation * lattice_gradient_sq(s, d.h, d.mass, d.rho0);
+  d.travel = fall_speed(scene) * d.dt / d.h;
+  if (d.solver.lambda_smoothing == SolverParams::kChosenSmoothing)
+    d.solver.lambda_smoothing = default_smoothing(d.solver.iterations, d.travel);
+  d.jacobi_gain_max = jacobi_gain_max(scene.solver.kernel_ratio, scene.solver.relaxation);
+  d.paired_gain_max =
+      d.solver.lambda_smoothing == 0
+          ? d.jacobi_gain_max
+          : jacobi_gain_max(scene.solver.kernel_ratio, scene.solver.relaxation, 0.0, d.solver.lambda_smoothing);
+  derive_forces(scene, d);
+  // 4/3 pi (h / spacing)^3 neighbours inside h at rho0 (33.5 at 2), rounded up to 8.
+  const double at_rest = 4.0 / 3.0 * std::numbers::pi * std::pow(scene.solver.kernel_ratio, 3);
+  d.neighbour_capacity = 8 * uint32_t(std::ceil(kNeighbourHeadroom * at_rest / 8));
+  derive_domain(scene, d);
+  derive_coarse(s, d);
   if (d.white_water.max_particles == WhiteWaterParams::kChosenCapacity)  // as many as the fluid's
     d.white_water.max_particles = int(std::clamp(std::ceil(particle_estimate(scene)), 1.0, double(kMaxParticles)));
   return d;

@@ -160,6 +160,99 @@ void apply_override(json& j, const std::string& assignment) {
 
 namespace {
 
+// The iteration counts and smoothing: each alone and against the others.
+void check_iterations(const json& j, SolverParams& p) {
+  if (!j.contains(json::json_pointer("/solver/max_iterations"))) p.max_iterations = std::max(p.max_iterations, p.iterations);
+  require(p.max_iterations >= p.iterations, "solver.max_iterations (" + std::to_string(p.max_iterations) +
+                                                ") is below solver.iterations (" + std::to_string(p.iterations) + ")");
+  require(p.lambda_smoothing == SolverParams::kChosenSmoothing || p.lambda_smoothing % 2 == 0,
+          "solver.lambda_smoothing must be 0, 2 or 4: a single average turns some density modes' correction around");
+}
+
+// The scene's list `key` (none where it is left out), refused where it is not an array.
+const json& list(const json& j, const char* key) {
+  static const json none = json::array();
+  require(!j.contains(key) || j[key].is_array(), std::string("scene key '") + key + "' must be an array");
+  return j.contains(key) ? j[key] : none;
+}
+
+bool inside_domain(const Scene& s, glm::dvec3 lo, glm::dvec3 hi) {
+  return glm::all(glm::greaterThanEqual(lo, s.domain.min)) && glm::all(glm::lessThanEqual(hi, s.domain.max));
+}
+
+// The fluid's blocks and spheres, inside the domain, and a count within pbflow's limit.
+void read_fluid(const json& j, Scene& s) {
+  const json &blocks = list(j, "fluid_blocks"), &spheres = list(j, "fluid_spheres");
+  for (size_t i = 0; i < blocks.size(); ++i) {
+    std::string path = "fluid_blocks[" + std::to_string(i) + "]";
+    Box b = box(blocks[i], path);
+    require(inside_domain(s, b.min, b.max), path + " must lie inside the domain");
+    s.fluid_blocks.push_back(b);
+  }
+  for (size_t i = 0; i < spheres.size(); ++i) {
+    std::string path = "fluid_spheres[" + std::to_string(i) + "]";
+    Ball b = ball(spheres[i], path);
+    require(inside_domain(s, b.centre - b.radius, b.centre + b.radius), path + " must lie inside the domain");
+    s.fluid_spheres.push_back(b);
+  }
+  require(!s.fluid_blocks.empty() || !s.fluid_spheres.empty(),
+          "scene needs fluid: a non-empty 'fluid_blocks' or 'fluid_spheres'");
+  // Checked before any particle is made, so that a tiny spacing fails here, not in an allocation.
+  double estimate = particle_estimate(s);
+  if (!(estimate <= kMaxParticles)) {
+    std::ostringstream m;
+    m.precision(3);
+    m << "the fluid would hold about " << estimate << " particles, more than pbflow's limit of " << kMaxParticles
+      << " (raise particle_spacing)";
+    throw InputError(m.str());
+  }
+}
+
+Obstacle obstacle(const json& o, const std::string& path, const Scene& s) {
+  require(o.is_object() && o.contains("type") && o["type"].is_string(), path + " needs a \"type\": \"box\" or \"sphere\"");
+  json shape = o;
+  shape.erase("type");
+  Obstacle ob;
+  if (o["type"] == "box") {
+    Box b = box(shape, path);
+    ob.min = b.min, ob.max = b.max;
+  } else if (o["type"] == "sphere") {
+    Ball b = ball(shape, path);
+    ob.kind = Obstacle::Kind::Sphere, ob.centre = b.centre, ob.radius = b.radius;
+  } else {
+    throw InputError(path + ".type must be \"box\" or \"sphere\"");
+  }
+  glm::dvec3 lo = ob.kind == Obstacle::Kind::Box ? ob.min : ob.centre - ob.radius;
+  glm::dvec3 hi = ob.kind == Obstacle::Kind::Box ? ob.max : ob.centre + ob.radius;
+  require(glm::all(glm::lessThan(lo, s.domain.max)) && glm::all(glm::greaterThan(hi, s.domain.min)),
+          path + " lies wholly outside the domain");
+  return ob;
+}
+
+void read_method(const json& j, SolverParams& p) {
+  const json solver = j.value("solver", json::object());
+  if (!solver.contains("method")) return;
+  require(solver["method"].is_string(), "solver.method must be \"pbf\" or \"ldc\"");
+  try {
+    p.method = parse_method(solver["method"].get<std::string>());
+  } catch (const std::invalid_argument& e) {
+    throw InputError(std::string("solver.") + e.what());
+  }
+}
+
+// The camera, framing the scene where it is left out.
+void read_camera(const json& j, Scene& s) {
+  const json camera = j.value("camera", json::object());
+  const Camera framed = framing_camera(s);
+  s.camera.target = vec3(camera, "target", "camera.target", framed.target);
+  s.camera.eye = vec3(camera, "eye", "camera.eye", framed.eye);
+  // At the renderer's float precision, and by more than its rounding at that distance from the
+  // origin: eye and target that differ only in double give a view matrix of NaN, a blank frame.
+  const glm::vec3 eye(s.camera.eye), target(s.camera.target);
+  require(glm::length(eye - target) > 1e-5f * std::max({1.0f, glm::length(eye), glm::length(target)}),
+          "camera.eye and camera.target must differ (by more than 1e-5 of their distance from the origin)");
+}
+
 Scene parse_checked(const std::string& json_text, const std::string& origin, const std::vector<std::string>& overrides) {
   json j = parse_user_json(json_text, origin);
   if (!j.is_object()) throw InputError(origin + ": a scene must be a JSON object ({...})");
@@ -175,87 +268,16 @@ Scene parse_checked(const std::string& json_text, const std::string& origin, con
   s.domain = box(j["domain"], "domain");
   require(j.contains("particle_spacing"), "scene needs a 'particle_spacing'");
   read_scalars(j, s);
-  SolverParams& p = s.solver;
-  if (!j.contains(json::json_pointer("/solver/max_iterations"))) p.max_iterations = std::max(p.max_iterations, p.iterations);
-  require(p.max_iterations >= p.iterations, "solver.max_iterations (" + std::to_string(p.max_iterations) +
-                                                ") is below solver.iterations (" + std::to_string(p.iterations) + ")");
-  require(p.lambda_smoothing == SolverParams::kChosenSmoothing || p.lambda_smoothing % 2 == 0,
-          "solver.lambda_smoothing must be 0, 2 or 4: a single average turns some density modes' correction around");
-  auto inside_domain = [&](glm::dvec3 lo, glm::dvec3 hi) {
-    return glm::all(glm::greaterThanEqual(lo, s.domain.min)) && glm::all(glm::lessThanEqual(hi, s.domain.max));
-  };
-  for (const char* key : {"fluid_blocks", "fluid_spheres", "obstacles"})
-    require(!j.contains(key) || j[key].is_array(), std::string("scene key '") + key + "' must be an array");
-  static const json none = json::array();
-  auto array = [&](const char* key) -> const json& { return j.contains(key) ? j[key] : none; };
-  for (size_t i = 0; i < array("fluid_blocks").size(); ++i) {
-    std::string path = "fluid_blocks[" + std::to_string(i) + "]";
-    Box b = box(array("fluid_blocks")[i], path);
-    require(inside_domain(b.min, b.max), path + " must lie inside the domain");
-    s.fluid_blocks.push_back(b);
-  }
-  for (size_t i = 0; i < array("fluid_spheres").size(); ++i) {
-    std::string path = "fluid_spheres[" + std::to_string(i) + "]";
-    Ball b = ball(array("fluid_spheres")[i], path);
-    require(inside_domain(b.centre - b.radius, b.centre + b.radius), path + " must lie inside the domain");
-    s.fluid_spheres.push_back(b);
-  }
-  require(!s.fluid_blocks.empty() || !s.fluid_spheres.empty(),
-          "scene needs fluid: a non-empty 'fluid_blocks' or 'fluid_spheres'");
-  // Checked before any particle is made, so that a tiny spacing fails here, not in an allocation.
-  double estimate = particle_estimate(s);
-  if (!(estimate <= kMaxParticles)) {
-    std::ostringstream m;
-    m.precision(3);
-    m << "the fluid would hold about " << estimate << " particles, more than pbflow's limit of " << kMaxParticles
-      << " (raise particle_spacing)";
-    throw InputError(m.str());
-  }
-  for (size_t i = 0; i < array("obstacles").size(); ++i) {
-    std::string path = "obstacles[" + std::to_string(i) + "]";
-    const json& o = array("obstacles")[i];
-    require(o.is_object() && o.contains("type") && o["type"].is_string(),
-            path + " needs a \"type\": \"box\" or \"sphere\"");
-    json shape = o;
-    shape.erase("type");
-    Obstacle ob;
-    if (o["type"] == "box") {
-      Box b = box(shape, path);
-      ob.min = b.min, ob.max = b.max;
-    } else if (o["type"] == "sphere") {
-      Ball b = ball(shape, path);
-      ob.kind = Obstacle::Kind::Sphere, ob.centre = b.centre, ob.radius = b.radius;
-    } else {
-      throw InputError(path + ".type must be \"box\" or \"sphere\"");
-    }
-    glm::dvec3 lo = ob.kind == Obstacle::Kind::Box ? ob.min : ob.centre - ob.radius;
-    glm::dvec3 hi = ob.kind == Obstacle::Kind::Box ? ob.max : ob.centre + ob.radius;
-    require(glm::all(glm::lessThan(lo, s.domain.max)) && glm::all(glm::greaterThan(hi, s.domain.min)),
-            path + " lies wholly outside the domain");
-    s.obstacles.push_back(ob);
-  }
+  check_iterations(j, s.solver);
+  read_fluid(j, s);
+  const json& obstacles = list(j, "obstacles");
+  for (size_t i = 0; i < obstacles.size(); ++i)
+    s.obstacles.push_back(obstacle(obstacles[i], "obstacles[" + std::to_string(i) + "]", s));
   s.gravity = vec3(j, "gravity", "gravity", s.gravity);
   require(glm::length(s.gravity) <= 1e4, "gravity must not exceed 1e4 m/s^2 (a thousand g)");
-  if (p.substeps == SolverParams::kChosenSubsteps) p.substeps = chosen_substeps(s);
-  const json solver = j.value("solver", json::object());
-  if (solver.contains("method")) {
-    require(solver["method"].is_string(), "solver.method must be \"pbf\" or \"ldc\"");
-    try {
-      p.method = parse_method(solver["method"].get<std::string>());
-    } catch (const std::invalid_argument& e) {
-      throw InputError(std::string("solver.") + e.what());
-    }
-  }
-
-  const json camera = j.value("camera", json::object());
-  const Camera framed = framing_camera(s);
-  s.camera.target = vec3(camera, "target", "camera.target", framed.target);
-  s.camera.eye = vec3(camera, "eye", "camera.eye", framed.eye);
-  // At the renderer's float precision, and by more than its rounding at that distance from the
-  // origin: eye and target that differ only in double give a view matrix of NaN, a blank frame.
-  const glm::vec3 eye(s.camera.eye), target(s.camera.target);
-  require(glm::length(eye - target) > 1e-5f * std::max({1.0f, glm::length(eye), glm::length(target)}),
-          "camera.eye and camera.target must differ (by more than 1e-5 of their distance from the origin)");
+  if (s.solver.substeps == SolverParams::kChosenSubsteps) s.solver.substeps = chosen_substeps(s);
+  read_method(j, s.solver);
+  read_camera(j, s);
   return s;
 }
 

@@ -279,23 +279,31 @@ void ReferenceSolver::coarse_correction() {
           phi[k] += overrelaxation * (gauss_seidel - phi[k]);
         }
       }
-  std::vector<dvec3> grad(count, dvec3(0.0));
-  for (int k = 0; k < count; ++k) {
+  const std::vector<dvec3> grad = coarse_gradient(fluid);
+  for (size_t i = 0; i < state.x.size(); ++i) {
+    dvec3 g(0.0);
+    for_each_coarse_node(state.x_pred[i], [&](int k, double w) { g += w * grad[k]; });
+    state.x_pred[i] = project_out_of_solids(state.x_pred[i] + c.strength * g);
+  }
+}
+
+// grad phi at each fluid node, central differences, one-sided at the walls (coarse_gradient.comp).
+std::vector<dvec3> ReferenceSolver::coarse_gradient(const std::vector<char>& fluid) const {
+  const Derived::Coarse& c = d_.coarse;
+  const std::vector<double>& phi = coarse_phi_;
+  std::vector<dvec3> grad(c.count(), dvec3(0.0));
+  for (int k = 0; k < c.count(); ++k) {
     if (!fluid[k]) continue;
     const glm::ivec3 p = c.node(k);
     for (int a = 0; a < 3; ++a) {
       glm::ivec3 lo = p, hi = p;
       lo[a] -= 1;
       hi[a] += 1;
-      const double below = lo[a] >= 0 ? value(lo) : phi[k], above = hi[a] < n[a] ? value(hi) : phi[k];
+      const double below = lo[a] >= 0 ? phi[c.index(lo)] : phi[k], above = hi[a] < c.nodes[a] ? phi[c.index(hi)] : phi[k];
       grad[k][a] = (above - below) / (2 * c.cell[a]);
     }
   }
-  for (size_t i = 0; i < state.x.size(); ++i) {
-    dvec3 g(0.0);
-    for_each_coarse_node(state.x_pred[i], [&](int k, double w) { g += w * grad[k]; });
-    state.x_pred[i] = project_out_of_solids(state.x_pred[i] + c.strength * g);
-  }
+  return grad;
 }
 
 void ReferenceSolver::velocity_update() {

@@ -117,6 +117,8 @@ class ReferenceSolver : public Solver {
   // The eight coarse nodes around x with their trilinear weights (shaders/coarse_deposit.comp).
   template <class F>
   void for_each_coarse_node(const glm::dvec3& x, F&& visit) const;
+  // grad phi at the coarse nodes with fluid (`fluid`), from coarse_phi_.
+  std::vector<glm::dvec3> coarse_gradient(const std::vector<char>& fluid) const;
   void watch_step(int step, Divergence& watch) const;  // the divergence watch (shaders/watch.comp)
 
   Derived d_;

@@ -16,6 +16,31 @@ const Constant* find_constant(std::span<const Constant> constants, std::string_v
   auto c = std::ranges::find(constants, name, &Constant::name);
   return c == constants.end() ? nullptr : &*c;
 }
+
+struct Specialisation {
+  std::vector<VkSpecializationMapEntry> entries;
+  std::vector<uint32_t> values;
+};
+
+// Constant 0 is local_size_x; the shader's own constants follow by id, each set by name from
+// `constants` (which it must all declare) or else `offered`, in the type it declares.
+Specialisation specialise(const std::string& program, const std::vector<ShaderLayout::Constant>& declared,
+                          uint32_t workgroup_size, std::span<const Constant> constants, std::span<const Constant> offered) {
+  Specialisation s{{{0, 0, sizeof(uint32_t)}}, {workgroup_size}};
+  for (const Constant& c : constants)
+    if (std::ranges::find(declared, c.name, &ShaderLayout::Constant::name) == declared.end())
+      throw Error("program " + program + " declares no constant " + std::string(c.name));
+  for (const ShaderLayout::Constant& c : declared) {
+    const Constant* given = find_constant(constants, c.name);
+    if (!given) given = find_constant(offered, c.name);
+    if (!given) throw Error("program " + program + ": constant " + c.name + " was not set");
+    if (given->type != c.type)
+      throw Error("program " + program + ": constant " + c.name + " is set as another type than the shader declares");
+    s.entries.push_back({c.id, uint32_t(s.values.size() * sizeof(uint32_t)), sizeof(uint32_t)});
+    s.values.push_back(given->value);
+  }
+  return s;
+}
 }  // namespace
 
 Program::Program(const Context& ctx, std::string_view shader, uint32_t push_bytes, uint32_t workgroup_size,
@@ -35,21 +60,7 @@ Program::Program(const Context& ctx, std::string_view shader, uint32_t push_byte
     throw Error("program " + name_ + ": the shader's push-constant block is " + std::to_string(layout.push_bytes) +
                 " bytes and the host's " + std::to_string(push_bytes) + ": the GLSL block and its C++ mirror disagree");
   if (bindings_.size() > kMaxBindings) throw Error("program " + name_ + " has more than " + std::to_string(kMaxBindings) + " bindings");
-  // Constant 0 is local_size_x; the shader's own constants follow by id, each set by name.
-  std::vector<VkSpecializationMapEntry> entries{{0, 0, sizeof(uint32_t)}};
-  std::vector<uint32_t> values{workgroup_size_};
-  for (const Constant& c : constants)
-    if (std::ranges::find(layout.constants, c.name, &ShaderLayout::Constant::name) == layout.constants.end())
-      throw Error("program " + name_ + " declares no constant " + std::string(c.name));
-  for (const ShaderLayout::Constant& c : layout.constants) {
-    const Constant* given = find_constant(constants, c.name);
-    if (!given) given = find_constant(offered, c.name);
-    if (!given) throw Error("program " + name_ + ": constant " + c.name + " was not set");
-    if (given->type != c.type)
-      throw Error("program " + name_ + ": constant " + c.name + " is set as another type than the shader declares");
-    entries.push_back({c.id, uint32_t(values.size() * sizeof(uint32_t)), sizeof(uint32_t)});
-    values.push_back(given->value);
-  }
+  const Specialisation spec_values = specialise(name_, layout.constants, workgroup_size_, constants, offered);
   VkShaderModule module = VK_NULL_HANDLE;
   try {
     std::vector<VkDescriptorSetLayoutBinding> slots;
@@ -73,6 +84,7 @@ Program::Program(const Context& ctx, std::string_view shader, uint32_t push_byte
     code.pCode = words.data();
     VK_CHECK(vkCreateShaderModule(ctx.device(), &code, nullptr, &module));
 
+    const auto& [entries, values] = spec_values;
     VkSpecializationInfo spec{uint32_t(entries.size()), entries.data(), values.size() * sizeof(uint32_t), values.data()};
     VkComputePipelineCreateInfo pipe{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
     pipe.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};

@@ -84,10 +84,8 @@ std::string snake_case(const std::string& block) {
   return name;
 }
 
-}  // namespace
-
-ShaderLayout reflect_layout(std::span<const uint32_t> spirv) {
-  if (spirv.size() < kHeaderWords || spirv[0] != kMagic) throw Error("shader layout: not SPIR-V");
+// What reflection reads of a module: names, decorations, types and variables by result id.
+struct Module {
   std::map<uint32_t, std::string> names;
   std::map<uint32_t, std::map<uint32_t, std::string>> member_names;  // struct -> member -> name
   std::map<uint32_t, uint32_t> slot, set, spec_id, pointee;
@@ -99,6 +97,13 @@ ShaderLayout reflect_layout(std::span<const uint32_t> spirv) {
   std::map<uint32_t, ConstantType> spec_constants;  // by result id
   std::map<uint32_t, ConstantType> scalar_type;
   Types types;
+
+  explicit Module(std::span<const uint32_t> spirv);  // reads every instruction it needs
+  ShaderLayout layout();  // the bindings, push block and constants from what was read
+};
+
+Module::Module(std::span<const uint32_t> spirv) {
+  if (spirv.size() < kHeaderWords || spirv[0] != kMagic) throw Error("shader layout: not SPIR-V");
   for (size_t at = kHeaderWords; at < spirv.size();) {
     const uint32_t count = spirv[at] >> 16, op = spirv[at] & 0xffff;
     if (count == 0 || at + count > spirv.size()) throw Error("shader layout: truncated SPIR-V");
@@ -136,7 +141,9 @@ ShaderLayout reflect_layout(std::span<const uint32_t> spirv) {
     }
     at += count;
   }
+}
 
+ShaderLayout Module::layout() {
   ShaderLayout layout;
   for (const auto [pointer_type, id, storage] : variables) {
     if (storage == PushConstant) {
@@ -166,5 +173,9 @@ ShaderLayout reflect_layout(std::span<const uint32_t> spirv) {
   std::ranges::sort(layout.constants, {}, &ShaderLayout::Constant::id);
   return layout;
 }
+
+}  // namespace
+
+ShaderLayout reflect_layout(std::span<const uint32_t> spirv) { return Module(spirv).layout(); }
 
 }  // namespace pbflow::vk
