@@ -42,12 +42,14 @@ class RealtimeFactor {
   Clock::time_point since_ = Clock::now();
 };
 
-// The scene of `o` under `s`: its method and iterations, and its substeps where `s` names them.
-Scene lane_scene(RunOptions o, const LiveSetting& s) {
-  o.method = s.method;
-  o.iterations = s.iterations;
-  if (s.substeps > 0) o.params.push_back("solver.substeps=" + std::to_string(s.substeps));
-  return load_scene(o.scene, scene_overrides(o));
+// `scene` under `s`: its method and iterations, and its substeps where `s` names them (a
+// setting is checked where it comes in: parse_live_setting, the server's command).
+Scene with_setting(Scene scene, const LiveSetting& s) {
+  scene.solver.method = parse_method(s.method);
+  scene.solver.iterations = s.iterations;
+  scene.solver.max_iterations = std::max(scene.solver.max_iterations, s.iterations);
+  if (s.substeps > 0) scene.solver.substeps = s.substeps;
+  return scene;
 }
 
 LiveSetting setting_of(const Scene& scene) {
@@ -81,6 +83,7 @@ struct Lane {
 // renderer that draws them all (it shares the solvers' buffers: made after them, gone before).
 struct LiveRun::Stage {
   RunOptions options;  // as the viewers have changed them (scene, style)
+  Scene base;          // the scene as loaded, under no setting
   Scene scene;         // the first lane's
   int scene_substeps = 1;  // the scene's own, before any setting: the frame budget's base
   std::vector<Lane> lanes;
@@ -93,17 +96,17 @@ struct LiveRun::Stage {
     for (const Lane& lane : lanes) all.push_back(lane.solver.get());
     return all;
   }
-  // The scene's lanes, one a setting (none given: the scene's own), from the first's relaxed
-  // start, and their renderer: what a run starts with and a new scene brings.
-  void load(const RunOptions& o, const std::vector<LiveSetting>& settings, const vk::Context* ctx) {
+  // The lanes of `loaded` (o.scene), one a setting (none given: the scene's own), from the
+  // first's relaxed start, and their renderer: what a run starts with and a new scene brings.
+  void load(const RunOptions& o, const Scene& loaded, const std::vector<LiveSetting>& settings, const vk::Context* ctx) {
     capture.reset();
     lanes.clear();
     options = o;
-    const Scene base = load_scene(o.scene, scene_overrides(o));
+    base = loaded;
     scene_substeps = base.solver.substeps;
     if (before_load) before_load(o.scene);
     for (const LiveSetting& s : settings.empty() ? std::vector<LiveSetting>{setting_of(base)} : settings) {
-      const Scene lane = lane_scene(o, s);
+      const Scene lane = with_setting(base, s);
       if (lanes.empty()) scene = lane;
       lanes.push_back(make_lane(lane, ctx));
     }
@@ -117,7 +120,7 @@ struct LiveRun::Stage {
   // What the run is, to go back to where a viewer's change fails half way.
   struct Saved {
     RunOptions options;
-    Scene scene;
+    Scene base, scene;
     int scene_substeps;
     std::vector<LiveSetting> settings;  // substeps resolved
     std::vector<ParticleState> now;     // each lane's
@@ -125,16 +128,16 @@ struct LiveRun::Stage {
     Camera camera;
   };
   Saved save() const {
-    Saved s{options, scene, scene_substeps, {}, {}, start, capture->camera()};
+    Saved s{options, base, scene, scene_substeps, {}, {}, start, capture->camera()};
     for (const Lane& lane : lanes) s.settings.push_back(lane.setting), s.now.push_back(lane.solver->download());
     return s;
   }
   void restore(const Saved& s, const vk::Context* ctx) {
     capture.reset();
     lanes.clear();  // before the old are made again: one run's memory at a time
-    options = s.options, scene = s.scene, scene_substeps = s.scene_substeps, start = s.start;
+    options = s.options, base = s.base, scene = s.scene, scene_substeps = s.scene_substeps, start = s.start;
     for (size_t i = 0; i < s.settings.size(); ++i) {
-      lanes.push_back(make_lane(lane_scene(options, s.settings[i]), ctx));
+      lanes.push_back(make_lane(with_setting(base, s.settings[i]), ctx));
       lanes.back().solver->upload(s.now[i]);
     }
     draw_anew(ctx, s.camera);
@@ -151,7 +154,7 @@ struct LiveRun::Stage {
   // The first lane's solver made anew under `s`, at the scene's start; the renderer, which
   // shares its buffers, must be gone.
   void make_first(const LiveSetting& s, const vk::Context* ctx) {
-    scene = lane_scene(options, s);
+    scene = with_setting(base, s);
     lanes[0].solver.reset();  // before the next is made: one solver's memory at a time
     lanes[0] = make_lane(scene, ctx);
   }
@@ -229,11 +232,16 @@ void LiveRun::command(LiveCommand c) {
   commands_changed_.notify_all();
 }
 
+Scene LiveRun::checked_scene(const RunOptions& o) const {
+  Scene scene = load_scene(o.scene, scene_overrides(o));
+  check_run_memory(o, scene, derive(scene), device_ ? &*device_ : nullptr, panels_);
+  return scene;
+}
+
 void LiveRun::check_scene(const std::string& name) const {
   RunOptions o = options_;
   o.scene = name;
-  const Scene scene = load_scene(name, scene_overrides(o));
-  check_run_memory(o, scene, derive(scene), device_ ? &*device_ : nullptr, panels_);
+  checked_scene(o);
 }
 
 std::string LiveRun::description() const {
@@ -259,9 +267,8 @@ void LiveRun::simulate(const LiveOptions& o, std::promise<void>& ready) {
   try {
     ctx = make_context(o.run.device, o.run.validate);
     if (ctx) device_ = ctx->info();
-    check_scene(o.run.scene);
     stage.before_load = o.before_load;
-    stage.load(o.run, o.compare, ctx.get());
+    stage.load(o.run, checked_scene(o.run), o.compare, ctx.get());
     fps_ = stage.scene.fps;  // before the encoder's thread starts, which reads it
     describe(stage.about());
     ready.set_value();
@@ -408,7 +415,7 @@ bool LiveRun::apply(Stage& stage, const vk::Context* ctx, Pace& pace, Asked& ask
     for (const Lane& lane : stage.lanes) settings.push_back({lane.setting.method, lane.setting.iterations, 0});
     RunOptions o = stage.options;
     o.scene = asked.scene->scene;
-    stage.load(o, settings, ctx);
+    stage.load(o, checked_scene(o), settings, ctx);
   });
   if (scene) {
     fps_ = stage.scene.fps;

@@ -118,6 +118,8 @@ class LiveRun {
   void encode();
   void encode_frames();
   void fail(const std::string& why);  // a thread's failure: recorded, and the run stops
+  // The scene `o` names, loaded once with o's keys and checked against the memory this run has.
+  Scene checked_scene(const RunOptions& o) const;
   void describe(std::string about);   // what description() says from here
 
   const RunOptions options_;  // as given: what check_scene() checks against
