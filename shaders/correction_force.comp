@@ -18,7 +18,7 @@ layout(std430, binding = 3) buffer V { vec4 v[]; };
 layout(std430, binding = 6) writeonly buffer XPred { vec4 x_pred[]; };
 #define OBSTACLES_BINDING 7
 #include "obstacles.glsl"
-layout(constant_id = 100) const bool SOLVER_LDC_CLAMP = true;  // the scene's key (gpu/key_constants.hpp)
+layout(constant_id = 100) const bool SOLVER_LDC_CLAMP = false;  // the scene's key (gpu/key_constants.hpp)
 layout(constant_id = 2) const float LDC_ROOM = 1.8;  // Derived::ldc_room
 #define NEIGHBOUR_BINDING 4
 #define NEIGHBOUR_CAPACITY_ID 3

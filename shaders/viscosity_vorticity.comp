@@ -22,8 +22,8 @@
 layout(local_size_x_id = 0) in;
 #include "common.glsl"
 
-layout(constant_id = 100) const float SOLVER_XSPH = 0.02;     // the scene's keys (gpu/key_constants.hpp)
-layout(constant_id = 101) const float SOLVER_DAMPING = 0.2;
+layout(constant_id = 100) const float SOLVER_XSPH = 0.0;     // the scene's keys (gpu/key_constants.hpp)
+layout(constant_id = 101) const float SOLVER_DAMPING = 0.0;
 layout(constant_id = 102) const float SOLVER_VORTICITY = 0.0;
 layout(constant_id = 2) const float DAMPING_LIMIT = 0.3;   // Derived::damping_limit
 // The curl is wanted only for vorticity_force.comp; without it the curl, a cross product and a

@@ -21,9 +21,9 @@ layout(std430, binding = 6) writeonly buffer WhiteV { vec4 white_v[]; };  // (v,
 #include "neighbours.glsl"
 
 // The scene's keys (gpu/key_constants.hpp).
-layout(constant_id = 100) const float WHITE_WATER_LIFETIME = 1.5;
-layout(constant_id = 101) const float WHITE_WATER_EMISSION = 35.0;
-layout(constant_id = 102) const int WHITE_WATER_MAX_PARTICLES = 1;
+layout(constant_id = 100) const float WHITE_WATER_LIFETIME = 0.0;
+layout(constant_id = 101) const float WHITE_WATER_EMISSION = 0.0;
+layout(constant_id = 102) const int WHITE_WATER_MAX_PARTICLES = 0;
 layout(constant_id = 3) const float SPACING = 0.02;  // after WALK_CELLS (neighbours.glsl)
 layout(constant_id = 4) const float FLOW_SPEED = 4.4;  // Derived::flow_speed, m/s
 

@@ -41,7 +41,7 @@ using KeyTarget = std::variant<std::monostate, double Scene::*, int Scene::*, bo
 struct SceneKey {
   std::string_view name;       // dotted: "solver.iterations"
   KeyKind kind;
-  std::string_view shown;      // the default as a user reads it: "1", "required", "chosen"
+  std::string_view shown;      // a default that is not `value`: "required", "chosen"; empty: `value`'s
   std::optional<double> value;  // the default a scalar key starts from; none: required or derived
   std::optional<KeyRange> range;
   std::string_view unit;
@@ -51,6 +51,9 @@ struct SceneKey {
 };
 
 std::span<const SceneKey> scene_keys();
+
+// The default as a user reads it: "1", "true", "required", "chosen".
+std::string shown_default(const SceneKey& k);
 
 // The range as a message shows it: "[0, 0.3]", "(1, 4]".
 std::string describe_range(const KeyRange& r);

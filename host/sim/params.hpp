@@ -11,6 +11,7 @@
 
 #include "shaders/sim_constants.h"
 #include "sim/obstacles.hpp"
+#include "sim/white_water.hpp"
 
 namespace pbflow {
 
@@ -40,19 +41,6 @@ struct SolverParams {
   static constexpr int kChosenSmoothing = -1, kChosenSubsteps = -1;
   // XSPH, vorticity and the damping share one neighbour pass (viscosity_vorticity).
   bool viscosity_pass() const { return xsph > 0 || vorticity > 0 || damping > 0; }
-};
-
-// White water (Ihmsen et al. 2012): spray, foam and bubbles as massless secondary particles,
-// born where the fluid traps air or a crest moves out fast, carried by the fluid or thrown
-// ballistically, and gone when their lifetime is spent (shaders/white_water.h, docs/rendering.md).
-// They read the solver's fields and write nothing of the fluid's.
-struct WhiteWaterParams {
-  bool enabled;       // made and drawn where a capture or an export asks for them
-  int max_particles;  // at most this many alive; kChosenCapacity: derive() picks (as many as the fluid's)
-  double lifetime;    // s, a particle's mean; each draws one in [0.5, 1.5] times it
-  double emission;    // born per fluid particle per second where every potential is full
-
-  static constexpr int kChosenCapacity = -1;
 };
 
 // A solver or white water key as a shader reads it, a specialisation constant

@@ -1,6 +1,9 @@
 #pragma once
-// White water's small functions, as white_water.glsl computes them in float (the reference's
-// double here; shaders/white_water.h holds the constants both read).
+// White water, one feature in one place: its keys' parameters, and its small functions as
+// white_water.glsl computes them in float (the reference's double here; shaders/white_water.h
+// holds the constants both read). Its passes: sim/reference_white_water.cpp,
+// gpu/gpu_white_water.cpp, shaders/white_water_advect.comp and white_water_emit.comp; its rows: sim/frame_plan.cpp (WhiteWater*)
+// and gpu/buffer_plan.cpp (white_count, white_array); its keys: white_water.* in scene/keys.cpp.
 #include <glm/glm.hpp>
 
 #include <algorithm>
@@ -10,6 +13,20 @@
 #include "shaders/white_water.h"
 
 namespace pbflow {
+
+// White water (Ihmsen et al. 2012): spray, foam and bubbles as massless secondary particles,
+// born where the fluid traps air or a crest moves out fast, carried by the fluid or thrown
+// ballistically, and gone when their lifetime is spent (shaders/white_water.h, docs/rendering.md).
+// They read the solver's fields and write nothing of the fluid's.
+struct WhiteWaterParams {
+  bool enabled;       // made and drawn where a capture or an export asks for them
+  int max_particles;  // at most this many alive; kChosenCapacity: derive() picks (as many as the fluid's)
+  double lifetime;    // s, a particle's mean; each draws one in [0.5, 1.5] times it
+  double emission;    // born per fluid particle per second where every potential is full
+
+  static constexpr int kChosenCapacity = -1;
+};
+
 
 // Ihmsen et al.'s clamped ramp: 0 at `lo`, 1 from `hi`.
 inline double white_ramp(double v, double lo, double hi) { return std::clamp((v - lo) / (hi - lo), 0.0, 1.0); }
