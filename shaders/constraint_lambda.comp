@@ -31,10 +31,8 @@ void main() {
   // The walls are mirrors (common.glsl): behind them lies the fluid reflected. A neighbour's
   // image is a neighbour of its own, its term squared on its own as a fluid neighbour's:
   // the mirrored fluid is then the lattice, and a particle beside a wall meets the sum one
-  // inside meets. Summed with its particle's term before squaring (the two as one body),
-  // the images made that sum larger beside the walls and the pass weaker there: under its
-  // own weight the settled tank's wall layer was 8-31 % more compressed than the fluid
-  // inside at the same height (tests/rest_test.cpp) and its surface sank along the walls.
+  // inside meets (summed with its particle's term first, the sum is larger beside the walls
+  // and the pass weaker there).
   // i's own images are no other particle's: they move with i, mirrored, so their distance
   // to i changes twice as fast and their term counts twice in grad_i C_i. Taken as
   // neighbours of their own instead, the settled tank's corner columns slid down in
@@ -54,8 +52,6 @@ void main() {
   float c = max(rho / sim.rho0 - 1.0, 0.0);
   rho_out[i] = rho;
   // A pass's gain grows with the neighbours inside h: the relaxation, sized at rho0, shrinks
-  // as 1 / (1 + c / 3), the growth a squeezed lattice shows (host/sim/stability.hpp). Without
-  // it pbf@1 blew up in the dam break (+46 % energy); with 1 / (1 + c) it could not hold the
-  // column and collapsed to the floor.
+  // as 1 / (1 + c / 3), the growth a squeezed lattice shows (host/sim/stability.hpp).
   x_lambda[i] = vec4(xi, -c / ((grad_sq + dot(grad_i, grad_i) + sim.epsilon) * (1.0 + float(COMPRESSED_GAIN) * c)));
 }

@@ -32,12 +32,10 @@
 // to a particle's whole weight, a particle's compression counted up to COARSE_MAX_COMPRESSION
 // (so the sums fit 32 bits) and past COARSE_FLOOR: a disordered packing's density reads a few
 // tenths of a percent off whatever the step, and a correction of that noise, a move independent
-// of dt, is a velocity that grows as 1/dt (without the floor the dam break at 0.01 m x 4
-// substeps gained 5 %).
+// of dt, is a velocity that grows as 1/dt (docs/physics.md, "The coarse correction").
 #define COARSE_CELL 4.0
 #define COARSE_STRENGTH 0.5
-// A lone smoothed pass has no second pass to take back what the move overshoots: at 0.25 it
-// gained 1.5 % at 0.01 m (ldc@1, 4 substeps), at 0.15 none from 0.02 to 0.01 m.
+// A lone smoothed pass has no second pass to take back what the move overshoots.
 #define COARSE_LONE_STRENGTH 0.15
 #define COARSE_FILL 0.1
 #define COARSE_SWEEPS 20

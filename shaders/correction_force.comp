@@ -50,8 +50,7 @@ void main() {
   }
   // The force's stiffness grows with the neighbours inside h, by up to (rho/rho0)^2 on a
   // squeezed lattice (host/sim/stability.hpp): K, a fraction of what the step carries at rho0,
-  // is capped where that would pass kLdcCap of the limit. Uncapped, ldc@1 at 0.5 passed the
-  // limit at ~50 % compression, and the dam break at 0.01 m oscillated and blew up.
+  // is capped where that would pass kLdcCap of the limit.
   float squeeze = max(density_of(i), sim.rho0) / sim.rho0;
   float k_i = sim.ldc_k * min(1.0, LDC_ROOM / (squeeze * squeeze));
   vec3 vi = v[i].xyz + (-k_i / sim.rho0 * sim.dt) * f;

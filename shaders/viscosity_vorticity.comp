@@ -9,9 +9,8 @@
 //   measures read it. XSPH already takes poly6 of every fluid entry; summing it over all
 //   entries (the images' too) costs an add each, where a density pass costs a walk.
 // Why the dashpot: an explicit stiffness maps a density mode as q' = 2q - q_prev - nu q,
-// undamped for every nu < 4, and both the LDC force at the free surface (where the
-// constraint is idle) and a Jacobi pass in fluid squeezed to 40 % (pbf@1) kept modes
-// jittering at 0.1-1 m/s in a tank at rest. The dashpot is symmetric in i and j: it keeps
+// undamped for every nu < 4, so the LDC force at the free surface (where the constraint is
+// idle) and a saturated Jacobi pass leave modes jittering. The dashpot is symmetric in i and j: it keeps
 // momentum and only removes energy; it acts on approach and separation along d only, so
 // a rigid motion (translation, rotation) passes untouched. The neighbours' images behind
 // the walls (common.glsl) take part too, moving as their particle mirrored: against its

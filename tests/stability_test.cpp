@@ -1,5 +1,5 @@
 // The linear stability numbers behind the relaxation, the lambda averages and the explicit
-// terms' caps (sim/stability.hpp; docs/physics.md, "Stability of one step").
+// terms' caps (sim/stability.hpp; docs/physics.md, "Relaxed Jacobi passes").
 
 #include <gtest/gtest.h>
 

@@ -18,16 +18,11 @@ Method parse_method(const std::string& name) {
 const char* method_name(Method m) { return m == Method::Pbf ? "pbf" : "ldc"; }
 
 int default_smoothing(int iterations, double travel) {
-  // Two averages cut a pass's worst gain from 2.79 to 0.99, so a pair runs 2.8x bolder:
-  // 2.4-3.4x less compression at 2-4 iterations, for two more list passes an iteration.
-  // Four cut it to 0.61 (1.6x bolder again). An average costs ~0.4x a lambda or dp pass
-  // (peer scene), so in time four reach a compression sooner than more iterations with
-  // two: pbf@3 with four 0.86-1.04x the time of pbf@4 with two, pbf@4 with four 0.79-0.97x
-  // pbf@6 with two, for the same compression (docs/physics.md). But the pairs' boldness rests on
-  // the lattice model, which assumes a step moves less than h: at 1.35 and 1.85 h per
-  // step, four averages made 4.8-7.7 % energy where two made none; at 0.67-0.92 h every
-  // setting measured was sound. Two iterations keep two: the real-time setting that meets
-  // its accuracy (the peer's pbf@2 figure) at the least cost per step.
+  // Two averages cut a pass's worst gain from 2.79 to 0.99, so a pair runs 2.8x bolder.
+  // Four averages cut the worst gain to 0.61, 1.6x bolder than two, and an average costs
+  // ~0.4 of a lambda pass, so from three iterations four reach a compression sooner. The
+  // boldness rests on the lattice model, which holds while a step moves less than h
+  // (docs/physics.md, "Smoothed λ for paired passes"). Two iterations keep two.
   return iterations >= 3 && travel <= 1.0 ? 4 : 2;
 }
 

@@ -62,11 +62,8 @@ SettleReport settle(Solver& solver, const Derived& d, const std::function<bool(i
   };
   // First the column settles as in a container, along gravity only (nothing flows
   // sideways, the lattice keeps its columns); then free, so that a lattice squeezed past
-  // what it holds in 3-D rearranges here, damped, and not after frame 0 (pbf@1 at 40 %
-  // compression released 1-1.5 % of the potential energy in its first frames). Last the
-  // scene's own steps, undamped: the damped fluid sits a little denser than the moving one
-  // (the heavy ball stills the surface's small motions), and released from it, ldc@1's
-  // tank rose and gained 0.1-0.3 % of its potential energy after frame 0.
+  // what it holds in 3-D rearranges here, damped, and not after frame 0. Last the scene's
+  // own steps, undamped: the damped fluid sits a little denser than the moving one.
   report.converged = until_still(held(along)) && until_still(held(whole)) &&
                      until_still([&] { return solver.advance(1).potential_energy; });
   state = solver.download();

@@ -2,10 +2,8 @@
 // A scene that starts at rest ("settle": true) starts in the solver's own equilibrium.
 //
 // Why: a lattice at rho0 is not at rest for a solver that holds the density only
-// approximately. At 60 fps x 2 substeps one or two Jacobi passes carry a 0.4 m column at
-// 10-15 % mean compression, so a tank released from the lattice falls by centimetres and
-// then breathes: its slowest mode is damped by only ~mu/2 per step (mu ~ 0.02), and it
-// still swings at 0.1-0.2 m/s after 2 s. Weakly compressible SPH codes start such a tank
+// approximately, so a tank released from the lattice falls and then breathes: its slowest
+// mode is damped by only ~mu/2 per step. Weakly compressible SPH codes start such a tank
 // with its hydrostatic density for the same reason; here the equilibrium depends on the
 // method, the iterations and the step, so the solver finds it itself.
 //
