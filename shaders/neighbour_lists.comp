@@ -1,5 +1,5 @@
 #version 450
-// The neighbour lists (docs/design.md steps 1 and 5): after each grid build, every particle
+// The neighbour lists (docs/design.md, "The passes"): after each grid build, every particle
 // walks the 27 cells around it once and lists the particles within h (itself included);
 // the passes that follow read the list (neighbours.glsl) instead of walking the ~8x as
 // many candidates again. Its own pass, so that the lists are whole before any reader

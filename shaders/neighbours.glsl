@@ -1,4 +1,4 @@
-// Reading a step's neighbour sets (docs/design.md, step 5), as built by neighbour_lists.comp.
+// Reading a step's neighbour sets (docs/design.md, "The passes"), as built by neighbour_lists.comp.
 // Every neighbour pass comes in two variants (WALK_CELLS, a specialisation constant):
 // - the list readers, over every particle whose list holds all its neighbours;
 // - the cell walkers, over the particles whose lists overflowed (squeezed fluid; the

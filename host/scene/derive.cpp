@@ -21,13 +21,7 @@ namespace {
 std::vector<ParamKey> shader_keys() {
   std::vector<ParamKey> keys;
   for (const SceneKey& k : scene_keys())
-    std::visit(
-        [&](auto member) {
-          if constexpr (std::is_constructible_v<ParamTarget, decltype(member)> &&
-                        !std::is_same_v<decltype(member), std::monostate>)
-            keys.push_back({k.name, member});
-        },
-        k.target);
+    if (const ParamTarget* target = std::get_if<ParamTarget>(&k.target)) keys.push_back({k.name, *target});
   return keys;
 }
 

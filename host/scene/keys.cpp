@@ -159,6 +159,24 @@ std::string describe_range(const KeyRange& r) {
   return m.str();
 }
 
+namespace {
+// A group's key into its parameters in the Scene: a whole number or boolean as such.
+template <class P, class V>
+void set(V P::*member, double v, Scene& s) {
+  P* group = nullptr;
+  if constexpr (std::is_same_v<P, SolverParams>) group = &s.solver;
+  if constexpr (std::is_same_v<P, WhiteWaterParams>) group = &s.white_water;
+  group->*member = std::is_same_v<V, bool> ? V(v != 0) : V(v);
+}
+void assign_param(const ParamTarget& target, double v, Scene& s) {
+  std::visit(
+      [&](auto member) {
+        if constexpr (!std::is_same_v<decltype(member), std::monostate>) set(member, v, s);
+      },
+      target);
+}
+}  // namespace
+
 void assign(const SceneKey& k, double v, Scene& s) {
   std::visit(
       [&](auto member) {
@@ -166,12 +184,7 @@ void assign(const SceneKey& k, double v, Scene& s) {
         if constexpr (std::is_same_v<T, double Scene::*>) s.*member = v;
         else if constexpr (std::is_same_v<T, int Scene::*>) s.*member = int(v);
         else if constexpr (std::is_same_v<T, bool Scene::*>) s.*member = v != 0;
-        else if constexpr (std::is_same_v<T, double SolverParams::*>) s.solver.*member = v;
-        else if constexpr (std::is_same_v<T, int SolverParams::*>) s.solver.*member = int(v);
-        else if constexpr (std::is_same_v<T, bool SolverParams::*>) s.solver.*member = v != 0;
-        else if constexpr (std::is_same_v<T, double WhiteWaterParams::*>) s.white_water.*member = v;
-        else if constexpr (std::is_same_v<T, int WhiteWaterParams::*>) s.white_water.*member = int(v);
-        else if constexpr (std::is_same_v<T, bool WhiteWaterParams::*>) s.white_water.*member = v != 0;
+        else if constexpr (std::is_same_v<T, ParamTarget>) assign_param(member, v, s);
         else if constexpr (std::is_same_v<T, double Camera::*>) s.camera.*member = v;
       },
       k.target);

@@ -34,9 +34,9 @@ struct KeyRange {
 
 // Where a scalar key lands in the Scene; structured keys (vectors, boxes, lists) are read
 // by the parser's own functions and land where it puts them.
-using KeyTarget = std::variant<std::monostate, double Scene::*, int Scene::*, bool Scene::*, double SolverParams::*,
-                               int SolverParams::*, bool SolverParams::*, double WhiteWaterParams::*,
-                               int WhiteWaterParams::*, bool WhiteWaterParams::*, double Camera::*>;
+// A group's keys (solver.*, white_water.*) land in its parameters (ParamTarget, the list of
+// groups, sim/params.hpp).
+using KeyTarget = std::variant<std::monostate, double Scene::*, int Scene::*, bool Scene::*, ParamTarget, double Camera::*>;
 
 struct SceneKey {
   std::string_view name;       // dotted: "solver.iterations"
