@@ -1,5 +1,6 @@
 #version 450
-// Grid build, 1/3: each particle's cell, and its rank among the particles of that cell.
+// Grid build, 1/4: each particle's cell, and a rank among the particles of that cell in the
+// order the atomics take (the scatter ranks by index instead).
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x_id = 0) in;
 #include "common.glsl"

@@ -129,6 +129,23 @@ TEST_F(GridTest, Lattice) {
   expect_exact_neighbours(d, x);
 }
 
+// The sort is the same on every run: a cell's particles keep their order of input (here the
+// ids), whatever order the count's atomics took. 64 particles crowd each cell, so that the
+// atomics of a cell's particles land in many orders, and the sort runs ten times.
+TEST_F(GridTest, ACellsParticlesKeepTheirOrderOfInput) {
+  Derived d = box_domain({0.2, 0.2, 0.2}, 0.02);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<glm::vec4> x;
+  for (int i = 0; i < 64 * d.grid.x * d.grid.y * d.grid.z; ++i)
+    x.emplace_back(glm::vec3(d.domain_min + glm::dvec3(u(rng), u(rng), u(rng)) * (d.domain_max - d.domain_min)), 0);
+  const Sorted first = gpu_sort(d, x);
+  for (size_t c = 0; c + 1 < first.cell_start.size(); ++c)
+    for (uint32_t k = first.cell_start[c]; k + 1 < first.cell_start[c + 1]; ++k)
+      ASSERT_LT(first.id[k], first.id[k + 1]) << "cell " << c << ": the atomics' order came through";
+  for (int run = 0; run < 10; ++run) EXPECT_EQ(gpu_sort(d, x).id, first.id) << "sort " << run;
+}
+
 TEST_F(GridTest, ManyCellsScanInManyGroups) {
   // 128 x 128 x 80 cells = 1.3M, 1281 blocks: a group per block, then their sums in one
   // group, then added back (the grids of the tests above scan in one group).

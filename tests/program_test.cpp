@@ -57,7 +57,7 @@ TEST(ShaderLayout, ANeighbourPassReadsItsSlotsTypesAndConstantsFromTheSpirv) {
 
 TEST(ShaderLayout, AnonymousBlocksBindByTheirNameInSnakeCase) {
   const ShaderLayout scatter = vk::reflect_layout(shaders::spirv("grid_scatter"));
-  for (const char* name : {"cell", "rank", "cell_start", "x_in", "payload_in", "id_in", "x_out", "payload_out", "id_out"})
+  for (const char* name : {"cell", "cell_start", "order", "x_in", "payload_in", "id_in", "x_out", "payload_out", "id_out"})
     EXPECT_NE(find(scatter, name), nullptr) << name;
 }
 

@@ -1,4 +1,4 @@
-// pbflow command line: run, bench, scenes, devices, keys.
+// pbflow command line: run, serve, bench, scenes, devices, keys, diff.
 #include <CLI/CLI.hpp>
 #include <malloc.h>
 
@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <string_view>
 
+#include "app/diff.hpp"
 #include "app/run.hpp"
 #include "app/serve.hpp"
 #include "bench/scaling.hpp"
@@ -114,6 +115,7 @@ struct Commands {
   bool scaling = false, no_charts = false;
   double budget_minutes = pbflow::bench::ScalingOptions{}.budget_minutes;
   std::string scaling_method;
+  std::string diff_a, diff_b;  // `pbflow diff A B`
 };
 
 int run_command(CLI::App& app, const Commands& c);
@@ -242,6 +244,9 @@ int main(int argc, char** argv) {
   app.add_subcommand("scenes", "list the built-in scenes");
   app.add_subcommand("devices", "list the Vulkan devices and their limits");
   app.add_subcommand("keys", "list every scene key: default, range, unit, meaning (Markdown)");
+  CLI::App* diff_cmd = app.add_subcommand("diff", "compare two run directories: exit 0 when equal, 1 naming the first difference");
+  diff_cmd->add_option("A", c.diff_a, "a run directory (the golden one)")->required();
+  diff_cmd->add_option("B", c.diff_b, "another run directory")->required();
 
   try {
     check_utf8(argc, argv);
@@ -290,6 +295,7 @@ int run_command(CLI::App& app, const Commands& c) {
     if (*scenes_cmd) return list_scenes();
     if (*devices_cmd) return list_devices();
     if (*keys_cmd) return std::cout << pbflow::scene_keys_markdown(), 0;
+    if (*app.get_subcommand("diff")) return pbflow::diff_runs(c.diff_a, c.diff_b, std::cout);
     if (!c.scaling_method.empty() && !c.scaling)
       throw pbflow::InputError("--method is for --scaling (the study runs both)");
     if (*bench_cmd && c.scaling)

@@ -157,6 +157,15 @@ nlohmann::json describe_run(const RunOptions& o, const Scene& scene, const Deriv
           {"device", solver.device_name()}};
 }
 
+// What run.json records of the machine: the memory estimate, and what the run's results are
+// bit-reproducible against: the same device, driver and binary (docs/design.md, "Reproducibility").
+void describe_machine(nlohmann::json& about, const MemoryNeed& need, const vk::DeviceInfo* device, const Solver& solver) {
+  about["memory_estimate"] = {{"host_bytes", host_bytes(need, device)}, {"device_bytes", need.device}};
+  about["reproducible_on"] = {{"device", solver.device_name()},
+                              {"driver", device ? device->driver : "the C++ reference"},
+                              {"pbflow", PBFLOW_VERSION}};
+}
+
 // What an interrupt leaves, in words: "frames 0-k are complete", or that none is.
 std::string frames_complete(int frames) {
   return frames > 0 ? "frames 0-" + std::to_string(frames - 1) + " are complete" : "no frame was written";
@@ -363,7 +372,7 @@ int run(const RunOptions& o) {
                                  white_water && export_format != capture::ExportFormat::None});
   nlohmann::json about = describe_run(o, scene, d, *solver);
   const nlohmann::json chosen = about["chosen"];
-  about["memory_estimate"] = {{"host_bytes", host_bytes(need, device)}, {"device_bytes", need.device}};
+  describe_machine(about, need, device, *solver);
   if (!dir.begin(std::move(about), [&] { return interrupt.signal() != 0; })) {
     std::cerr << "pbflow: interrupted by " << signal_name(interrupt.signal()) << " before the run began; "
               << out.string() << " holds the previous run as it was\n";

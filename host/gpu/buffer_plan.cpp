@@ -12,7 +12,7 @@ uint64_t scan_blocks(uint64_t values) { return (values + kScanBlock - 1) / kScan
 
 GridBuffers plan_grid(const Derived& d, uint64_t particles) {
   GridBuffers g;
-  g.cell = g.rank = particles * sizeof(uint32_t);
+  g.cell = g.rank = g.order = particles * sizeof(uint32_t);
   // One more entry than cells: after the exclusive scan it holds the particle count, so
   // that cell c's particles are [start[c], start[c + 1]) for every c.
   uint64_t size = uint64_t(d.grid.x) * d.grid.y * d.grid.z + 1;
@@ -60,7 +60,7 @@ SolverBuffers plan_buffers(const Derived& d, uint64_t particles, FrameOutputs ou
 uint64_t SolverBuffers::total() const {
   uint64_t sum = (kParticleVec4s + 1) * particle_vec4 + kIdArrays * id + rho + neighbour_count + neighbour_list +
                  x_lambda_spare + curl + partials + obstacles + watch + overflow_groups + 3 * adaptive_words +
-                 coarse_sums + coarse_phi + coarse_grad + result + grid.cell + grid.rank + shape +
+                 coarse_sums + coarse_phi + coarse_grad + result + grid.cell + grid.rank + grid.order + shape +
                  kWhiteLists * (white_count + 2 * white_array);
   for (uint64_t level : grid.levels) sum += level;
   return sum;

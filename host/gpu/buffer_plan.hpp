@@ -36,7 +36,7 @@ struct FrameResult {
 
 // The grid's counting sort (gpu_grid.hpp): each particle's cell and rank, and the scan's levels.
 struct GridBuffers {
-  uint64_t cell = 0, rank = 0;
+  uint64_t cell = 0, rank = 0, order = 0;  // order: each cell's particles by slot (grid_order.comp)
   std::vector<uint32_t> level_entries;  // [0]: a count per cell and the total; then block sums
   std::vector<uint64_t> levels;         // bytes of each level: whole scan blocks
 };

@@ -21,9 +21,11 @@ GpuGrid::GpuGrid(const vk::Context& ctx, const GridBuffers& plan)
     : count_(ctx, "grid_count", sizeof(SimConstants)),
       scan_blocks_(ctx, "scan_blocks", sizeof(ScanPush), kScanThreads),
       scan_add_(ctx, "scan_add", sizeof(uint32_t), kScanThreads),
+      order_(ctx, "grid_order", sizeof(SimConstants)),
       scatter_(ctx, "grid_scatter", sizeof(SimConstants)),
       cell_(ctx, plan.cell),
       rank_(ctx, plan.rank),
+      slots_(ctx, plan.order),
       level_size_(plan.level_entries) {
   for (uint64_t bytes : plan.levels) levels_.emplace_back(ctx, bytes);
 }
@@ -60,9 +62,17 @@ void GpuGrid::build(vk::CommandList& cmd, const SimConstants& sim, Particles in,
 
   scan(cmd, 0);
 
-  cmd.set_program(scatter_);
+  cmd.set_program(order_);
   cmd.bind("cell", cell_);
   cmd.bind("rank", rank_);
+  cmd.bind("cell_start", levels_[0]);
+  cmd.bind("order", slots_);
+  cmd.push(sim);
+  cmd.dispatch(sim.count);
+
+  cmd.set_program(scatter_);
+  cmd.bind("order", slots_);
+  cmd.bind("cell", cell_);
   cmd.bind("cell_start", levels_[0]);
   cmd.bind("x_in", *in.x);
   cmd.bind("payload_in", *in.payload);

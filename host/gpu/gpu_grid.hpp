@@ -34,8 +34,8 @@ class GpuGrid {
  private:
   void scan(vk::CommandList& cmd, size_t level);
 
-  vk::Program count_, scan_blocks_, scan_add_, scatter_;
-  vk::Buffer cell_, rank_;
+  vk::Program count_, scan_blocks_, scan_add_, order_, scatter_;
+  vk::Buffer cell_, rank_, slots_;  // slots_: each cell's particles in the count's order (grid_order.comp)
   std::vector<vk::Buffer> levels_;    // [0]: counts, scanned in place into cell_start; then block sums
   std::vector<uint32_t> level_size_;  // entries in each level
 };

@@ -137,6 +137,12 @@ DeviceInfo describe(VkPhysicalDevice pd, uint32_t index) {
   d.name = p.deviceName;
   d.kind = kind_name(p.deviceType);
   d.api_version = p.apiVersion;
+  if (p.apiVersion >= VK_API_VERSION_1_2) {  // Vulkan 1.2's driver properties: what a result is reproducible against
+    VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
+    VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &driver};
+    vkGetPhysicalDeviceProperties2(pd, &p2);
+    d.driver = std::string(driver.driverName) + ", " + driver.driverInfo;
+  }
   for (uint32_t i = 0; i < mem.memoryHeapCount; ++i)
     if (mem.memoryHeaps[i].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT)
       d.device_local_bytes = std::max<uint64_t>(d.device_local_bytes, mem.memoryHeaps[i].size);

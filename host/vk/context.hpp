@@ -17,6 +17,7 @@ struct DeviceInfo {
   std::string name;
   std::string kind;  // "discrete", "integrated", "virtual", "cpu", "other"
   uint32_t api_version = 0;
+  std::string driver;   // the driver's name and version as it states them ("llvmpipe, Mesa 22.3.6")
   uint64_t device_local_bytes = 0;
   uint32_t max_workgroup_invocations = 0;
   uint64_t max_storage_buffer_range = 0;
