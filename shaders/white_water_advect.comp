@@ -2,8 +2,10 @@
 // White water's frame (shaders/white_water.h): each living particle reads the fluid around it
 // (the grid's 27 cells at the last build, as the reference's for_each_candidate; no wall
 // images), becomes spray, foam or bubble by its density, moves as that kind does, stops at the
-// walls and obstacles (as a fluid particle's prediction does), ages, and is copied to the next frame's list if it still lives. One thread a slot of
-// the capacity: the living are the first min(count, capacity).
+// walls and obstacles (as a fluid particle's prediction does), ages, and is written to the
+// same slot of the other list, marked in `keep` if it still lives (white_water_compact.comp
+// then packs the survivors in order). One thread a slot of the capacity: the living are the
+// first min(count, capacity).
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x_id = 0) in;
 #include "common.glsl"
@@ -15,7 +17,7 @@ layout(binding = 2, rgba32f) uniform readonly imageBuffer v;
 layout(std430, binding = 3) readonly buffer WhiteCountIn { uint white_count_in; };
 layout(std430, binding = 4) readonly buffer WhiteXIn { vec4 white_x_in[]; };
 layout(std430, binding = 5) readonly buffer WhiteVIn { vec4 white_v_in[]; };
-layout(std430, binding = 6) buffer WhiteCountOut { uint white_count_out; };
+layout(std430, binding = 6) writeonly buffer Keep { uint keep[]; };  // zeroed before
 layout(std430, binding = 7) writeonly buffer WhiteXOut { vec4 white_x_out[]; };
 layout(std430, binding = 8) writeonly buffer WhiteVOut { vec4 white_v_out[]; };
 #define OBSTACLES_BINDING 9
@@ -52,7 +54,8 @@ void main() {
   u = mix(u, vec3(0.0), notEqual(inside, to));  // stopped by a wall or an obstacle
   float life = xl.w - dt;
   if (life <= 0.0) return;
-  uint slot = atomicAdd(white_count_out, 1u);
+  uint slot = k;
+  keep[k] = 1u;
   uint tag = (floatBitsToUint(vt.w) & ~((1u << WHITE_KIND_BITS) - 1u)) | kind;
   white_x_out[slot] = vec4(inside, life);
   white_v_out[slot] = vec4(u, uintBitsToFloat(tag));

@@ -1,10 +1,8 @@
 #version 450
 // White water's births (shaders/white_water.h): each fluid particle's potentials from its
 // neighbours and their images behind the walls (an image's velocity mirrored: fluid running
-// into a wall meets its image head on), then its births appended after the living, each a
-// spacing's cube around it at its velocity, as foam until the next advect reads the fluid
-// around it. Past the capacity, births are dropped; the count still counts them (readers
-// take the smaller).
+// into a wall meets its image head on), and from them how many it bears this frame: `births`,
+// scanned, places them in the particles' order (white_water_birth.comp).
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x_id = 0) in;
 #include "common.glsl"
@@ -13,19 +11,14 @@ layout(local_size_x_id = 0) in;
 layout(binding = 1, rgba32f) uniform readonly imageBuffer x;
 layout(binding = 2, rgba32f) uniform readonly imageBuffer v;
 layout(std430, binding = 3) readonly buffer Id { uint id[]; };
-layout(std430, binding = 4) buffer WhiteCount { uint white_count; };
-layout(std430, binding = 5) writeonly buffer WhiteX { vec4 white_x[]; };  // (x, life)
-layout(std430, binding = 6) writeonly buffer WhiteV { vec4 white_v[]; };  // (v, tag's bits)
+layout(std430, binding = 4) writeonly buffer Births { uint births[]; };  // zeroed before
 #define NEIGHBOUR_BINDING 7
 #define NEIGHBOUR_CAPACITY_ID 1
 #include "neighbours.glsl"
 
 // The scene's keys (gpu/key_constants.hpp).
-layout(constant_id = 100) const float WHITE_WATER_LIFETIME = 0.0;
-layout(constant_id = 101) const float WHITE_WATER_EMISSION = 0.0;
-layout(constant_id = 102) const int WHITE_WATER_MAX_PARTICLES = 0;
-layout(constant_id = 3) const float SPACING = 0.02;  // after WALK_CELLS (neighbours.glsl)
-layout(constant_id = 4) const float FLOW_SPEED = 4.4;  // Derived::flow_speed, m/s
+layout(constant_id = 100) const float WHITE_WATER_EMISSION = 0.0;
+layout(constant_id = 4) const float FLOW_SPEED = 4.4;  // Derived::flow_speed, m/s (after WALK_CELLS, neighbours.glsl)
 
 void main() {
   uint i;
@@ -47,15 +40,6 @@ void main() {
   }
   float surface = length(towards) / (weights * sim.h);
   float outward = surface > 0.0 ? dot(vi, -normalize(towards)) / unit : 0.0;
-  uint emitter = id[i];
-  uint born = white_water_born(trapped / weights / unit, surface, outward, length(vi) / unit,
-                               WHITE_WATER_EMISSION * sim.elapsed, emitter, sim.frame);
-  for (uint b = 0u; b < born; ++b) {
-    uint k = atomicAdd(white_count, 1u);
-    if (k >= uint(WHITE_WATER_MAX_PARTICLES)) return;
-    uint seed = white_seed(emitter, b, sim.frame);
-    vec3 offset = vec3(white_unit(seed, 1u), white_unit(seed, 2u), white_unit(seed, 3u)) - 0.5;
-    white_x[k] = vec4(xi + SPACING * offset, WHITE_WATER_LIFETIME * (0.5 + white_unit(seed, 4u)));
-    white_v[k] = vec4(vi, uintBitsToFloat((emitter * WHITE_MOST_BORN + b) << WHITE_KIND_BITS | WHITE_FOAM));
-  }
+  births[i] = white_water_born(trapped / weights / unit, surface, outward, length(vi) / unit,
+                               WHITE_WATER_EMISSION * sim.elapsed, id[i], sim.frame);
 }

@@ -13,20 +13,32 @@ uint64_t scan_blocks(uint64_t values) { return (values + kScanBlock - 1) / kScan
 GridBuffers plan_grid(const Derived& d, uint64_t particles) {
   GridBuffers g;
   g.cell = g.rank = g.order = particles * sizeof(uint32_t);
-  // One more entry than cells: after the exclusive scan it holds the particle count, so
-  // that cell c's particles are [start[c], start[c + 1]) for every c.
-  uint64_t size = uint64_t(d.grid.x) * d.grid.y * d.grid.z + 1;
-  for (;;) {
-    g.level_entries.push_back(uint32_t(size));
-    g.levels.push_back(scan_blocks(size) * kScanBlock * sizeof(uint32_t));  // the scan moves whole blocks
-    if (size == 1) break;
-    // The next level holds this one's block sums, or only its total where it scans in one group.
-    size = scan_blocks(size) <= kOneGroupBlocks ? 1 : scan_blocks(size);
-  }
+  g.scan = plan_scan(uint64_t(d.grid.x) * d.grid.y * d.grid.z);
   return g;
 }
 
 }  // namespace
+
+ScanBuffers plan_scan(uint64_t values) {
+  ScanBuffers s;
+  // One more entry than values: after the exclusive scan it holds the total, so that value
+  // k's range is [start[k], start[k + 1]) for every k.
+  uint64_t size = values + 1;
+  for (;;) {
+    s.level_entries.push_back(uint32_t(size));
+    s.levels.push_back(scan_blocks(size) * kScanBlock * sizeof(uint32_t));  // the scan moves whole blocks
+    if (size == 1) break;
+    // The next level holds this one's block sums, or only its total where it scans in one group.
+    size = scan_blocks(size) <= kOneGroupBlocks ? 1 : scan_blocks(size);
+  }
+  return s;
+}
+
+uint64_t ScanBuffers::total() const {
+  uint64_t sum = 0;
+  for (uint64_t level : levels) sum += level;
+  return sum;
+}
 
 SolverBuffers plan_buffers(const Derived& d, uint64_t particles, FrameOutputs outputs) {
   const uint64_t vec4 = particles * sizeof(glm::vec4), word = particles * sizeof(uint32_t);
@@ -51,8 +63,10 @@ SolverBuffers plan_buffers(const Derived& d, uint64_t particles, FrameOutputs ou
   b.grid = plan_grid(d, particles);
   if (outputs.surface) b.shape = 2 * vec4;
   if (outputs.white_water && d.white_water.enabled) {
-    b.white_count = sizeof(uint32_t);
+    b.white_count = 2 * sizeof(uint32_t);
     b.white_array = uint64_t(d.white_water.max_particles) * sizeof(glm::vec4);
+    b.white_survivors = plan_scan(uint64_t(d.white_water.max_particles));
+    b.white_births = plan_scan(particles);
   }
   return b;
 }
@@ -61,13 +75,13 @@ uint64_t SolverBuffers::total() const {
   uint64_t sum = (kParticleVec4s + 1) * particle_vec4 + kIdArrays * id + rho + neighbour_count + neighbour_list +
                  x_lambda_spare + curl + partials + obstacles + watch + overflow_groups + 3 * adaptive_words +
                  coarse_sums + coarse_phi + coarse_grad + result + grid.cell + grid.rank + grid.order + shape +
-                 kWhiteLists * (white_count + 2 * white_array);
-  for (uint64_t level : grid.levels) sum += level;
+                 white_count + kWhiteLists * 2 * white_array + white_survivors.total() + white_births.total() +
+                 grid.scan.total();
   return sum;
 }
 
 uint64_t SolverBuffers::largest() const {
-  return std::max({particle_vec4, neighbour_list, neighbour_count, grid.levels.front(), shape});
+  return std::max({particle_vec4, neighbour_list, neighbour_count, grid.scan.levels.front(), shape});
 }
 
 }  // namespace pbflow

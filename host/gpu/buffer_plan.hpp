@@ -34,11 +34,19 @@ struct FrameResult {
   WatchWords watch;
 };
 
-// The grid's counting sort (gpu_grid.hpp): each particle's cell and rank, and the scan's levels.
+// A prefix sum's levels (gpu_scan.hpp): [0] the values and the total, then the block sums.
+struct ScanBuffers {
+  std::vector<uint32_t> level_entries;
+  std::vector<uint64_t> levels;  // bytes of each level: whole scan blocks
+  uint64_t total() const;
+};
+ScanBuffers plan_scan(uint64_t values);  // `values` and one more entry for the total
+
+// The grid's counting sort (gpu_grid.hpp): each particle's cell and rank, its cells' order, and
+// the scan of a count per cell.
 struct GridBuffers {
   uint64_t cell = 0, rank = 0, order = 0;  // order: each cell's particles by slot (grid_order.comp)
-  std::vector<uint32_t> level_entries;  // [0]: a count per cell and the total; then block sums
-  std::vector<uint64_t> levels;         // bytes of each level: whole scan blocks
+  ScanBuffers scan;
 };
 
 struct SolverBuffers {
@@ -53,10 +61,14 @@ struct SolverBuffers {
   uint64_t coarse_sums = 0, coarse_phi = 0, coarse_grad = 0;  // the coarse correction's nodes; 0 where it is off
   uint64_t result = sizeof(FrameResult);
   // The outputs' (FrameOutputs), 0 while off: the drawn shapes (the smoothed positions take a
-  // spare vec4 array); white water's two lists (the living and the next frame's), each a count
-  // and its (x, life) and (v, tag) arrays.
+  // spare vec4 array); white water's count (two words: white_water_birth.comp) and two lists
+  // (the living, and where they move before the survivors are packed back), each (x, life) and
+  // (v, tag) arrays.
+  // Their order is fixed by prefix sums: which living survive (over the capacity) and how many
+  // each fluid particle bears (over the particles).
   static constexpr int kWhiteLists = 2;
   uint64_t shape = 0, white_count = 0, white_array = 0;
+  ScanBuffers white_survivors, white_births;
   GridBuffers grid;
 
   uint64_t total() const;

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "gpu/buffer_plan.hpp"
+#include "gpu/gpu_scan.hpp"
 #include "sim/params.hpp"
 #include "vk/buffer.hpp"
 #include "vk/program.hpp"
@@ -29,15 +30,12 @@ class GpuGrid {
   // Bins `in.x` and writes in's arrays to `out` in cell order; cell_start() then holds,
   // for every cell c, the first sorted index of c (and the total at index cells).
   void build(vk::CommandList& cmd, const SimConstants& sim, Particles in, Particles out);
-  const vk::Buffer& cell_start() const { return levels_.front(); }
+  const vk::Buffer& cell_start() const { return scan_.data(); }
 
  private:
-  void scan(vk::CommandList& cmd, size_t level);
-
-  vk::Program count_, scan_blocks_, scan_add_, order_, scatter_;
+  vk::Program count_, order_, scatter_;
   vk::Buffer cell_, rank_, slots_;  // slots_: each cell's particles in the count's order (grid_order.comp)
-  std::vector<vk::Buffer> levels_;    // [0]: counts, scanned in place into cell_start; then block sums
-  std::vector<uint32_t> level_size_;  // entries in each level
+  GpuScan scan_;                    // a count per cell, scanned in place into cell_start
 };
 
 }  // namespace pbflow

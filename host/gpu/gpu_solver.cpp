@@ -205,18 +205,22 @@ void GpuSolver::set_outputs(FrameOutputs outputs) {
   outputs_ = outputs;
   if (outputs.surface && positions_.lists.pipeline() == VK_NULL_HANDLE) positions_ = neighbour_pass("smoothed_positions", {});
   if (outputs.white_water && white_advect_.pipeline() == VK_NULL_HANDLE) {
-    white_emit_ = neighbour_pass("white_water_emit", {{"SPACING", float(d_.spacing)}, {"FLOW_SPEED", float(d_.flow_speed)}});
+    white_emit_ = neighbour_pass("white_water_emit", {{"FLOW_SPEED", float(d_.flow_speed)}});
     white_advect_ = particle_program("white_water_advect");
+    white_compact_ = particle_program("white_water_compact");
+    white_birth_ = particle_program("white_water_birth", std::array<vk::Constant, 1>{{{"SPACING", float(d_.spacing)}}});
   }
   // The plan's buffers for these outputs, and none for those off.
   const SolverBuffers plan = plan_buffers(d_, n_, outputs);
   if (shape_.bytes() != plan.shape) shape_ = plan.shape ? vk::Buffer(ctx_, plan.shape) : vk::Buffer{};
   if (white_was_on == outputs.white_water) return;
+  white_count_ = plan.white_count ? vk::Buffer(ctx_, plan.white_count) : vk::Buffer{};
   for (int k = 0; k < SolverBuffers::kWhiteLists; ++k) {
-    white_count_[k] = plan.white_count ? vk::Buffer(ctx_, plan.white_count) : vk::Buffer{};
     white_x_[k] = plan.white_array ? vk::Buffer(ctx_, plan.white_array) : vk::Buffer{};
     white_v_[k] = plan.white_array ? vk::Buffer(ctx_, plan.white_array) : vk::Buffer{};
   }
+  white_survivors_ = outputs.white_water ? GpuScan(ctx_, plan.white_survivors) : GpuScan{};
+  white_births_ = outputs.white_water ? GpuScan(ctx_, plan.white_births) : GpuScan{};
   upload_white_water({});
 }
 
@@ -251,9 +255,9 @@ void GpuSolver::copy_frame(const vk::Buffer& dst) const {
       vkCmdFillBuffer(cb, dst.handle(), to.shape, to.white_count - to.shape, 0);
     vkCmdFillBuffer(cb, dst.handle(), to.white_count, WHITE_HEADER_BYTES, 0);
     if (outputs_.white_water) {
-      copy(white_count_[white_current_], to.white_count, to.white_count + sizeof(uint32_t));
-      copy(white_x_[white_current_], to.white_x, to.white_v);
-      copy(white_v_[white_current_], to.white_v, to.end);
+      copy(white_count_, to.white_count, to.white_count + sizeof(uint32_t));
+      copy(white_x_[0], to.white_x, to.white_v);
+      copy(white_v_[0], to.white_v, to.end);
     }
     vk::memory_barrier(cb);
   });

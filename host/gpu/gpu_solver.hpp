@@ -11,6 +11,7 @@
 #include "gpu/buffer_plan.hpp"
 #include "gpu/key_constants.hpp"
 #include "gpu/gpu_grid.hpp"
+#include "gpu/gpu_scan.hpp"
 #include "sim/obstacles.hpp"
 #include "sim/params.hpp"
 #include "sim/solver.hpp"
@@ -61,9 +62,10 @@ class GpuSolver : public Solver {
   // spare slot, which no pass writes again before the next frame's first grid build, and
   // the particles' drawn shapes.
   void smoothed_positions();
-  // A frame's white water (shaders/white_water.h), `elapsed` s: the living moved from one list
-  // to the other (white_water_advect.comp), then the fluid's births appended, from the last
-  // lists (white_water_emit.comp); `frame` picks their random numbers.
+  // A frame's white water (shaders/white_water.h), `elapsed` s: the living moved into the other
+  // list and the survivors packed back in order (white_water_advect, white_water_compact.comp),
+  // then the fluid's births counted from the last lists and appended in the particles' order
+  // (white_water_emit, white_water_birth.comp); `frame` picks their random numbers.
   void white_water_advect(double elapsed);
   void white_water_emit(double elapsed, uint32_t frame);
   // One pass of a plan (sim/frame_plan.hpp); `indirect`: the constraint passes' dispatch, where
@@ -148,14 +150,16 @@ class GpuSolver : public Solver {
   vk::Buffer coarse_sums_, coarse_phi_, coarse_grad_;
   vk::Buffer watch_buf_;  // watch.comp: flags, first step, counts, the step being watched
   uint32_t step_in_frame_ = 0;  // adaptive iterations: the last check's measures, dispatch arguments + count
-  // White water, where asked for: two lists (the living, and the next frame's), each a count
-  // and the capacity's (x, life) and (v, tag); white_current_ the living's.
+  // White water, where asked for: its count (the living, and the living and born while the
+  // births are placed), its lists ([0] the living, [1] where they move before the survivors are
+  // packed back into [0]), each (x, life) and (v, tag); the prefix sums that fix their order.
   uint32_t white_capacity_, frames_advanced_ = 0;
   double frame_time_ = 0;  // s the frame's steps advance, for white water
   NeighbourPass white_emit_;
-  vk::Program white_advect_;
-  std::array<vk::Buffer, 2> white_count_, white_x_, white_v_;
-  int white_current_ = 0;
+  vk::Program white_advect_, white_compact_, white_birth_;
+  vk::Buffer white_count_;
+  std::array<vk::Buffer, 2> white_x_, white_v_;
+  GpuScan white_survivors_, white_births_;
   vk::CommandList cmd_;
   std::unique_ptr<vk::GpuTimer> timer_;
   bool profiling_ = false;

@@ -95,7 +95,7 @@ MemoryNeed memory_need(const Derived& d, double particles, const vk::DeviceInfo*
     need.device = plan.total() + (pixels > 0 ? frame_bytes(count, white) : 0);
     need.largest_array = plan.largest();
     // White water's lists where on, and its room in the frames, on or off: each array the cap's vec4s.
-    need.white_water = SolverBuffers::kWhiteLists * (plan.white_count + 2 * plan.white_array) +
+    need.white_water = plan.white_count + SolverBuffers::kWhiteLists * 2 * plan.white_array +
                        (pixels > 0 ? 2 * white * sizeof(glm::vec4) : 0);
     need.largest_white_array = white * sizeof(glm::vec4);
     host += kHostPerParticleGpuRun * particles + kDriverBytes;
