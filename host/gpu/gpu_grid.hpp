@@ -1,21 +1,12 @@
 #pragma once
-// The uniform grid on the GPU, built by counting sort: cell of each particle and its
-// rank in the cell (atomics), exclusive prefix sum over all cells (recursive, any
-// cell count), then a scatter that reorders the particle data by cell.
-#include <vector>
-
-#include "gpu/buffer_plan.hpp"
+// The uniform grid on the GPU, built by counting sort: each particle's cell and a rank in it
+// (atomics), an exclusive prefix sum over all cells (GpuScan), each cell's particles ranked by
+// their index (the same order on every run), then a scatter that reorders the particle data
+// by cell.
 #include "gpu/gpu_scan.hpp"
 #include "sim/params.hpp"
-#include "vk/buffer.hpp"
-#include "vk/program.hpp"
 
 namespace pbflow {
-
-namespace vk {
-class CommandList;
-class Context;
-}  // namespace vk
 
 class GpuGrid {
  public:
