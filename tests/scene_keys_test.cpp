@@ -85,7 +85,9 @@ TEST(SceneKeys, ADefaultIsShownFromItsValue) {
   for (const SceneKey& k : scene_keys()) {
     const std::string shown = shown_default(k);
     EXPECT_FALSE(shown.empty()) << k.name;
-    if (k.value && k.shown.empty() && k.kind == KeyKind::Number) EXPECT_DOUBLE_EQ(std::stod(shown), *k.value) << k.name;
+    if (k.value && k.shown.empty() && k.kind == KeyKind::Number) {
+      EXPECT_DOUBLE_EQ(std::stod(shown), *k.value) << k.name;
+    }
   }
 }
 
