@@ -1,0 +1,82 @@
+#!/usr/bin/env python3
+"""How the fluid at rest reads beside each solid, against the interior at the same depth: the
+yardstick of a boundary model (a particle beside a wall or an obstacle should read what one
+inside reads). For one frame of a run exported as PLY (`pbflow run ... --export ply`):
+each particle within a kernel radius (2 spacings) of one solid's surface (a wall, an obstacle) and
+of no other is
+compared with the median density of the interior particles in its layer (one spacing high;
+interior: farther than 2 kernel radii from every solid and below the free surface by as much).
+Prints a Markdown row per solid: particles, median deviation, 1st and 99th percentiles; and
+the frame's largest speed.
+  bench/boundary.py RUN_DIR [FRAME]     (FRAME: default the last)"""
+import glob
+import json
+import math
+import os
+import struct
+import sys
+
+
+def read_ply(path):
+    data = open(path, "rb").read()
+    end = data.index(b"end_header\n") + len(b"end_header\n")
+    header = data[:end].decode().split("\n")
+    n = next(int(line.split()[2]) for line in header if line.startswith("element vertex"))
+    names = [line.split()[2] for line in header if line.startswith("property float")]
+    values = struct.unpack_from(f"<{n * len(names)}f", data, end)
+    return [dict(zip(names, values[k * len(names):(k + 1) * len(names)])) for k in range(n)]
+
+
+def distance_to(solid, p):
+    """Distance from p to a solid's surface: a box {min, max} or a sphere {centre, radius}."""
+    if solid.get("type") == "sphere":
+        return abs(math.dist(p, solid["centre"]) - solid["radius"])
+    lo, hi = solid["min"], solid["max"]
+    outside = [max(lo[a] - p[a], 0.0, p[a] - hi[a]) for a in range(3)]
+    if any(outside):
+        return math.hypot(*outside)
+    return min(min(p[a] - lo[a], hi[a] - p[a]) for a in range(3))
+
+
+def percentile(values, q):
+    s = sorted(values)
+    return s[min(len(s) - 1, max(0, int(round(q * (len(s) - 1)))))] if s else float("nan")
+
+
+def main(args):
+    if not args:
+        raise SystemExit(__doc__)
+    run = args[0]
+    manifest = json.load(open(os.path.join(run, "run.json")))
+    scene = manifest["scene"]
+    spacing = scene["particle_spacing"]
+    h = 2 * spacing  # solver.kernel_ratio's default
+    lo, hi = scene["domain"]["min"], scene["domain"]["max"]
+    walls = [{"type": "box", "min": lo, "max": hi}]  # the tank, seen from inside
+    obstacles = scene.get("obstacles", [])
+    frames = sorted(glob.glob(os.path.join(run, "particles", "frame_*.ply")))
+    path = frames[-1] if len(args) < 2 else os.path.join(run, "particles", f"frame_{int(args[1]):05d}.ply")
+    particles = read_ply(path)
+    top = max(p["y"] for p in particles)
+    layer = lambda p: int(p["y"] / spacing)
+    near = lambda solid, p: distance_to(solid, (p["x"], p["y"], p["z"])) < h
+    interior = {}
+    for p in particles:
+        if all(not near(s, p) and distance_to(s, (p["x"], p["y"], p["z"])) >= 2 * h for s in walls + obstacles) and \
+                p["y"] < top - 2 * h:
+            interior.setdefault(layer(p), []).append(p["density"])
+    reference = {k: percentile(v, 0.5) for k, v in interior.items()}
+    print(f"{os.path.basename(path)}: largest speed {max(math.sqrt(p['vx']**2 + p['vy']**2 + p['vz']**2) for p in particles):.3f} m/s")
+    print("| beside | particles | median deviation | 1st percentile | 99th percentile |")
+    print("|---|---|---|---|---|")
+    solids = [("the tank's walls", walls[0])] + [(f"obstacle {k} ({o.get('type')})", o) for k, o in enumerate(obstacles)]
+    for name, solid in solids:  # a particle beside this solid alone, below the surface's layers
+        deviation = [p["density"] / reference[layer(p)] - 1 for p in particles
+                     if near(solid, p) and not any(near(o, p) for _, o in solids if o is not solid)
+                     and layer(p) in reference and p["y"] < top - 2 * h]
+        print(f"| {name} | {len(deviation)} | {100 * percentile(deviation, 0.5):+.2f} % | "
+              f"{100 * percentile(deviation, 0.01):+.2f} % | {100 * percentile(deviation, 0.99):+.2f} % |")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
