@@ -21,6 +21,7 @@
 #include "io/run_directory.hpp"
 #include "io/stats_csv.hpp"
 #include "scene/derive.hpp"
+#include "sim/frame_plan.hpp"
 #include "scene/parse.hpp"
 #include "scene/scene.hpp"
 #include "scene/seeding.hpp"
@@ -364,7 +365,7 @@ int run(const RunOptions& o) {
   std::unique_ptr<capture::FrameCapture> capture;
   if (o.render) capture = make_frame_capture(o, scene, {solver.get()}, ctx.get());
   const FrameOutputs outputs = run_outputs(o);
-  const bool white_water = outputs.white_water && d.white_water.enabled;
+  const bool white_water = outputs_made(d, outputs).white_water;
 
   // Everything is checked: from here the run owns DIR and replaces the previous run's files.
   RunDirectory dir(out, RunFiles{scene.frames, bool(capture),

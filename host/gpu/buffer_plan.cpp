@@ -62,7 +62,7 @@ SolverBuffers plan_buffers(const Derived& d, uint64_t particles, FrameOutputs ou
   }
   b.grid = plan_grid(d, particles);
   if (outputs.surface) b.shape = 2 * vec4;
-  if (outputs.white_water && d.white_water.enabled) {
+  if (outputs_made(d, outputs).white_water) {
     b.white_count = 2 * sizeof(uint32_t);
     b.white_array = uint64_t(d.white_water.max_particles) * sizeof(glm::vec4);
     b.white_survivors = plan_scan(uint64_t(d.white_water.max_particles));
@@ -75,9 +75,12 @@ uint64_t SolverBuffers::total() const {
   uint64_t sum = (kParticleVec4s + 1) * particle_vec4 + kIdArrays * id + rho + neighbour_count + neighbour_list +
                  x_lambda_spare + curl + partials + obstacles + watch + overflow_groups + 3 * adaptive_words +
                  coarse_sums + coarse_phi + coarse_grad + result + grid.cell + grid.rank + grid.order + shape +
-                 white_count + kWhiteLists * 2 * white_array + white_survivors.total() + white_births.total() +
-                 grid.scan.total();
+                 white_water() + grid.scan.total();
   return sum;
+}
+
+uint64_t SolverBuffers::white_water() const {
+  return white_count + kWhiteLists * 2 * white_array + white_survivors.total() + white_births.total();
 }
 
 uint64_t SolverBuffers::largest() const {

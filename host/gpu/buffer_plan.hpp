@@ -8,7 +8,7 @@
 
 #include "shaders/contract.h"
 #include "sim/params.hpp"
-#include "sim/solver.hpp"
+#include "sim/frame_plan.hpp"
 
 namespace pbflow {
 
@@ -72,6 +72,7 @@ struct SolverBuffers {
   GridBuffers grid;
 
   uint64_t total() const;
+  uint64_t white_water() const;  // white water's buffers, of the total
   uint64_t largest() const;  // one buffer, against the storage buffer range
 };
 

@@ -90,7 +90,6 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
       obstacles_(ctx, plan_.obstacles),
       overflow_groups_(ctx, plan_.overflow_groups),
       watch_buf_(ctx, plan_.watch),
-      white_capacity_(uint32_t(d.white_water.max_particles)),
       cmd_(ctx),
       timer_(std::make_unique<vk::GpuTimer>(ctx, 2)) {
   for (auto& b : vec4_) b = vk::Buffer(ctx, plan_.particle_vec4);
@@ -200,7 +199,7 @@ ParticleFrame GpuSolver::read_frame() const {
 }
 
 void GpuSolver::set_outputs(FrameOutputs outputs) {
-  outputs.white_water = outputs.white_water && d_.white_water.enabled;
+  outputs = outputs_made(d_, outputs);
   const bool white_was_on = outputs_.white_water;
   outputs_ = outputs;
   if (outputs.surface && positions_.lists.pipeline() == VK_NULL_HANDLE) positions_ = neighbour_pass("smoothed_positions", {});

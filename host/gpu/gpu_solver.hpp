@@ -33,7 +33,7 @@ class GpuSolver : public Solver {
   // `dst` on the device: no host round trip.
   void copy_frame(const vk::Buffer& dst) const;
   void set_outputs(FrameOutputs outputs) override;  // builds an output's programs when first asked
-  size_t white_water_capacity() const override { return d_.white_water.enabled ? white_capacity_ : 0; }
+  size_t white_water_capacity() const override { return d_.white_capacity(); }
   std::vector<WhiteParticle> white_water() const override;
   void upload_white_water(const std::vector<WhiteParticle>& w) override;
   size_t particle_count() const override { return n_; }
@@ -153,7 +153,7 @@ class GpuSolver : public Solver {
   // White water, where asked for: its count (the living, and the living and born while the
   // births are placed), its lists ([0] the living, [1] where they move before the survivors are
   // packed back into [0]), each (x, life) and (v, tag); the prefix sums that fix their order.
-  uint32_t white_capacity_, frames_advanced_ = 0;
+  uint32_t frames_advanced_ = 0;
   double frame_time_ = 0;  // s the frame's steps advance, for white water
   NeighbourPass white_emit_;
   vk::Program white_advect_, white_compact_, white_birth_;

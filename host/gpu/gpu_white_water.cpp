@@ -11,7 +11,7 @@ namespace pbflow {
 
 std::vector<WhiteParticle> GpuSolver::white_water() const {
   if (!outputs_.white_water) return {};
-  const uint32_t count = std::min(white_count_.download<uint32_t>(1)[0], white_capacity_);
+  const uint32_t count = std::min(white_count_.download<uint32_t>(1)[0], uint32_t(white_water_capacity()));
   const auto x = white_x_[0].download<glm::vec4>(count), v = white_v_[0].download<glm::vec4>(count);
   std::vector<WhiteParticle> out;
   for (uint32_t k = 0; k < count; ++k) out.push_back(WhiteParticle::unpacked(x[k], v[k]));
@@ -20,7 +20,7 @@ std::vector<WhiteParticle> GpuSolver::white_water() const {
 
 void GpuSolver::upload_white_water(const std::vector<WhiteParticle>& w) {
   if (!outputs_.white_water) return;
-  const uint32_t count = uint32_t(std::min<size_t>(w.size(), white_capacity_));
+  const uint32_t count = uint32_t(std::min(w.size(), white_water_capacity()));
   ParticleFrame packed;
   add_white_water(packed, {w.begin(), w.begin() + count});
   const uint32_t words[2] = {count, count};
@@ -45,7 +45,7 @@ void GpuSolver::white_water_advect(double elapsed) {
   cmd_.bind("white_x_out", white_x_[1]);
   cmd_.bind("white_v_out", white_v_[1]);
   cmd_.bind("obstacles", obstacles_);
-  cmd_.dispatch(white_capacity_);
+  cmd_.dispatch(uint32_t(white_water_capacity()));
   white_survivors_.run(cmd_);
   bind_particle_pass(white_compact_);  // the survivors back into [0], in order, and their count
   cmd_.bind("slots", white_survivors_.data());
@@ -54,7 +54,7 @@ void GpuSolver::white_water_advect(double elapsed) {
   cmd_.bind("white_count", white_count_);
   cmd_.bind("white_x_out", white_x_[0]);
   cmd_.bind("white_v_out", white_v_[0]);
-  cmd_.dispatch(white_capacity_ + 1);
+  cmd_.dispatch(uint32_t(white_water_capacity()) + 1);
 }
 
 void GpuSolver::white_water_emit(double elapsed, uint32_t frame) {

@@ -4,7 +4,6 @@
 #include <type_traits>
 #include <variant>
 
-
 namespace pbflow {
 
 std::string KeyConstants::shader_name(std::string_view key) {

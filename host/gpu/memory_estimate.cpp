@@ -82,7 +82,7 @@ MemoryNeed memory_need(const Derived& d, double particles, const vk::DeviceInfo*
       pixels > 0 ? kRendererBytes + (kBytesPerPixel + (picture.full_surface ? kBytesPerPixelFullSurface : 0)) * pixels : 0;
   // Capped where the count is past any machine, so that the conversions stay defined.
   const uint64_t count = uint64_t(std::ceil(std::min(particles, 1e15)));
-  const size_t white = d.white_water.enabled ? size_t(d.white_water.max_particles) : 0;
+  const size_t white = d.white_capacity();
   // A frame read back (capture, export), with room for the white water (Solver::white_water_capacity).
   const double frame = double(frame_bytes(count, white)) + sizeof(uint32_t) * particles;
   MemoryNeed need;
@@ -95,8 +95,7 @@ MemoryNeed memory_need(const Derived& d, double particles, const vk::DeviceInfo*
     need.device = plan.total() + (pixels > 0 ? frame_bytes(count, white) : 0);
     need.largest_array = plan.largest();
     // White water's lists where on, and its room in the frames, on or off: each array the cap's vec4s.
-    need.white_water = plan.white_count + SolverBuffers::kWhiteLists * 2 * plan.white_array +
-                       (pixels > 0 ? 2 * white * sizeof(glm::vec4) : 0);
+    need.white_water = plan.white_water() + (pixels > 0 ? 2 * white * sizeof(glm::vec4) : 0);
     need.largest_white_array = white * sizeof(glm::vec4);
     host += kHostPerParticleGpuRun * particles + kDriverBytes;
   } else {

@@ -48,7 +48,7 @@ std::vector<PlannedPass> frame_plan(const Derived& d, int steps, FrameOutputs ou
   plan.push_back({Pass::Density, PassGroup::Measures});
   plan.push_back({Pass::Measures, PassGroup::Measures});
   if (outputs.surface) plan.push_back({Pass::Surface, PassGroup::Surface});
-  if (outputs.white_water && d.white_water.enabled)
+  if (outputs.white_water)
     append(plan, {{Pass::WhiteWaterAdvect, PassGroup::WhiteWater}, {Pass::WhiteWaterEmit, PassGroup::WhiteWater}});
   return plan;
 }

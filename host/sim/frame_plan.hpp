@@ -43,7 +43,11 @@ struct PlannedPass {
 // roles on the GPU's host side whether or not the GPU runs it, so only pairs keep x* in place.
 inline constexpr int kAdaptiveStride = 2;
 
-// A frame of `steps` steps (0: the measures and outputs alone) and the outputs asked for.
+// Of the outputs asked for, those the scene makes: white water only where it enables it.
+inline FrameOutputs outputs_made(const Derived& d, FrameOutputs asked) {
+  return {asked.surface, asked.white_water && d.white_capacity() > 0};
+}
+// A frame of `steps` steps (0: the measures and outputs alone) and `outputs` (outputs_made's).
 std::vector<PlannedPass> frame_plan(const Derived& d, int steps, FrameOutputs outputs);
 // One step, without its watch.
 std::vector<PlannedPass> step_plan(const Derived& d);

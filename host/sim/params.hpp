@@ -90,6 +90,8 @@ struct Derived {
   // Whether the constraint passes average lambda (solver.lambda_smoothing > 0): pairs, and a
   // single iteration with the coarse correction beside it.
   bool smooths_lambda() const { return solver.lambda_smoothing > 0; }
+  // The most white water alive at once: its cap where the scene enables it, else 0.
+  size_t white_capacity() const { return white_water.enabled ? size_t(white_water.max_particles) : 0; }
   // LDC: the K the force uses (1/s^2; 0 for pbf) and the K at which the explicit force
   // alone goes unstable at this dt and h / spacing (K dt^2 s = 4).
   double ldc_k, ldc_k_limit;

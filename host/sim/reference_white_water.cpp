@@ -11,13 +11,13 @@ namespace pbflow {
 using glm::dvec3;
 
 void ReferenceSolver::set_outputs(FrameOutputs outputs) {
-  outputs.white_water = outputs.white_water && d_.white_water.enabled;
+  outputs = outputs_made(d_, outputs);
   if (outputs.white_water != outputs_.white_water) white.clear();  // on starts with none alive
   outputs_ = outputs;
 }
 
 size_t ReferenceSolver::white_water_capacity() const {
-  return d_.white_water.enabled ? size_t(d_.white_water.max_particles) : 0;
+  return d_.white_capacity();
 }
 
 void ReferenceSolver::upload_white_water(const std::vector<WhiteParticle>& w) {
