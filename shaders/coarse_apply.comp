@@ -11,7 +11,7 @@ layout(constant_id = 7) const float STRENGTH = 0.5;  // Derived::Coarse::strengt
 layout(binding = 5, rgba32f) uniform imageBuffer x_lambda;  // (x_pred, lambda), constraint_lambda.comp
 layout(std430, binding = 6) readonly buffer Grad { vec4 grad[]; };
 #define OBSTACLES_BINDING 7
-#include "obstacles.glsl"
+#include "solids.glsl"
 
 void main() {
   uint i = thread_index();

@@ -40,39 +40,10 @@ float position_weight(vec3 d) {
   return max(1.0 - t * t * t, 0.0);
 }
 
-// The walls are mirrors: the fluid behind a wall is the fluid in front of it, reflected
-// (ghost particles; host/sim/reference_solver.hpp says why). A neighbour j of particle i has
-// an image behind every wall within h of i (the nearer wall of each axis), and one behind
-// each pair and the triple of them at edges and corners: image k (a bit mask of axes,
-// 1..7) reflects j across the walls of the axes in k. A lattice continued this way is
-// the lattice itself, so walls read rho0 exactly.
-struct WallImages {
-  int axes;     // bit a: axis a has a wall within h; the images are the non-empty subsets
-  vec3 plane2;  // twice the near wall's coordinate on each such axis
-};
-WallImages walls_near(vec3 x) {
-  WallImages w;
-  w.axes = 0;
-  for (int a = 0; a < 3; ++a) {
-    float lo = x[a] - sim.domain_min[a], hi = sim.domain_max[a] - x[a];
-    if (min(lo, hi) < sim.h) w.axes |= 1 << a;  // a box narrower than 2h: the nearer wall only
-    w.plane2[a] = 2.0 * (lo <= hi ? sim.domain_min[a] : sim.domain_max[a]);
-  }
-  return w;
-}
-// For a pass that sees the fluid only: the cell walk then yields no images.
-WallImages no_walls() { return WallImages(0, vec3(0.0)); }
-// Every image of a neighbour: for (int k = w.axes; k != 0; k = next_image(w.axes, k)) ...
-int next_image(int axes, int k) { return (k - 1) & axes; }
-bvec3 reflected(int k) { return bvec3((k & 1) != 0, (k & 2) != 0, (k & 4) != 0); }
-vec3 mirror(WallImages w, int k, vec3 x) { return mix(x, w.plane2 - x, reflected(k)); }
-// The reflection's matrix (diagonal): maps a gradient at the image back to the neighbour.
-vec3 mirror_sign(int k) { return mix(vec3(1.0), vec3(-1.0), reflected(k)); }
 // A neighbour list's entry (neighbours.glsl): particle j's image k (0: j itself) in one
-// word, k in the top three bits. 2^29 particles would fit; a run holds fewer than 2^28,
-// as a storage buffer's range (a 32-bit size) ends there for the vec4 arrays
-// (check_device_memory).
-const uint IMAGE_SHIFT = 29u, IMAGE_INDEX_MASK = (1u << IMAGE_SHIFT) - 1u;
+// word, k in the top four bits (solids.glsl). 2^28 particles fit; a run holds fewer, as a
+// storage buffer's range (a 32-bit size) ends there for the vec4 arrays (check_device_memory).
+const uint IMAGE_SHIFT = 28u, IMAGE_INDEX_MASK = (1u << IMAGE_SHIFT) - 1u;
 uint image_entry(uint j, int k) { return j | (uint(k) << IMAGE_SHIFT); }
 
 ivec3 cell_of(vec3 x) {

@@ -13,7 +13,7 @@ layout(local_size_x_id = 0) in;
 layout(binding = 1, rgba32f) uniform readonly imageBuffer x_lambda;  // (x*, lambda), constraint_lambda.comp
 layout(std430, binding = 2) writeonly buffer XOut { vec4 x_out[]; };
 #define OBSTACLES_BINDING 3
-#include "obstacles.glsl"
+#include "solids.glsl"
 #define NEIGHBOUR_BINDING 4
 #define NEIGHBOUR_CAPACITY_ID 2
 #include "neighbours.glsl"
@@ -23,14 +23,14 @@ void main() {
   if (!neighbour_pass_particle(i)) return;
   vec4 own = imageLoad(x_lambda, int(i));
   vec3 xi = own.xyz;
-  WallImages walls = walls_near(xi);
+  Mirrors mirrors = mirrors_near(xi);
   float lambda_i = own.w;
   vec3 dp = vec3(0.0);
   int image;
   // An image behind a wall carries its particle's lambda; i's own images push i away.
-  FOR_EACH_NEIGHBOUR(i, xi, walls, j, image) {
+  FOR_EACH_NEIGHBOUR(i, xi, mirrors, j, image) {
     vec4 xj = imageLoad(x_lambda, int(j));
-    vec3 d = xi - mirror(walls, image, xj.xyz);
+    vec3 d = xi - mirror(mirrors, image, xj.xyz);
     dp += (lambda_i + xj.w) * spiky_grad(d, length(d));
   }
   x_out[i] = vec4(project_out_of_solids(xi + sim.relaxation * (sim.mass / sim.rho0) * dp), 0.0);

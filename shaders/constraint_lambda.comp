@@ -12,6 +12,7 @@ layout(local_size_x_id = 0) in;
 layout(binding = 1, rgba32f) uniform readonly imageBuffer x_pred;
 layout(std430, binding = 2) writeonly buffer XLambda { vec4 x_lambda[]; };
 layout(std430, binding = 3) writeonly buffer Rho { float rho_out[]; };
+#define OBSTACLES_BINDING 6
 #define NEIGHBOUR_BINDING 4
 #define NEIGHBOUR_CAPACITY_ID 1
 #include "neighbours.glsl"
@@ -20,7 +21,7 @@ void main() {
   uint i;
   if (!neighbour_pass_particle(i)) return;
   vec3 xi = imageLoad(x_pred, int(i)).xyz;
-  WallImages walls = walls_near(xi);
+  Mirrors mirrors = mirrors_near(xi);
   // m/rho0 goes into every gradient term before it is squared: the squares alone, ~1/h^8,
   // leave float's range at the ends of particle_spacing's (tests/scale_test.cpp).
   const float s = sim.mass / sim.rho0;
@@ -39,8 +40,8 @@ void main() {
   // ldc@1 (0.03-0.105 m/s over the last second of tests/rest_test.cpp, against 0.010-0.026).
   // On a lattice beside a face the two agree (all terms sum to zero there); at an edge or a
   // corner the doubled images' cross terms leave the sum a little larger than inside.
-  FOR_EACH_NEIGHBOUR(i, xi, walls, j, image) {  // for j = i itself the kernel gradient is zero
-    vec3 d = xi - mirror(walls, image, imageLoad(x_pred, int(j)).xyz);
+  FOR_EACH_NEIGHBOUR(i, xi, mirrors, j, image) {  // for j = i itself the kernel gradient is zero
+    vec3 d = xi - mirror(mirrors, image, imageLoad(x_pred, int(j)).xyz);
     float r2 = dot(d, d);
     w_sum += poly6(r2);
     vec3 g = s * spiky_grad(d, sqrt(r2));

@@ -18,6 +18,7 @@ layout(local_size_x_id = 0) in;
 
 layout(binding = 1, rgba32f) uniform readonly imageBuffer x_lambda_in;  // (x*, lambda), constraint_lambda.comp
 layout(std430, binding = 2) writeonly buffer XLambdaOut { vec4 x_lambda_out[]; };
+#define OBSTACLES_BINDING 5
 #define NEIGHBOUR_BINDING 3
 #define NEIGHBOUR_CAPACITY_ID 1
 #include "neighbours.glsl"
@@ -26,12 +27,12 @@ void main() {
   uint i;
   if (!neighbour_pass_particle(i)) return;
   vec3 xi = imageLoad(x_lambda_in, int(i)).xyz;
-  WallImages walls = walls_near(xi);
+  Mirrors mirrors = mirrors_near(xi);
   float sum = 0.0, total = 0.0;
   int image;
-  FOR_EACH_NEIGHBOUR(i, xi, walls, j, image) {  // an image carries its particle's lambda
+  FOR_EACH_NEIGHBOUR(i, xi, mirrors, j, image) {  // an image carries its particle's lambda
     vec4 xj = imageLoad(x_lambda_in, int(j));
-    float w = smoothing_weight(xi - mirror(walls, image, xj.xyz));
+    float w = smoothing_weight(xi - mirror(mirrors, image, xj.xyz));
     sum += w * xj.w;
     total += w;
   }

@@ -17,7 +17,7 @@ layout(binding = 2, r32f) uniform readonly imageBuffer rho;
 layout(std430, binding = 3) buffer V { vec4 v[]; };
 layout(std430, binding = 6) writeonly buffer XPred { vec4 x_pred[]; };
 #define OBSTACLES_BINDING 7
-#include "obstacles.glsl"
+#include "solids.glsl"
 layout(constant_id = 100) const bool SOLVER_LDC_CLAMP = false;  // the scene's key (gpu/key_constants.hpp)
 layout(constant_id = 2) const float LDC_ROOM = 1.8;  // Derived::ldc_room
 #define NEIGHBOUR_BINDING 4
@@ -39,13 +39,13 @@ void main() {
   uint i;
   if (!neighbour_pass_particle(i)) return;
   vec3 xi = imageLoad(x, int(i)).xyz;
-  WallImages walls = walls_near(xi);
+  Mirrors mirrors = mirrors_near(xi);
   // Differences keep the float sum exact at uniform density.
   float rho_i = ldc_density(i);
   vec3 f = vec3(0.0);
   int image;
-  FOR_EACH_NEIGHBOUR(i, xi, walls, j, image) {  // an image carries its particle's density
-    vec3 xj = mirror(walls, image, imageLoad(x, int(j)).xyz);
+  FOR_EACH_NEIGHBOUR(i, xi, mirrors, j, image) {  // an image carries its particle's density
+    vec3 xj = mirror(mirrors, image, imageLoad(x, int(j)).xyz);
     f += (ldc_density(j) - rho_i) * pair_term(xj - xi);
   }
   // The force's stiffness grows with the neighbours inside h, by up to (rho/rho0)^2 on a

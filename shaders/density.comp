@@ -6,6 +6,7 @@ layout(local_size_x_id = 0) in;
 
 layout(binding = 1, rgba32f) uniform readonly imageBuffer x;
 layout(std430, binding = 2) writeonly buffer Rho { float rho[]; };
+#define OBSTACLES_BINDING 5
 #define NEIGHBOUR_BINDING 3
 #define NEIGHBOUR_CAPACITY_ID 1
 #include "neighbours.glsl"
@@ -14,11 +15,11 @@ void main() {
   uint i;
   if (!neighbour_pass_particle(i)) return;
   vec3 xi = imageLoad(x, int(i)).xyz;
-  WallImages walls = walls_near(xi);
+  Mirrors mirrors = mirrors_near(xi);
   float sum = 0.0;
   int image;
-  FOR_EACH_NEIGHBOUR(i, xi, walls, j, image) {
-    vec3 d = xi - mirror(walls, image, imageLoad(x, int(j)).xyz);
+  FOR_EACH_NEIGHBOUR(i, xi, mirrors, j, image) {
+    vec3 d = xi - mirror(mirrors, image, imageLoad(x, int(j)).xyz);
     sum += poly6(dot(d, d));
   }
   rho[i] = sim.mass * sum;

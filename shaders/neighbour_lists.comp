@@ -19,6 +19,8 @@
 layout(local_size_x_id = 0) in;
 #include "common.glsl"
 #include "grid_walk.glsl"
+#define OBSTACLES_BINDING 5
+#include "solids.glsl"
 
 layout(binding = 1, rgba32f) uniform readonly imageBuffer x;  // the positions the lists are built at
 // count[0, n), then the overflow list's length and entries; the host zeroes the length.
@@ -77,25 +79,28 @@ void main() {
   // The images, from the neighbours listed (an image lies farther than its particle, so
   // only a neighbour's can be within h), in a second loop: inside the walk, a CPU device
   // would run the image loop for every candidate. A full list is walked by the readers.
-  // The neighbours are read four at a time and their images' hits kept as bits, bit
-  // 8q + 7 - k for image k of entry q, so that storing them in bit order lists each
-  // neighbour's images together, in next_image's order (that of the cell walkers).
-  WallImages walls = walls_near(xi);
-  uint neighbours = walls.axes != 0 && listed <= NEIGHBOUR_CAPACITY ? listed : 0u;
+  // The neighbours are read four at a time and their images' hits kept as bits, two entries
+  // a word: bit 16q + 15 - k for image k of the pair's entry q, so that storing them in bit
+  // order lists each neighbour's images together, in next_image's order (that of the cell
+  // walkers). An image that does not count lies far away (solids.glsl), never within h.
+  Mirrors mirrors = mirrors_near(xi);
+  uint neighbours = mirrors.axes != 0 && listed <= NEIGHBOUR_CAPACITY ? listed : 0u;
   for (uint k = 0u; k < neighbours; k += 4u) {
     uvec4 group = neighbour_list[entry_group(i, k)];
-    uint hits = 0u;
-    for (uint q = 0u; q < 4u; ++q) {
-      bool listed_neighbour = k + q < neighbours;  // the group's last slots may lie past them
-      vec3 xj = imageLoad(x, int(listed_neighbour ? group[q] : i)).xyz;
-      for (int image = walls.axes; image != 0; image = next_image(walls.axes, image)) {
-        vec3 d = xi - mirror(walls, image, xj);
-        hits |= uint(listed_neighbour && dot(d, d) < sim.h * sim.h) << (8u * q + 7u - uint(image));
+    for (uint pair = 0u; pair < 4u; pair += 2u) {
+      uint hits = 0u;
+      for (uint q = 0u; q < 2u; ++q) {
+        bool listed_neighbour = k + pair + q < neighbours;  // the group's last slots may lie past them
+        vec3 xj = imageLoad(x, int(listed_neighbour ? group[pair + q] : i)).xyz;
+        for (int image = mirrors.axes; image != 0; image = next_image(mirrors.axes, image)) {
+          vec3 d = xi - mirror(mirrors, image, xj);
+          hits |= uint(listed_neighbour && dot(d, d) < sim.h * sim.h) << (16u * q + 15u - uint(image));
+        }
       }
-    }
-    for (; hits != 0u; hits &= hits - 1u) {
-      uint bit = uint(findLSB(hits));
-      list_entry(image_entry(group[bit >> 3], 7 - int(bit & 7u)), listed, word);
+      for (; hits != 0u; hits &= hits - 1u) {
+        uint bit = uint(findLSB(hits));
+        list_entry(image_entry(group[pair + (bit >> 4)], 15 - int(bit & 15u)), listed, word);
+      }
     }
   }
   neighbour_count[i] = listed;

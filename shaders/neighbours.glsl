@@ -11,10 +11,12 @@
 //
 // The includer defines NEIGHBOUR_BINDING (the counts; the list is the next binding) and
 // NEIGHBOUR_CAPACITY_ID (its last specialisation constant; WALK_CELLS is the next).
+// It also defines OBSTACLES_BINDING: every solid is a mirror (solids.glsl).
 // Binding 0 is the grid's cell_start (grid_walk.glsl). All three are read-only storage
 // texel buffers (vk/program.hpp): counts and cell_start R32_UINT, the list
 // R32G32B32A32_UINT, four entries a fetch.
 #include "grid_walk.glsl"
+#include "solids.glsl"
 layout(constant_id = NEIGHBOUR_CAPACITY_ID) const uint NEIGHBOUR_CAPACITY = 64;  // Derived::neighbour_capacity
 layout(constant_id = NEIGHBOUR_CAPACITY_ID + 1) const bool WALK_CELLS = false;
 layout(binding = NEIGHBOUR_BINDING, r32ui) uniform readonly uimageBuffer neighbour_count;
@@ -34,27 +36,27 @@ bool neighbour_pass_particle(out uint i) {
   return i < sim.count && (WALK_CELLS || imageLoad(neighbour_count, int(i)).x <= NEIGHBOUR_CAPACITY);
 }
 
-// An entry is a neighbour j within h of i, or one of j's images behind the walls within h
+// An entry is a neighbour j within h of i, or one of j's images behind the solids within h
 // (image_entry, common.glsl). The images are entries, not a loop in every reader's body: on
 // a CPU device a loop runs at least once per neighbour, masked, even where no particle of the
 // SIMD group is near a wall (the image loop was a third of the constraint passes).
 struct Neighbours {
   uint i, k, n;        // the particle, entries read (a multiple of four), entries listed
   uvec4 group;         // the round's entries: four listed, or the cell walk's candidate
-  int axes;            // the cell walk's: i's walls (WallImages.axes), whose images it yields
+  int axes;            // the cell walk's: i's mirrors (Mirrors.axes), whose images it yields
   int image;           // the cell walk's: the image of candidate j - 1 it yielded last
   ivec3 first, last;   // the cell walk's cells (first_cell, last_cell)
   int y, z;            // its current row
   uint j, end;         // the sorted range of that row
 };
 
-Neighbours neighbours_of(uint i, vec3 xi, WallImages walls) {
+Neighbours neighbours_of(uint i, vec3 xi, Mirrors mirrors) {
   Neighbours w;
   w.i = i;
   w.k = 0u;
   w.n = WALK_CELLS ? 0u : imageLoad(neighbour_count, int(i)).x;
   w.group = uvec4(0u);
-  w.axes = walls.axes;
+  w.axes = mirrors.axes;
   w.image = 0;
   w.first = first_cell(xi);
   w.last = last_cell(xi);
@@ -118,12 +120,12 @@ bool round_entry(Neighbours w, uint q, out uint j, out int image) {
   return WALK_CELLS || w.k - 4u + q < w.n;
 }
 
-// for each neighbour j of particle i at xi and its images behind i's walls: j's position
-// is mirror(walls, image, x_j) (image 0: j itself). j = i is included, and so are i's own
+// for each neighbour j of particle i at xi and its images behind i's mirrors: j's position
+// is mirror(mirrors, image, x_j) (image 0: j itself). j = i is included, and so are i's own
 // images; the cell walkers' candidates include particles beyond h, the body tests r < h.
-// FOR_EACH_NEIGHBOUR(i, xi, walls, j, image) { ... }   (no `continue` in the body: see ROUND)
-#define FOR_EACH_NEIGHBOUR(i, xi, walls, j, image)     \
-  Neighbours walk_##j = neighbours_of(i, xi, walls); \
+// FOR_EACH_NEIGHBOUR(i, xi, mirrors, j, image) { ... }   (no `continue` in the body: see ROUND)
+#define FOR_EACH_NEIGHBOUR(i, xi, mirrors, j, image)     \
+  Neighbours walk_##j = neighbours_of(i, xi, mirrors); \
   while (next_round(walk_##j))                       \
     for (uint q_##j = 0u, j; q_##j < ROUND; ++q_##j)  \
       if (round_entry(walk_##j, q_##j, j, image))

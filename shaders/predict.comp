@@ -9,7 +9,7 @@ layout(std430, binding = 0) readonly buffer X { vec4 x[]; };
 layout(std430, binding = 1) buffer V { vec4 v[]; };
 layout(std430, binding = 2) writeonly buffer XPred { vec4 x_pred[]; };
 #define OBSTACLES_BINDING 3
-#include "obstacles.glsl"
+#include "solids.glsl"
 
 void main() {
   uint i = thread_index();

@@ -19,6 +19,7 @@ layout(local_size_x_id = 0) in;
 layout(binding = 1, rgba32f) uniform readonly imageBuffer x;
 layout(std430, binding = 2) writeonly buffer XSmooth { vec4 x_smooth[]; };
 layout(std430, binding = 3) writeonly buffer Shape { vec4 shape[]; };  // two a particle
+#define OBSTACLES_BINDING 6
 #define NEIGHBOUR_BINDING 4
 #define NEIGHBOUR_CAPACITY_ID 1
 #include "neighbours.glsl"
@@ -76,7 +77,7 @@ void main() {
   uint i;
   if (!neighbour_pass_particle(i)) return;
   vec3 xi = imageLoad(x, int(i)).xyz;
-  WallImages walls = walls_near(xi);
+  Mirrors mirrors = mirrors_near(xi);
   // The position's mean weighs the nearest most (position_weight); the covariance weighs the
   // neighbourhood nearly flat to h (smoothing_weight), so that it sees a sheet's rows pulled
   // 1.75 spacings apart. Offsets in units of h keep the second moments near 1 in float. No
@@ -85,8 +86,8 @@ void main() {
   vec3 towards = vec3(0.0), first = vec3(0.0), square = vec3(0.0), cross = vec3(0.0);  // second moments
   float position_weights = 0.0, weights = 0.0;
   int count = 0, image;
-  FOR_EACH_NEIGHBOUR(i, xi, walls, j, image) {
-    vec3 d = mirror(walls, image, imageLoad(x, int(j)).xyz) - xi;
+  FOR_EACH_NEIGHBOUR(i, xi, mirrors, j, image) {
+    vec3 d = mirror(mirrors, image, imageLoad(x, int(j)).xyz) - xi;
     float w = smoothing_weight(d), wp = position_weight(d);
     count += int(w > 0.0);
     d /= sim.h;

@@ -36,6 +36,7 @@ layout(binding = 2, rgba32f) uniform readonly imageBuffer v_rho;
 layout(std430, binding = 3) writeonly buffer VOut { vec4 v_out[]; };
 layout(std430, binding = 4) writeonly buffer Curl { vec4 curl[]; };  // VORTICITY only
 layout(std430, binding = 5) writeonly buffer Rho { float rho[]; };
+#define OBSTACLES_BINDING 8
 #define NEIGHBOUR_BINDING 6
 #define NEIGHBOUR_CAPACITY_ID 4
 #include "neighbours.glsl"
@@ -59,13 +60,13 @@ void main() {
   vec3 damp = vec3(0.0);
   float density = 0.0;
   float rho_i = max(own.w, sim.rho0);
-  WallImages walls = walls_near(xi);
+  Mirrors mirrors = mirrors_near(xi);
   int image;
-  FOR_EACH_NEIGHBOUR(i, xi, walls, j, image) {
-    vec3 d = xi - mirror(walls, image, imageLoad(x, int(j)).xyz);
+  FOR_EACH_NEIGHBOUR(i, xi, mirrors, j, image) {
+    vec3 xj = imageLoad(x, int(j)).xyz, d = xi - mirror(mirrors, image, xj);
     float r2 = dot(d, d);  // every term below is zero from r = h on
     vec4 vj = imageLoad(v_rho, int(j));
-    vec3 vij = mirror_sign(image) * vj.xyz - vi;  // an image moves as j, mirrored
+    vec3 vij = mirror_velocity(mirrors, image, vj.xyz) - vi;  // an image moves as j, mirrored
     float w = poly6(r2);
     density += w;
     if (image == 0) {  // XSPH and the vorticity see the fluid only

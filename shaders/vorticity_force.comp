@@ -10,6 +10,7 @@ layout(constant_id = 100) const float SOLVER_VORTICITY = 0.0;  // eps, m/s (gpu/
 layout(binding = 1, rgba32f) uniform readonly imageBuffer x;
 layout(binding = 2, rgba32f) uniform readonly imageBuffer curl;
 layout(std430, binding = 3) buffer V { vec4 v[]; };
+#define OBSTACLES_BINDING 6
 #define NEIGHBOUR_BINDING 4
 #define NEIGHBOUR_CAPACITY_ID 1
 #include "neighbours.glsl"
@@ -20,7 +21,7 @@ void main() {
   vec3 xi = imageLoad(x, int(i)).xyz;
   vec3 eta = vec3(0.0);
   int image;
-  FOR_EACH_NEIGHBOUR(i, xi, no_walls(), j, image) {
+  FOR_EACH_NEIGHBOUR(i, xi, no_mirrors(), j, image) {
     // The fluid only (a list holds images too); the gradient is zero from r = h on. Only eta's
     // direction is used: its shape keeps it in float's range at every spacing.
     vec3 d = xi - imageLoad(x, int(j)).xyz;

@@ -21,7 +21,7 @@ layout(std430, binding = 6) writeonly buffer Keep { uint keep[]; };  // zeroed b
 layout(std430, binding = 7) writeonly buffer WhiteXOut { vec4 white_x_out[]; };
 layout(std430, binding = 8) writeonly buffer WhiteVOut { vec4 white_v_out[]; };
 #define OBSTACLES_BINDING 9
-#include "obstacles.glsl"
+#include "solids.glsl"
 
 layout(constant_id = 100) const int WHITE_WATER_MAX_PARTICLES = 0;  // the scene's key (gpu/key_constants.hpp)
 

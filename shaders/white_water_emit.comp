@@ -12,6 +12,7 @@ layout(binding = 1, rgba32f) uniform readonly imageBuffer x;
 layout(binding = 2, rgba32f) uniform readonly imageBuffer v;
 layout(std430, binding = 3) readonly buffer Id { uint id[]; };
 layout(std430, binding = 4) writeonly buffer Births { uint births[]; };  // zeroed before
+#define OBSTACLES_BINDING 9
 #define NEIGHBOUR_BINDING 7
 #define NEIGHBOUR_CAPACITY_ID 1
 #include "neighbours.glsl"
@@ -26,13 +27,13 @@ void main() {
   vec3 xi = imageLoad(x, int(i)).xyz, vi = imageLoad(v, int(i)).xyz;
   float unit = FLOW_SPEED;
   if (length(vi) / unit <= WHITE_SPEED_MIN) return;  // too slow to make any: most of a calm fluid skips the walk
-  WallImages walls = walls_near(xi);
+  Mirrors mirrors = mirrors_near(xi);
   float trapped = 0.0, weights = 0.0;
   vec3 towards = vec3(0.0);
   int image;
-  FOR_EACH_NEIGHBOUR(i, xi, walls, j, image) {
-    vec3 d = mirror(walls, image, imageLoad(x, int(j)).xyz) - xi;
-    vec3 vij = vi - mirror_sign(image) * imageLoad(v, int(j)).xyz;
+  FOR_EACH_NEIGHBOUR(i, xi, mirrors, j, image) {
+    vec3 xj = imageLoad(x, int(j)).xyz, d = mirror(mirrors, image, xj) - xi;
+    vec3 vij = vi - mirror_velocity(mirrors, image, imageLoad(v, int(j)).xyz);
     float w = position_weight(d), r = length(d), s = length(vij);
     weights += w;
     towards += w * d;

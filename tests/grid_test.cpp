@@ -170,8 +170,10 @@ TEST(ReferenceGrid, DensityMatchesBruteForce) {
   for (size_t i = 0; i < st.x.size(); i += 7) {
     double rho = 0;
     for (size_t j = 0; j < st.x.size(); ++j)
-      for (const auto& image : ref.walls_near(st.x[i])) {
-        glm::dvec3 dd = st.x[i] - image.of(st.x[j]);
+      for (int k = 0; k < kImages; ++k) {
+        const Mirrors mirrors = mirrors_near(d, st.x[i]);
+        if ((k & mirrors.axes) != k) continue;
+        glm::dvec3 dd = st.x[i] - mirrors.of(k, st.x[j]);
         rho += d.mass * kernels::poly6(glm::dot(dd, dd), d.h);
       }
     ASSERT_NEAR(ref.state.rho[i], rho, 1e-12 * rho) << "particle " << i;

@@ -23,17 +23,23 @@ void expect_close(const test::ErrorReport& e, double tolerance = kPassTolerance)
 // walks its cells instead. Each test runs with the scene's capacity (no list full), with
 // 24 entries (the jittered lattice's ~30 neighbours fill some lists), with 1 (all full)
 // and with none (no lists: what a run too large for the device's buffers gets).
+// The obstacles stand inside the column, so that particles meet them from the first step.
+constexpr const char* kObstaclesInTheColumn =
+    R"([{"type": "box", "min": [0.25, 0, 0.1], "max": [0.45, 0.2, 0.3]},
+        {"type": "sphere", "centre": [0.2, 0.5, 0.2], "radius": 0.1}])";
+
 struct ListCase {
   const char* name;
-  int capacity;  // -1: the scene's own (Derived::neighbour_capacity)
+  int capacity;                  // -1: the scene's own (Derived::neighbour_capacity)
+  const char* obstacles = "[]";  // JSON: with obstacles, their images take part (sim/mirrors.hpp)
 };
 void PrintTo(const ListCase& c, std::ostream* os) { *os << c.name; }
 
 class PassTest : public test::GpuTest, public ::testing::WithParamInterface<ListCase> {
  protected:
   // Coarse dam break with every optional pass switched on (ldc's correction among them).
-  Scene scene = load_scene("dam_break",
-                           {"particle_spacing=0.04", "solver.xsph=0.05", "solver.vorticity=0.1", "solver.method=ldc"});
+  Scene scene = load_scene("dam_break", {"particle_spacing=0.04", "solver.xsph=0.05", "solver.vorticity=0.1",
+                                         "solver.method=ldc", std::string("obstacles=") + GetParam().obstacles});
   Derived d = with_capacity(derive(scene), GetParam().capacity);
   ParticleState input = test::jittered_state(scene);
   GpuSolver gpu{test::gpu(), d, input.x};
@@ -321,7 +327,8 @@ TEST_P(PassTest, Measures) {
 
 INSTANTIATE_TEST_SUITE_P(Lists, PassTest,
                          ::testing::Values(ListCase{"listed", -1}, ListCase{"some_full", 24}, ListCase{"all_full", 1},
-                                           ListCase{"no_lists", 0}),
+                                           ListCase{"no_lists", 0}, ListCase{"obstacles", -1, kObstaclesInTheColumn},
+                                           ListCase{"obstacles_all_full", 1, kObstaclesInTheColumn}),
                          [](const auto& info) { return std::string(info.param.name); });
 
 // Whole steps of both methods from the lattice: positions drift apart only by float
@@ -381,11 +388,6 @@ TEST_P(StepTest, TheStartsRelaxationAgreesAndDecompresses) {
   EXPECT_LT(e.max_abs, 1e-5);  // metres
   EXPECT_GT(e.scale, 0.0) << "the relax moved nothing";
 }
-
-// The obstacles stand inside the column, so that particles meet them from the first step.
-constexpr const char* kObstaclesInTheColumn =
-    R"([{"type": "box", "min": [0.25, 0, 0.1], "max": [0.45, 0.2, 0.3]},
-        {"type": "sphere", "centre": [0.2, 0.5, 0.2], "radius": 0.1}])";
 
 INSTANTIATE_TEST_SUITE_P(Methods, StepTest,
                          ::testing::Values(StepCase{"pbf", "pbf", "[]"}, StepCase{"ldc", "ldc", "[]"},

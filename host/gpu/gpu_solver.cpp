@@ -94,7 +94,7 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
       timer_(std::make_unique<vk::GpuTimer>(ctx, 2)) {
   for (auto& b : vec4_) b = vk::Buffer(ctx, plan_.particle_vec4);
   for (auto& b : id_) b = vk::Buffer(ctx, plan_.id);
-  obstacles_.upload(std::span<const glm::vec4>(pack_obstacles(d.obstacles)));
+  obstacles_.upload(std::span<const glm::vec4>(pack_obstacles(d.obstacles, d.keep_out)));
   // Model no more than the scene needs: the plan leaves out what its passes never use.
   if (plan_.adaptive_words)
     for (vk::Buffer* b : {&check_, &indirect_, &overflow_gated_}) *b = vk::Buffer(ctx, plan_.adaptive_words);
@@ -225,6 +225,7 @@ void GpuSolver::set_outputs(FrameOutputs outputs) {
 
 void GpuSolver::smoothed_positions() {
   run_neighbour_pass(positions_, nullptr, [&] {
+    cmd_.bind("obstacles", obstacles_);  // the solids' mirrors (solids.glsl)
     cmd_.bind("x", at(X));
     cmd_.bind("x_smooth", at(Spare0));
     cmd_.bind("shape", shape_);
@@ -316,6 +317,7 @@ void GpuSolver::neighbour_lists(const vk::Buffer& x) {
   cmd_.bind("neighbour_count", neighbour_count_);
   cmd_.bind("neighbour_list", neighbour_list_);
   cmd_.bind("overflow_groups", overflow_groups_);
+  cmd_.bind("obstacles", obstacles_);
   cmd_.dispatch(n_);
 }
 
@@ -340,6 +342,7 @@ void GpuSolver::sort_by_cells(Slot keyed, Slot carried) {
 
 void GpuSolver::density() {
   run_neighbour_pass(density_, nullptr, [&] {
+    cmd_.bind("obstacles", obstacles_);  // the solids' mirrors (solids.glsl)
     cmd_.bind("x", at(X));
     cmd_.bind("rho", rho_);
   });
@@ -347,11 +350,11 @@ void GpuSolver::density() {
 
 void GpuSolver::correction_and_predict() {
   run_neighbour_pass(correction_, nullptr, [&] {
+    cmd_.bind("obstacles", obstacles_);  // the solids' mirrors (solids.glsl)
     cmd_.bind("x", at(X));
     cmd_.bind("rho", rho_);
     cmd_.bind("v", at(V));
     cmd_.bind("x_pred", at(XPred));
-    cmd_.bind("obstacles", obstacles_);
   });
 }
 
@@ -373,6 +376,7 @@ void GpuSolver::run_particle_pass(const vk::Buffer* indirect) {
 
 void GpuSolver::constraint_lambda(const vk::Buffer* indirect) {
   run_neighbour_pass(lambda_, indirect, [&] {
+    cmd_.bind("obstacles", obstacles_);  // the solids' mirrors (solids.glsl)
     cmd_.bind("x_pred", at(XPred));
     cmd_.bind("x_lambda", x_lambda_);
     cmd_.bind("rho", rho_);
@@ -384,6 +388,7 @@ void GpuSolver::constraint_smooth(const vk::Buffer* indirect) {
   for (int pass = 0; pass < d_.solver.lambda_smoothing; ++pass) {
     const bool back = pass % 2;
     run_neighbour_pass(smooth_, indirect, [&] {
+    cmd_.bind("obstacles", obstacles_);  // the solids' mirrors (solids.glsl)
       cmd_.bind("x_lambda_in", back ? x_lambda_spare_ : x_lambda_);
       cmd_.bind("x_lambda_out", back ? x_lambda_ : x_lambda_spare_);
     });
@@ -394,9 +399,9 @@ void GpuSolver::constraint_apply(double relaxation, const vk::Buffer* indirect) 
   // Jacobi: every particle reads the same x_pred, so the result goes to a spare array.
   sim_.relaxation = float(relaxation);
   run_neighbour_pass(apply_, indirect, [&] {
+    cmd_.bind("obstacles", obstacles_);  // the solids' mirrors (solids.glsl)
     cmd_.bind("x_lambda", x_lambda_);  // x_pred, with lambda beside it
     cmd_.bind("x_out", at(Spare0));
-    cmd_.bind("obstacles", obstacles_);
   });
   swap_roles(XPred, Spare0);
 }
@@ -482,6 +487,7 @@ void GpuSolver::velocity_update() {
 
 void GpuSolver::viscosity_vorticity() {
   run_neighbour_pass(viscosity_, nullptr, [&] {
+    cmd_.bind("obstacles", obstacles_);  // the solids' mirrors (solids.glsl)
     cmd_.bind("x", at(X));
     cmd_.bind("v_rho", at(V));
     cmd_.bind("v_out", at(Spare0));

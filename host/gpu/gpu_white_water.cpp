@@ -62,6 +62,7 @@ void GpuSolver::white_water_emit(double elapsed, uint32_t frame) {
   sim_.frame = frame;
   cmd_.fill(white_births_.data(), 0);
   run_neighbour_pass(white_emit_, nullptr, [&] {
+    cmd_.bind("obstacles", obstacles_);  // the solids' mirrors (solids.glsl)
     cmd_.bind("x", at(X));
     cmd_.bind("v", at(V));
     cmd_.bind("id", id_[id_current_]);

@@ -4,7 +4,8 @@
 // number key is a float, a whole one an int, a boolean a bool; Program refuses another type; ids
 // from 100 on, clear of a pass's own), and the host sets it from the scene. A key's row in the
 // table (scene/keys.cpp), which derive() lists in Derived::shader_keys, is thus its one
-// declaration on both sides; docs/design.md, "Adding a parameter", walks through one.
+// declaration on both sides; docs/design.md, "Adding a parameter", walks through one. Also
+// offered: OBSTACLES (constant_id 90), whether the scene has any.
 #include <deque>
 #include <span>
 #include <string>

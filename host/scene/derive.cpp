@@ -48,9 +48,10 @@ void derive_domain(const Scene& scene, Derived& d) {
   d.domain_min = scene.domain.min;
   d.domain_max = scene.domain.max;
   // Particles are spheres of diameter `spacing`: their centres stay half a spacing off the walls.
-  d.wall_min = d.domain_min + 0.5 * s;
-  d.wall_max = d.domain_max - 0.5 * s;
-  for (const Obstacle& o : scene.obstacles) d.obstacles.push_back(o.grown(0.5 * s));
+  d.keep_out = 0.5 * s;
+  d.wall_min = d.domain_min + d.keep_out;
+  d.wall_max = d.domain_max - d.keep_out;
+  for (const Obstacle& o : scene.obstacles) d.obstacles.push_back(o.grown(d.keep_out));
   glm::dvec3 size = d.domain_max - d.domain_min;
   if (glm::any(glm::lessThan(size, glm::dvec3(s))))
     throw InputError("the domain must be at least one particle_spacing wide on every axis");

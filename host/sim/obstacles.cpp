@@ -19,6 +19,28 @@ Obstacle Obstacle::grown(double margin) const {
   return o;
 }
 
+double Obstacle::surface(const glm::dvec3& x, glm::dvec3& normal) const {
+  if (kind == Kind::Sphere) {
+    const glm::dvec3 d = x - centre;
+    const double r = glm::length(d);
+    normal = r > 0 ? d / r : glm::dvec3(0, 1, 0);
+    return r - radius;
+  }
+  const glm::dvec3 out = x - glm::clamp(x, min, max);
+  if (const double outside = glm::length(out); outside > 0) {
+    normal = out / outside;
+    return outside;
+  }
+  double depth = std::numeric_limits<double>::infinity();
+  for (int c = 0; c < 3; ++c) {
+    glm::dvec3 axis(0.0);
+    axis[c] = 1;
+    if (x[c] - min[c] < depth) depth = x[c] - min[c], normal = -axis;
+    if (max[c] - x[c] < depth) depth = max[c] - x[c], normal = axis;
+  }
+  return -depth;
+}
+
 glm::dvec3 project_out(const Obstacle& o, const glm::dvec3& x, const glm::dvec3& wall_min,
                        const glm::dvec3& wall_max) {
   if (!o.contains(x)) return x;
@@ -70,8 +92,8 @@ glm::dvec3 stop_at(const Obstacle& o, const glm::dvec3& from, const glm::dvec3& 
   return t_enter < t_exit ? from + t_enter * d : to;
 }
 
-std::vector<glm::vec4> pack_obstacles(const std::vector<Obstacle>& obstacles) {
-  std::vector<glm::vec4> data{glm::vec4(float(obstacles.size()), 0, 0, 0)};
+std::vector<glm::vec4> pack_obstacles(const std::vector<Obstacle>& obstacles, double margin) {
+  std::vector<glm::vec4> data{glm::vec4(float(obstacles.size()), float(margin), 0, 0)};
   for (const Obstacle& o : obstacles) {
     if (o.kind == Obstacle::Kind::Sphere) {
       data.emplace_back(glm::vec3(o.centre), 1.0f);

@@ -1,8 +1,8 @@
 #pragma once
 // Static obstacles: axis-aligned boxes and spheres that particles are projected out of,
-// like the walls. The solver keeps particle centres half a spacing away from an
-// obstacle's surface, so it works with each shape grown by that margin (keep_out).
-// shaders/obstacles.glsl mirrors project_out().
+// like the walls, and that mirror the fluid (sim/mirrors.hpp). The solver keeps particle
+// centres half a spacing away from an obstacle's surface, so it works with each shape grown
+// by that margin (Derived::keep_out). shaders/solids.glsl mirrors this file.
 #include <glm/glm.hpp>
 
 #include <vector>
@@ -17,6 +17,9 @@ struct Obstacle {
 
   bool contains(const glm::dvec3& x) const;   // strictly inside
   Obstacle grown(double margin) const;        // every surface moved out by margin
+  // The signed distance from x to the surface (negative inside) and the outward normal at
+  // the surface point nearest x; inside a box, the nearest face's.
+  double surface(const glm::dvec3& x, glm::dvec3& normal) const;
 };
 
 // x moved onto the nearest surface of `o` if it is inside. For a box, only faces
@@ -32,8 +35,8 @@ glm::dvec3 project_out(const Obstacle& o, const glm::dvec3& x, const glm::dvec3&
 // the GPU, double here) cannot decide between the two.
 glm::dvec3 stop_at(const Obstacle& o, const glm::dvec3& from, const glm::dvec3& to, double contact);
 
-// The GPU layout: vec4 0 holds the count in x; then two vec4 per obstacle:
-// box (min, 0) (max, 0); sphere (centre, 1) (radius, 0, 0, 0).
-std::vector<glm::vec4> pack_obstacles(const std::vector<Obstacle>& obstacles);
+// The GPU layout: vec4 0 holds the count and the keep-out margin the shapes are grown by;
+// then two vec4 per obstacle: box (min, 0) (max, 0); sphere (centre, 1) (radius, 0, 0, 0).
+std::vector<glm::vec4> pack_obstacles(const std::vector<Obstacle>& obstacles, double margin);
 
 }  // namespace pbflow

@@ -122,7 +122,8 @@ struct Derived {
   SolverParams solver;
   WhiteWaterParams white_water;  // max_particles resolved
   std::vector<ParamKey> shader_keys;  // the keys of `solver` and `white_water`, offered to every pass
-  std::vector<Obstacle> obstacles;  // grown by half a spacing: where particle centres may not be
+  double keep_out = 0;  // m: how far particle centres stay from every solid's surface, half a spacing
+  std::vector<Obstacle> obstacles;  // grown by keep_out: where particle centres may not be
   double speed_limit;  // m/s: the divergence watch stops a run with a particle faster than this
   // m/s: the scale of the scene's flows, a fall through the domain's height (at least 0.1 m/s:
   // a scene without gravity has one too), white water's unit of speed (shaders/white_water.h).

@@ -64,42 +64,16 @@ void ReferenceSolver::build_neighbours(const std::vector<dvec3>& at) {
       if (glm::dot(d, d) < d_.h * d_.h) add(j, 0);
     });
     // An image lies farther than its particle: only the neighbours' can be within h.
-    const WallImages walls = walls_near(at[i]);
+    const Mirrors mirrors = mirrors_near(d_, at[i]);
     for (uint32_t n = count, k = 0; n <= capacity && k < n; ++k)
-      for (const WallImage* m = walls.begin() + 1; m != walls.end(); ++m) {  // past the identity
-        dvec3 d = at[i] - m->of(at[list[k].j]);
-        if (glm::dot(d, d) < d_.h * d_.h) add(list[k].j, uint32_t(m->axes));
+      for (int image = 1; image < kImages; ++image) {  // past the neighbour itself
+        if ((image & mirrors.axes) != image) continue;
+        dvec3 d = at[i] - mirrors.of(image, at[list[k].j]);
+        if (glm::dot(d, d) < d_.h * d_.h) add(list[k].j, uint32_t(image));
       }
     neighbour_count_[i] = count;
   }
   neighbours_current_ = neighbours_built_ = true;
-}
-
-int ReferenceSolver::wall_axes(const dvec3& x) const {
-  int axes = 0;
-  for (int a = 0; a < 3; ++a)
-    if (std::min(x[a] - d_.domain_min[a], d_.domain_max[a] - x[a]) < d_.h) axes |= 1 << a;
-  return axes;
-}
-
-ReferenceSolver::WallImage ReferenceSolver::image_at(const dvec3& x, int axes) const {
-  WallImage m;
-  m.axes = axes;
-  for (int a = 0; a < 3; ++a)
-    if (axes >> a & 1) {
-      const double lo = x[a] - d_.domain_min[a], hi = d_.domain_max[a] - x[a];
-      m.sign[a] = -1;
-      m.offset[a] = 2 * (lo <= hi ? d_.domain_min[a] : d_.domain_max[a]);  // the nearer wall
-    }
-  return m;
-}
-
-ReferenceSolver::WallImages ReferenceSolver::walls_near(const dvec3& x) const {
-  const int axes = wall_axes(x);
-  WallImages w;
-  for (int k = 1; k < 8; ++k)
-    if ((k & axes) == k) w.image[w.count++] = image_at(x, k);
-  return w;
 }
 
 void ReferenceSolver::build_grid(const std::vector<dvec3>& at) {
@@ -112,7 +86,7 @@ void ReferenceSolver::density() {
   if (!neighbours_current_) build_neighbours(state.x);  // else the last step's, built at its x_pred
   for (size_t i = 0; i < state.x.size(); ++i) {
     double sum = 0;
-    for_each_neighbour(i, state.x[i], [&](size_t j, const WallImage& m) {
+    for_each_neighbour(i, state.x[i], [&](size_t j, const Image& m) {
       dvec3 d = state.x[i] - m.of(state.x[j]);
       sum += kernels::poly6(glm::dot(d, d), d_.h);
     });
@@ -125,7 +99,7 @@ dvec3 ReferenceSolver::correction_force(size_t i) const {
   const dvec3 xi = state.x[i];
   // f = sum_j (rho_j - rho_i) h (1 - r/h) d/r
   dvec3 f(0.0);
-  for_each_neighbour(i, xi, [&](size_t j, const WallImage& m) {
+  for_each_neighbour(i, xi, [&](size_t j, const Image& m) {
     const double difference = (rho(j) - rho(i)) / d_.rho0;
     dvec3 d = m.of(state.x[j]) - xi;
     double r = glm::length(d);
@@ -142,7 +116,7 @@ void ReferenceSolver::correction() {
   for (size_t i = 0; i < f.size(); ++i) state.v[i] += f[i] * d_.dt;
 }
 
-// A particle this close to an obstacle (a fraction of h) touches it (obstacles.glsl too).
+// A particle this close to an obstacle (a fraction of h) touches it (solids.glsl too).
 constexpr double kContact = 1e-3;
 
 void ReferenceSolver::predict() {
@@ -167,7 +141,7 @@ void ReferenceSolver::constraint_lambda() {
     dvec3 own(0.0);  // grad_i C_i
     // A neighbour's image is a neighbour of its own, its term squared on its own; i's own
     // images move with i and count twice in grad_i C_i (constraint_lambda.comp says why).
-    for_each_neighbour(i, xi, [&](size_t j, const WallImage& m) {
+    for_each_neighbour(i, xi, [&](size_t j, const Image& m) {
       dvec3 d = xi - m.of(state.x_pred[j]);
       w_sum += kernels::poly6(glm::dot(d, d), d_.h);
       dvec3 grad = s * kernels::spiky_grad(d, d_.h);
@@ -191,7 +165,7 @@ void ReferenceSolver::constraint_smooth() {
     for (size_t i = 0; i < mean.size(); ++i) {
       const dvec3 xi = state.x_pred[i];
       double total = 0;
-      for_each_neighbour(i, xi, [&](size_t j, const WallImage& m) {  // an image carries j's lambda
+      for_each_neighbour(i, xi, [&](size_t j, const Image& m) {  // an image carries j's lambda
         const double w = kernels::smoothing_weight(xi - m.of(state.x_pred[j]), d_.h);
         mean[i] += w * state.lambda[j];
         total += w;
@@ -208,7 +182,7 @@ void ReferenceSolver::constraint_apply(double relaxation) {
     const dvec3 xi = state.x_pred[i];
     dvec3 dp(0.0);
     // An image carries its particle's lambda; i's own images push i away from the wall.
-    for_each_neighbour(i, xi, [&](size_t j, const WallImage& m) {
+    for_each_neighbour(i, xi, [&](size_t j, const Image& m) {
       dvec3 d = xi - m.of(state.x_pred[j]);
       dp += (state.lambda[i] + state.lambda[j]) * kernels::spiky_grad(d, d_.h);
     });
@@ -319,11 +293,11 @@ void ReferenceSolver::viscosity_vorticity() {
   for (size_t i = 0; i < v_next.size(); ++i) {
     dvec3 smooth(0.0), curl(0.0), damp(0.0);  // viscosity_vorticity.comp says what each is
     const double rho_i = std::max(state.rho[i], d_.rho0);
-    for_each_neighbour(i, state.x[i], [&](size_t j, const WallImage& m) {
+    for_each_neighbour(i, state.x[i], [&](size_t j, const Image& m) {
       const dvec3 d = state.x[i] - m.of(state.x[j]);
-      const dvec3 vij = m.sign * state.v[j] - state.v[i];  // an image moves as j, mirrored
+      const dvec3 vij = m.velocity(state.v[j]) - state.v[i];  // an image moves as j, mirrored
       const double r2 = glm::dot(d, d);
-      if (m.axes == 0) {  // XSPH and the vorticity see the fluid only
+      if (m.k == 0) {  // XSPH and the vorticity see the fluid only
         smooth += vij * kernels::poly6(r2, d_.h);
         curl += glm::cross(vij, kernels::spiky_grad(d, d_.h));
       }
@@ -339,8 +313,8 @@ void ReferenceSolver::viscosity_vorticity() {
 void ReferenceSolver::vorticity_force() {
   for (size_t i = 0; i < state.x.size(); ++i) {
     dvec3 eta(0.0);
-    for_each_neighbour(i, state.x[i], [&](size_t j, const WallImage& m) {
-      if (m.axes == 0) eta += glm::length(state.curl[j]) * kernels::spiky_grad_shape(state.x[i] - state.x[j], d_.h);
+    for_each_neighbour(i, state.x[i], [&](size_t j, const Image& m) {
+      if (m.k == 0) eta += glm::length(state.curl[j]) * kernels::spiky_grad_shape(state.x[i] - state.x[j], d_.h);
     });
     double len = glm::length(eta);  // only its direction is used
     if (len > 0) state.v[i] += (d_.solver.vorticity * d_.dt / len) * glm::cross(eta, state.curl[i]);
@@ -496,7 +470,7 @@ ReferenceSolver::DrawnParticles ReferenceSolver::smoothed_positions() {
     glm::dmat3 second(0.0);
     double position_weights = 0, weights = 0;
     int count = 0;
-    for_each_neighbour(i, xi, [&](size_t j, const WallImage& m) {
+    for_each_neighbour(i, xi, [&](size_t j, const Image& m) {
       dvec3 d = m.of(state.x[j]) - xi;
       const double w = kernels::smoothing_weight(d, d_.h);
       if (w <= 0) return;

@@ -6,6 +6,7 @@
 #include <array>
 #include <vector>
 
+#include "sim/mirrors.hpp"
 #include "sim/params.hpp"
 #include "sim/solver.hpp"
 #include "sim/frame_plan.hpp"
@@ -62,26 +63,6 @@ class ReferenceSolver : public Solver {
   // The LDC acceleration on particle i (from rho and x); correction() applies it.
   glm::dvec3 correction_force(size_t i) const;
 
-  // The walls are mirrors (shaders/common.glsl): behind each wall within h of a particle,
-  // and behind each pair and the triple of them at edges and corners, lies the reflection
-  // of its neighbours. The image of x is sign * x + offset. Ghost particles made this way
-  // continue any lattice exactly, so walls read rho0 at faces, edges and corners alike;
-  // and they mirror the fluid that is really there, so a wall next to a free surface does
-  // not add density that is not there (the earlier wall term counted a full lattice
-  // behind every wall, which pushed surface particles off the walls).
-  struct WallImage {
-    glm::dvec3 sign{1.0}, offset{0.0};  // the identity: the neighbour itself
-    int axes = 0;                       // bit a: reflected across axis a's wall (0: the identity)
-    glm::dvec3 of(const glm::dvec3& x) const { return sign * x + offset; }
-  };
-  struct WallImages {  // the identity first, then one image per combination of near walls
-    std::array<WallImage, 8> image;
-    size_t count = 1;
-    const WallImage* begin() const { return image.data(); }
-    const WallImage* end() const { return image.data() + count; }
-  };
-  WallImages walls_near(const glm::dvec3& x) const;
-
   const Derived& derived() const { return d_; }
   ParticleState state;
   DrawnParticles drawn;  // the last frame's smoothed positions and shapes, where asked for
@@ -94,7 +75,7 @@ class ReferenceSolver : public Solver {
   // the step, which places an image behind the walls near the particle's position then.
   struct Neighbour {
     uint32_t j;
-    uint32_t image;  // the walls' axes j is reflected across (WallImage::axes; 0: j itself)
+    uint32_t image;  // the mirrors j is reflected across (sim/mirrors.hpp; 0: j itself)
   };
   void build_neighbours(const std::vector<glm::dvec3>& at);
   void density_at_positions();  // rho at x, from the last step's lists (GpuSolver::density_at_positions)
@@ -103,14 +84,11 @@ class ReferenceSolver : public Solver {
   template <class F>
   void for_each_neighbour(size_t i, const glm::dvec3& xi, F&& visit) const;
 
-  int wall_axes(const glm::dvec3& x) const;  // bit a: axis a has a wall within h of x
-  // The reflection across the nearer wall of each axis in `axes`, seen from x (0: the identity).
-  WallImage image_at(const glm::dvec3& x, int axes) const;
   glm::ivec3 cell_of(const glm::dvec3& x) const;
   size_t cell_id(const glm::ivec3& c) const { return (size_t(c.z) * d_.grid.y + c.y) * d_.grid.x + c.x; }
   glm::dvec3 project_out_of_solids(glm::dvec3 x) const;  // out of the obstacles, then into the walls
   // The move from -> to stopped at the first obstacle on its way, then out of solids
-  // (obstacles.glsl's predicted_position).
+  // (solids.glsl's predicted_position).
   glm::dvec3 move_outside_solids(const glm::dvec3& from, glm::dvec3 to) const;
 
   double mean_compression() const;  // of state.rho
@@ -150,18 +128,19 @@ void ReferenceSolver::for_each_candidate(const glm::dvec3& xi, F&& visit) const 
 
 // As neighbours.glsl: i's list, or, where it holds more than the GPU's capacity, every
 // particle in the cells around i's position now (xi) with all its images behind the
-// walls near xi. visit(j, image): the image is placed from xi.
+// mirrors near xi. visit(j, image): the image is placed from xi.
 template <class F>
 void ReferenceSolver::for_each_neighbour(size_t i, const glm::dvec3& xi, F&& visit) const {
   const uint32_t count = neighbour_count_.at(i);
+  const Mirrors mirrors = mirrors_near(d_, xi);
   if (count > d_.neighbour_capacity) {
-    const WallImages walls = walls_near(xi);
     for_each_candidate(xi, [&](size_t j) {
-      for (const WallImage& m : walls) visit(j, m);
+      for (int k = 0; k < kImages; ++k)
+        if ((k & mirrors.axes) == k) visit(j, Image{&mirrors, k});
     });
   } else {
     const Neighbour* list = neighbour_list_.data() + i * d_.neighbour_capacity;
-    for (uint32_t k = 0; k < count; ++k) visit(list[k].j, image_at(xi, int(list[k].image)));
+    for (uint32_t k = 0; k < count; ++k) visit(list[k].j, Image{&mirrors, int(list[k].image)});
   }
 }
 

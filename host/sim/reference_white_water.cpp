@@ -63,8 +63,8 @@ void ReferenceSolver::white_water_emit(double elapsed, uint32_t frame) {
     if (glm::length(vi) / unit <= WHITE_SPEED_MIN) continue;  // too slow to make any (white_water_born's gate)
     double trapped = 0, weights = 0;
     dvec3 towards(0.0);
-    for_each_neighbour(i, xi, [&](size_t j, const WallImage& m) {
-      const dvec3 d = m.of(state.x[j]) - xi, vij = vi - m.sign * state.v[j];
+    for_each_neighbour(i, xi, [&](size_t j, const Image& m) {
+      const dvec3 d = m.of(state.x[j]) - xi, vij = vi - m.velocity(state.v[j]);
       const double w = kernels::position_weight(d, d_.h), r = glm::length(d), s = glm::length(vij);
       weights += w;
       towards += w * d;

@@ -1,0 +1,55 @@
+#pragma once
+// Every solid is a mirror (shaders/solids.glsl runs the same): behind each wall within h of a
+// particle, behind each pair and the triple of them at edges and corners, and behind the
+// nearest obstacle within h (across the plane tangent to it at the point nearest the
+// particle) lies the reflection of its neighbours. Ghost particles made this way continue
+// any lattice exactly across a plane, so walls and flat faces read rho0 at faces, edges and
+// corners alike; and they mirror the fluid that is really there, so a solid next to a free
+// surface does not add density that is not there (the earlier wall term counted a full
+// lattice behind every wall, which pushed surface particles off the walls).
+#include <glm/glm.hpp>
+
+#include "sim/params.hpp"
+
+namespace pbflow {
+
+// An image is a bit mask of mirrors: bits 0-2 the walls of each axis, this bit the obstacle.
+constexpr int kObstacleMirror = 8;
+constexpr int kImages = 16;  // masks 0 (the neighbour itself) to 15
+
+struct Mirrors {
+  int axes = 0;               // the mirrors within h, as image bits
+  glm::dvec3 plane2{0.0};     // twice the nearer wall's coordinate on each wall axis
+  Obstacle obstacle;          // the nearest obstacle within h, its own surface
+  glm::dvec3 at{0.0};         // the particle they are seen from
+  double distance = 0;        // its distance to that obstacle
+  glm::dvec3 normal{0.0};     // and the obstacle's outward normal at the point nearest it
+
+  // Neighbour x's image `k` (0: x itself); far away where an obstacle's image does not count.
+  glm::dvec3 of(int k, const glm::dvec3& x) const;
+  glm::dvec3 velocity(int k, const glm::dvec3& v) const;  // an image moves as its particle, mirrored
+
+  // The obstacle's image of neighbour x: at D from the particle, D^2 = |x_i - x|^2 + 4 phi_i
+  // phi_x with phi the distance to the surface, along grad_i D. Across a plane this is the
+  // reflection (|x_i - R x|^2 expands to it). Across a curve it stays a pair's term: D is the
+  // same seen from either particle and the passes' gradients are D's own, where a tangent
+  // plane (the particle's own, or one shared by the pair) turns with the particles. A ball
+  // still stirs a settled tank with any of the three (docs/physics.md, "Open problems"). It counts only where the pair's
+  // images (each seen from the other) both lie inside the obstacle: round a box's edge or
+  // across a thin plate the fluid they would stand for is really there (a lattice beside a box
+  // read up to 2.5 % high one spacing from an edge without it).
+  glm::dvec3 obstacle_image(const glm::dvec3& x) const;
+};
+
+// The mirrors seen from x: the walls within h and the nearest obstacle within h.
+Mirrors mirrors_near(const Derived& d, const glm::dvec3& x);
+
+// One image of a neighbour, as a pass visits it.
+struct Image {
+  const Mirrors* mirrors;
+  int k;
+  glm::dvec3 of(const glm::dvec3& x) const { return mirrors->of(k, x); }
+  glm::dvec3 velocity(const glm::dvec3& v) const { return mirrors->velocity(k, v); }
+};
+
+}  // namespace pbflow
