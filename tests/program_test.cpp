@@ -50,9 +50,10 @@ TEST(ShaderLayout, ANeighbourPassReadsItsSlotsTypesAndConstantsFromTheSpirv) {
     EXPECT_EQ(b->format, e.format) << e.name;
     EXPECT_EQ(b->type, e.format ? VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER) << e.name;
   }
-  ASSERT_EQ(density.constants.size(), 2u);
+  ASSERT_EQ(density.constants.size(), 3u);
   EXPECT_EQ(density.constants[0].name, "NEIGHBOUR_CAPACITY");
   EXPECT_EQ(density.constants[1].name, "WALK_CELLS");
+  EXPECT_EQ(density.constants[2].name, "OBSTACLES");
   EXPECT_EQ(density.constants[1].id, density.constants[0].id + 1);
 }
 
@@ -139,10 +140,11 @@ TEST_F(ProgramContract, TheSolversKeysReachEveryPassThatDeclaresThem) {
   EXPECT_EQ(key("SOLVER_ITERATIONS").value, uint32_t(scene.solver.iterations));
   EXPECT_EQ(key("SOLVER_ITERATIONS").type, vk::ConstantType::Integer);
   EXPECT_EQ(key("SOLVER_LDC_CLAMP").type, vk::ConstantType::Bool);
+  EXPECT_EQ(key("OBSTACLES").value, 0u);  // the dam break has none
   const std::array<vk::Constant, 3> own{{{"DAMPING_LIMIT", 0.3f}, {"NEIGHBOUR_CAPACITY", 64u}, {"WALK_CELLS", false}}};
   EXPECT_NO_THROW(vk::Program(test::gpu(), "viscosity_vorticity", sizeof(SimConstants), 0, own, keys.constants()));
-  expect_refused([&] { vk::Program(test::gpu(), "viscosity_vorticity", sizeof(SimConstants), 0, own); }, "SOLVER_",
-                 "the pass was made without the keys it reads");
+  expect_refused([&] { vk::Program(test::gpu(), "viscosity_vorticity", sizeof(SimConstants), 0, own); },
+                 "was not set", "the pass was made without the keys it reads");
 }
 
 // The push-constant block's size comes from the shader: a host struct of another size is
