@@ -5,6 +5,12 @@ namespace pbflow {
 namespace {
 constexpr double kFarAway = 1e18;  // where an image that does not count is put: beyond every kernel
 
+// Where the image of the particle at b (distance phi_b) lies seen from a (phi_a, normal n_a).
+glm::dvec3 pair_image(const glm::dvec3& a, double phi_a, const glm::dvec3& n_a, const glm::dvec3& b, double phi_b) {
+  const glm::dvec3 apart = a - b, along = apart + 2 * phi_b * n_a;
+  const double d2 = std::max(glm::dot(apart, apart) + 4 * phi_a * phi_b, 0.0);
+  return a - std::sqrt(d2) * (glm::dot(along, along) > 0 ? glm::normalize(along) : n_a);
+}
 }  // namespace
 
 Mirrors mirrors_near(const Derived& d, const glm::dvec3& x) {
@@ -28,15 +34,6 @@ Mirrors mirrors_near(const Derived& d, const glm::dvec3& x) {
   }
   return m;
 }
-
-namespace {
-// Where the image of the particle at b (distance phi_b) lies seen from a (phi_a, normal n_a).
-glm::dvec3 pair_image(const glm::dvec3& a, double phi_a, const glm::dvec3& n_a, const glm::dvec3& b, double phi_b) {
-  const glm::dvec3 apart = a - b, along = apart + 2 * phi_b * n_a;
-  const double d2 = std::max(glm::dot(apart, apart) + 4 * phi_a * phi_b, 0.0);
-  return a - std::sqrt(d2) * (glm::dot(along, along) > 0 ? glm::normalize(along) : n_a);
-}
-}  // namespace
 
 glm::dvec3 Mirrors::obstacle_image(const glm::dvec3& x) const {
   glm::dvec3 n, unused;

@@ -1,8 +1,7 @@
 #pragma once
 // Every solid is a mirror (shaders/solids.glsl runs the same): behind each wall within h of a
 // particle, behind each pair and the triple of them at edges and corners, and behind the
-// nearest obstacle within h (across the plane tangent to it at the point nearest the
-// particle) lies the reflection of its neighbours. Ghost particles made this way continue
+// nearest obstacle within h (obstacle_image) lies the reflection of its neighbours. Ghost particles made this way continue
 // any lattice exactly across a plane, so walls and flat faces read rho0 at faces, edges and
 // corners alike; and they mirror the fluid that is really there, so a solid next to a free
 // surface does not add density that is not there (the earlier wall term counted a full
@@ -34,10 +33,11 @@ struct Mirrors {
   // reflection (|x_i - R x|^2 expands to it). Across a curve it stays a pair's term: D is the
   // same seen from either particle and the passes' gradients are D's own, where a tangent
   // plane (the particle's own, or one shared by the pair) turns with the particles. A ball
-  // still stirs a settled tank with any of the three (docs/physics.md, "Open problems"). It counts only where the pair's
-  // images (each seen from the other) both lie inside the obstacle: round a box's edge or
-  // across a thin plate the fluid they would stand for is really there (a lattice beside a box
-  // read up to 2.5 % high one spacing from an edge without it).
+  // still stirs a settled tank with any of the three (docs/physics.md, "Open problems").
+  // It counts only where the pair's images (each seen from the other) both lie inside the
+  // obstacle: round a box's edge or across a thin plate the fluid they would stand for is
+  // really there (a lattice beside a box read up to 2.5 % high one spacing from an edge
+  // without it).
   glm::dvec3 obstacle_image(const glm::dvec3& x) const;
 };
 
