@@ -27,7 +27,8 @@
 
 // The coarse correction (coarse_deposit, coarse_prepare, coarse_sweep, coarse_gradient and
 // coarse_apply.comp; the reference's coarse_correction): nodes COARSE_CELL spacings apart; a
-// node is fluid where the particles deposited there fill more than COARSE_FILL of its cell;
+// node is fluid where the particles deposited there and the solids fill more than COARSE_FILL
+// of its cell (a solid is fluid at rest to the solve, Derived::Coarse::open says why);
 // COARSE_SWEEPS red-black Gauss-Seidel sweeps; the deposit's sums in fixed point, COARSE_UNIT
 // to a particle's whole weight, a particle's compression counted up to COARSE_MAX_COMPRESSION
 // (so the sums fit 32 bits) and past COARSE_FLOOR: a disordered packing's density reads a few
@@ -38,6 +39,7 @@
 // A lone smoothed pass has no second pass to take back what the move overshoots.
 #define COARSE_LONE_STRENGTH 0.15
 #define COARSE_FILL 0.1
+#define COARSE_OPEN_SAMPLES 4
 #define COARSE_SWEEPS 20
 #define COARSE_UNIT 65536.0
 #define COARSE_MAX_COMPRESSION 8.0

@@ -58,6 +58,7 @@ SolverBuffers plan_buffers(const Derived& d, uint64_t particles, FrameOutputs ou
     const uint64_t nodes = uint64_t(d.coarse.count());
     b.coarse_sums = 2 * nodes * sizeof(uint32_t);
     b.coarse_phi = nodes * sizeof(float);
+    b.coarse_open = nodes * sizeof(float);
     b.coarse_grad = nodes * sizeof(glm::vec4);
   }
   b.grid = plan_grid(d, particles);
@@ -74,7 +75,7 @@ SolverBuffers plan_buffers(const Derived& d, uint64_t particles, FrameOutputs ou
 uint64_t SolverBuffers::total() const {
   uint64_t sum = (kParticleVec4s + 1) * particle_vec4 + kIdArrays * id + rho + neighbour_count + neighbour_list +
                  x_lambda_spare + curl + partials + obstacles + watch + overflow_groups + 3 * adaptive_words +
-                 coarse_sums + coarse_phi + coarse_grad + result + grid.cell + grid.rank + grid.order + shape +
+                 coarse_sums + coarse_phi + coarse_grad + coarse_open + result + grid.cell + grid.rank + grid.order + shape +
                  white_water() + grid.scan.total();
   return sum;
 }

@@ -133,6 +133,8 @@ void GpuSolver::build_coarse() {
   coarse_sums_ = vk::Buffer(ctx_, plan_.coarse_sums);
   coarse_phi_ = vk::Buffer(ctx_, plan_.coarse_phi);
   coarse_grad_ = vk::Buffer(ctx_, plan_.coarse_grad);
+  coarse_open_ = vk::Buffer(ctx_, plan_.coarse_open);
+  coarse_open_.upload(std::span<const float>(c.open));
 }
 
 std::string GpuSolver::device_name() const { return ctx_.info().name; }
@@ -417,6 +419,7 @@ void GpuSolver::coarse_correction() {
   bind_particle_pass(coarse_prepare_);
   cmd_.bind("sums", coarse_sums_);
   cmd_.bind("phi", coarse_phi_);
+  cmd_.bind("open", coarse_open_);
   cmd_.dispatch(nodes);
   // All the sweeps in one workgroup, or a dispatch per half sweep (coarse_sweep_group).
   for (int sweep = 0; sweep < (coarse_sweep_threads_ ? 1 : COARSE_SWEEPS); ++sweep)

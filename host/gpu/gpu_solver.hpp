@@ -147,7 +147,7 @@ class GpuSolver : public Solver {
   // The cell walkers' dispatch (neighbour_lists.comp), and its copy for an adaptive
   // iteration pair: zero where the pair does not run (check_converged.comp).
   vk::Buffer overflow_groups_, overflow_gated_;
-  vk::Buffer coarse_sums_, coarse_phi_, coarse_grad_;
+  vk::Buffer coarse_sums_, coarse_phi_, coarse_grad_, coarse_open_;
   vk::Buffer watch_buf_;  // watch.comp: flags, first step, counts, the step being watched
   uint32_t step_in_frame_ = 0;  // adaptive iterations: the last check's measures, dispatch arguments + count
   // White water, where asked for: its count (the living, and the living and born while the

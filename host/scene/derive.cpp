@@ -69,6 +69,13 @@ void derive_coarse(double spacing, Derived& d) {
   d.coarse.nodes = glm::max(glm::ivec3(1), glm::ivec3(glm::round(span / (COARSE_CELL * spacing))));
   for (int a = 0; a < 3; ++a) d.coarse.cell[a] = span[a] > 0 ? span[a] / d.coarse.nodes[a] : COARSE_CELL * spacing;
   d.coarse.strength = d.solver.iterations == 1 ? COARSE_LONE_STRENGTH : COARSE_STRENGTH;
+  std::vector<Obstacle> solids;  // the obstacles' own surfaces, where the mirrors lie
+  for (const Obstacle& grown : d.obstacles) solids.push_back(grown.grown(-d.keep_out));
+  d.coarse.open.assign(size_t(d.coarse.count()), 1.0f);
+  for (int k = 0; !solids.empty() && k < d.coarse.count(); ++k) {
+    const glm::dvec3 node = d.wall_min + (glm::dvec3(d.coarse.node(k)) + 0.5) * d.coarse.cell;
+    d.coarse.open[size_t(k)] = float(open_fraction(solids, node, d.coarse.cell, COARSE_OPEN_SAMPLES));
+  }
 }
 
 }  // namespace

@@ -31,9 +31,8 @@ struct Mirrors {
   // The obstacle's image of neighbour x: at D from the particle, D^2 = |x_i - x|^2 + 4 phi_i
   // phi_x with phi the distance to the surface, along grad_i D. Across a plane this is the
   // reflection (|x_i - R x|^2 expands to it). Across a curve it stays a pair's term: D is the
-  // same seen from either particle and the passes' gradients are D's own, where a tangent
-  // plane (the particle's own, or one shared by the pair) turns with the particles. A ball
-  // still stirs a settled tank with any of the three (docs/physics.md, "Open problems").
+  // same seen from either particle, where a tangent plane (the particle's own, or one shared
+  // by the pair) turns with the particles.
   // It counts only where the pair's images (each seen from the other) both lie inside the
   // obstacle: round a box's edge or across a thin plate the fluid they would stand for is
   // really there (a lattice beside a box read up to 2.5 % high one spacing from an edge

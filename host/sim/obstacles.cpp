@@ -41,6 +41,20 @@ double Obstacle::surface(const glm::dvec3& x, glm::dvec3& normal) const {
   return -depth;
 }
 
+double open_fraction(const std::vector<Obstacle>& solids, const glm::dvec3& centre, const glm::dvec3& reach, int samples) {
+  const int n = 2 * samples;
+  double open = 0, all = 0;
+  for (int k = 0; k < n * n * n; ++k) {
+    const glm::dvec3 t = (glm::dvec3(k % n, k / n % n, k / (n * n)) + 0.5) / double(samples) - 1.0;  // in (-1, 1)
+    const glm::dvec3 tent = 1.0 - glm::abs(t);
+    const double w = tent.x * tent.y * tent.z;
+    const glm::dvec3 x = centre + t * reach;
+    all += w;
+    if (std::none_of(solids.begin(), solids.end(), [&](const Obstacle& o) { return o.contains(x); })) open += w;
+  }
+  return open / all;
+}
+
 glm::dvec3 project_out(const Obstacle& o, const glm::dvec3& x, const glm::dvec3& wall_min,
                        const glm::dvec3& wall_max) {
   if (!o.contains(x)) return x;

@@ -35,6 +35,11 @@ glm::dvec3 project_out(const Obstacle& o, const glm::dvec3& x, const glm::dvec3&
 // the GPU, double here) cannot decide between the two.
 glm::dvec3 stop_at(const Obstacle& o, const glm::dvec3& from, const glm::dvec3& to, double contact);
 
+// The share outside every solid of the tent (1 - |t|) per axis about `centre`, `reach` to each
+// side, from (2 samples)^3 points: what a node of the coarse grid can gather of a uniform fluid,
+// against what it would with no solids (Derived::Coarse::open).
+double open_fraction(const std::vector<Obstacle>& solids, const glm::dvec3& centre, const glm::dvec3& reach, int samples);
+
 // The GPU layout: vec4 0 holds the count and the keep-out margin the shapes are grown by;
 // then two vec4 per obstacle: box (min, 0) (max, 0); sphere (centre, 1) (radius, 0, 0, 0).
 std::vector<glm::vec4> pack_obstacles(const std::vector<Obstacle>& obstacles, double margin);
