@@ -233,7 +233,7 @@ void Renderer::draw_tank_and_obstacles() {
       upload(u);
       glUseProgram(box_);
       glDrawArrays(GL_TRIANGLES, 0, 36);
-    } else {
+    } else if (o.kind == Obstacle::Kind::Sphere) {
       u.radius = float(o.radius);
       upload(u);
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, obstacle_spheres_[sphere++]);

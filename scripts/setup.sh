@@ -14,6 +14,7 @@ packages=(
   nlohmann-json3-dev libcli11-dev googletest libgtest-dev
   libboost-dev libturbojpeg0-dev libavcodec-dev libswscale-dev libavutil-dev
   python3-matplotlib ffmpeg
+  libassimp-dev libopenvdb-dev libboost-iostreams-dev
 )
 if [[ "${1:-}" == "--test" ]]; then
   packages+=(python3-vtk9 chromium chromium-driver python3-selenium)

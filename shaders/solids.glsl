@@ -2,21 +2,56 @@
 // keep-out margin, half a spacing). Particles are kept out of them (predicted_position,
 // project_out_of_solids), and every solid is a mirror for the neighbour passes (mirrors_near,
 // as host/sim/mirrors.cpp). The includer defines OBSTACLES_BINDING.
-// Layout: obstacle_data[0] = (count, margin, 0, 0); then per obstacle two vec4: box (min, 0)
-// (max, 0), sphere (centre, 1) (radius, 0, 0, 0).
+// Layout (pack_obstacles): obstacle_data[0] = (count, margin, 0, 0); then per obstacle three
+// vec4: box (min, 0) (max, 0) (0), sphere (centre, 1) (radius, 0, 0, 0) (0), mesh (field
+// origin, 2) (dims, voxel) (first value, 0, 0, 0); then the meshes' distance fields, four
+// values a vec4. Boxes and spheres are stored grown by the margin, a mesh's field is its own
+// surface.
 #ifndef SOLIDS_GLSL
 #define SOLIDS_GLSL
+#include "contract.h"
 
 layout(std430, binding = OBSTACLES_BINDING) readonly buffer Obstacles { vec4 obstacle_data[]; };
 // Whether the scene has obstacles (gpu/key_constants.hpp): without, their mirrors compile out,
 // which a CPU device would otherwise run masked for every neighbour (3x the step on lavapipe).
 layout(constant_id = 90) const bool OBSTACLES = false;
 
+int obstacle_header(int k) { return 1 + 3 * k; }
+float field_value(int first, ivec3 dims, ivec3 p) {
+  int k = first + (p.z * dims.y + p.y) * dims.x + p.x;
+  return obstacle_data[obstacle_header(int(obstacle_data[0].x)) + k / 4][k % 4];
+}
+// A mesh's distance at x, trilinear, and its gradient (DistanceField::sample).
+float field_distance(int k, vec3 x, out vec3 gradient) {
+  vec4 a = obstacle_data[obstacle_header(k)], b = obstacle_data[obstacle_header(k) + 1];
+  int first = int(obstacle_data[obstacle_header(k) + 2].x);
+  ivec3 dims = ivec3(b.xyz);
+  vec3 inside = clamp(x, a.xyz, a.xyz + b.w * vec3(dims - 1)), beyond = x - inside;
+  vec3 g = (inside - a.xyz) / b.w;
+  ivec3 base = clamp(ivec3(floor(g)), ivec3(0), dims - 2);
+  vec3 t = g - vec3(base);
+  float c[8];
+  for (int q = 0; q < 8; ++q) c[q] = field_value(first, dims, base + ivec3(q & 1, (q >> 1) & 1, (q >> 2) & 1));
+  float x00 = mix(c[0], c[1], t.x), x10 = mix(c[2], c[3], t.x), x01 = mix(c[4], c[5], t.x), x11 = mix(c[6], c[7], t.x);
+  float y0 = mix(x00, x10, t.y), y1 = mix(x01, x11, t.y);
+  float dx0 = mix(c[1] - c[0], c[3] - c[2], t.y), dx1 = mix(c[5] - c[4], c[7] - c[6], t.y);
+  gradient = vec3(mix(dx0, dx1, t.z), mix(x10 - x00, x11 - x01, t.z), y1 - y0) / b.w;
+  float out_of = length(beyond);
+  if (out_of > 0.0) gradient = beyond / out_of;
+  return mix(y0, y1, t.z) + out_of;
+}
+
 // Obstacle k's own surface (its stored shape less the margin): the signed distance from x
 // (negative inside) and the outward normal at the surface point nearest x (Obstacle::surface).
 float obstacle_surface(int k, vec3 x, out vec3 normal) {
-  vec4 a = obstacle_data[1 + 2 * k], b = obstacle_data[2 + 2 * k];
+  vec4 a = obstacle_data[obstacle_header(k)], b = obstacle_data[obstacle_header(k) + 1];
   float margin = obstacle_data[0].y;
+  if (a.w > 1.5) {  // mesh
+    vec3 gradient;
+    float d = field_distance(k, x, gradient);
+    normal = length(gradient) > 0.0 ? normalize(gradient) : vec3(0.0, 1.0, 0.0);
+    return d;
+  }
   if (a.w > 0.5) {  // sphere
     vec3 d = x - a.xyz;
     float r = length(d);
@@ -113,6 +148,21 @@ vec3 mirror_velocity(Mirrors m, int k, vec3 v) {
   return mix(v, -v, reflected(k));
 }
 
+// How far along the move d from `from` mesh k's grown surface is met (obstacles.cpp, trace);
+// 1 where it is not, 0 where `from` touches it.
+float trace(int k, vec3 from, vec3 d, float contact) {
+  vec3 normal;
+  float margin = obstacle_data[0].y, len = length(d), t = 0.0;
+  if (obstacle_surface(k, from, normal) - margin < contact) return 1.0;  // touching: the projection's
+  for (int s = 0; len > 0.0 && s < TRACE_STEPS; ++s) {
+    float gap = obstacle_surface(k, from + t * d, normal) - margin;
+    if (gap <= TRACE_STOP * contact) break;
+    t += gap / len;
+    if (t >= 1.0) return 1.0;
+  }
+  return t;
+}
+
 // Where the move from -> to first enters an obstacle (host/sim/obstacles.cpp, stop_at): a
 // fast particle stops at the first surface it meets instead of tunnelling through. A
 // start within 1e-3 h of an obstacle touches it and is left to the projection.
@@ -122,8 +172,12 @@ vec3 stop_at_solids(vec3 from, vec3 to) {
   vec3 d = to - from;
   float first = 1.0;
   for (int k = 0; k < count; ++k) {
-    vec4 a = obstacle_data[1 + 2 * k], b = obstacle_data[2 + 2 * k];
+    vec4 a = obstacle_data[obstacle_header(k)], b = obstacle_data[obstacle_header(k) + 1];
     float t_enter = 0.0, t_exit = 1.0;
+    if (a.w > 1.5) {
+      first = min(first, trace(k, from, d, contact));
+      continue;
+    }
     if (a.w > 0.5) {  // sphere: the smaller root of |from + t d - c|^2 = r^2
       vec3 f = from - a.xyz;
       float qa = dot(d, d), qb = dot(f, d), qc = dot(f, f) - b.x * b.x;
@@ -154,8 +208,12 @@ vec3 stop_at_solids(vec3 from, vec3 to) {
 vec3 project_out_of_solids(vec3 x) {
   int count = int(obstacle_data[0].x);
   for (int k = 0; k < count; ++k) {
-    vec4 a = obstacle_data[1 + 2 * k], b = obstacle_data[2 + 2 * k];
-    if (a.w > 0.5) {  // sphere
+    vec4 a = obstacle_data[obstacle_header(k)], b = obstacle_data[obstacle_header(k) + 1];
+    if (a.w > 1.5) {  // mesh: onto its grown surface along the normal
+      vec3 normal;
+      float d = obstacle_surface(k, x, normal) - obstacle_data[0].y;
+      if (d < 0.0) x -= d * normal;
+    } else if (a.w > 0.5) {  // sphere
       vec3 d = x - a.xyz;
       float r = length(d);
       if (r < b.x) x = a.xyz + b.x * (r > 0.0 ? d / r : vec3(0.0, 1.0, 0.0));

@@ -27,6 +27,9 @@ void expect_close(const test::ErrorReport& e, double tolerance = kPassTolerance)
 constexpr const char* kObstaclesInTheColumn =
     R"([{"type": "box", "min": [0.25, 0, 0.1], "max": [0.45, 0.2, 0.3]},
         {"type": "sphere", "centre": [0.2, 0.5, 0.2], "radius": 0.1}])";
+// A mesh in the column (scripts/make_meshes.py's rock): its distance field read by both solvers.
+const std::string kMeshInTheColumn =
+    std::string(R"([{"type": "mesh", "file": ")") + PBFLOW_TEST_DATA + R"(/../scenes/meshes/rock.obj", "position": [0.25, 0.2, 0.2]}])";
 
 struct ListCase {
   const char* name;
@@ -328,7 +331,8 @@ TEST_P(PassTest, Measures) {
 INSTANTIATE_TEST_SUITE_P(Lists, PassTest,
                          ::testing::Values(ListCase{"listed", -1}, ListCase{"some_full", 24}, ListCase{"all_full", 1},
                                            ListCase{"no_lists", 0}, ListCase{"obstacles", -1, kObstaclesInTheColumn},
-                                           ListCase{"obstacles_all_full", 1, kObstaclesInTheColumn}),
+                                           ListCase{"obstacles_all_full", 1, kObstaclesInTheColumn},
+                                           ListCase{"mesh", -1, kMeshInTheColumn.c_str()}),
                          [](const auto& info) { return std::string(info.param.name); });
 
 // Whole steps of both methods from the lattice: positions drift apart only by float
@@ -391,7 +395,8 @@ TEST_P(StepTest, TheStartsRelaxationAgreesAndDecompresses) {
 
 INSTANTIATE_TEST_SUITE_P(Methods, StepTest,
                          ::testing::Values(StepCase{"pbf", "pbf", "[]"}, StepCase{"ldc", "ldc", "[]"},
-                                           StepCase{"ldc_obstacles", "ldc", kObstaclesInTheColumn}),
+                                           StepCase{"ldc_obstacles", "ldc", kObstaclesInTheColumn},
+                                           StepCase{"pbf_mesh", "pbf", kMeshInTheColumn.c_str()}),
                          [](const auto& info) { return std::string(info.param.name); });
 
 class ProfileTest : public test::GpuTest {};

@@ -28,8 +28,10 @@ const SceneKey kKeys[] = {
      "some fluid",
      "", {}},
     {"obstacles", K::Shapes, "[]", {}, {}, "m",
-     "static solids `{\"type\": \"box\", min, max}` or `{\"type\": \"sphere\", centre, radius}`; particles are "
-     "projected out of them like out of the walls",
+     "static solids `{\"type\": \"box\", min, max}`, `{\"type\": \"sphere\", centre, radius}` or `{\"type\": "
+     "\"mesh\", file, scale, position, rotation}` (a closed OBJ, STL or PLY mesh, its path relative to the scene "
+     "file; scale a number or three; rotation in degrees about x, then y, then z, fixed axes); mirrors to the fluid as "
+     "the walls are",
      "", {}},
     {"gravity", K::Vector, "[0, -9.81, 0]", {}, {}, "m/s²", "at most 1e4 m/s² (a thousand g)", "", {}},
     // A tank starts in the solver's own equilibrium only when asked: a drop in the air must not settle.

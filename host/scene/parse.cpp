@@ -11,6 +11,7 @@
 #include "common/read_file.hpp"
 #include "scene/framing.hpp"
 #include "scene/keys.hpp"
+#include "scene/mesh.hpp"
 
 namespace pbflow {
 
@@ -208,22 +209,52 @@ void read_fluid(const json& j, Scene& s) {
   }
 }
 
-Obstacle obstacle(const json& o, const std::string& path, const Scene& s) {
-  require(o.is_object() && o.contains("type") && o["type"].is_string(), path + " needs a \"type\": \"box\" or \"sphere\"");
+// A mesh obstacle: its file (relative to the scene's directory), placed, as a distance field
+// half a spacing fine reaching past every kernel.
+Obstacle mesh_obstacle(const json& o, const std::string& path, const Scene& s, const std::string& directory) {
+  for (auto it = o.begin(); it != o.end(); ++it)
+    require(it.key() == "file" || it.key() == "scale" || it.key() == "position" || it.key() == "rotation",
+            "unknown scene key '" + path + "." + it.key() + "'");
+  require(o.contains("file") && o["file"].is_string(), "scene key '" + path + ".file' must name a mesh file");
+  std::filesystem::path file = o["file"].get<std::string>();
+  if (file.is_relative() && !directory.empty()) file = std::filesystem::path(directory) / file;
+  Placement place;
+  if (o.contains("scale") && o["scale"].is_number())
+    place.scale = glm::dvec3(number(o, "scale", 1));
+  else
+    place.scale = vec3(o, "scale", path + ".scale", place.scale);
+  require(glm::all(glm::greaterThan(place.scale, glm::dvec3(0))), "scene key '" + path + ".scale' must be positive");
+  place.position = vec3(o, "position", path + ".position", {});
+  place.rotation = vec3(o, "rotation", path + ".rotation", {});
+  const std::string what = path + "'s mesh '" + file.string() + "'";
+  const TriangleMesh mesh = read_mesh(file.string(), what, place);
+  Obstacle ob;
+  ob.kind = Obstacle::Kind::Mesh;
+  ob.min = mesh.lo, ob.max = mesh.hi;
+  const double reach = (s.solver.kernel_ratio + 1) * s.particle_spacing;  // h and the keep-out margin, with room
+  ob.field = mesh_field(mesh, 0.5 * s.particle_spacing, reach, what);
+  return ob;
+}
+
+Obstacle obstacle(const json& o, const std::string& path, const Scene& s, const std::string& directory) {
+  require(o.is_object() && o.contains("type") && o["type"].is_string(),
+          path + " needs a \"type\": \"box\", \"sphere\" or \"mesh\"");
   json shape = o;
   shape.erase("type");
   Obstacle ob;
-  if (o["type"] == "box") {
+  if (o["type"] == "mesh") {
+    ob = mesh_obstacle(shape, path, s, directory);
+  } else if (o["type"] == "box") {
     Box b = box(shape, path);
     ob.min = b.min, ob.max = b.max;
   } else if (o["type"] == "sphere") {
     Ball b = ball(shape, path);
     ob.kind = Obstacle::Kind::Sphere, ob.centre = b.centre, ob.radius = b.radius;
   } else {
-    throw InputError(path + ".type must be \"box\" or \"sphere\"");
+    throw InputError(path + ".type must be \"box\", \"sphere\" or \"mesh\"");
   }
-  glm::dvec3 lo = ob.kind == Obstacle::Kind::Box ? ob.min : ob.centre - ob.radius;
-  glm::dvec3 hi = ob.kind == Obstacle::Kind::Box ? ob.max : ob.centre + ob.radius;
+  glm::dvec3 lo = ob.kind == Obstacle::Kind::Sphere ? ob.centre - ob.radius : ob.min;
+  glm::dvec3 hi = ob.kind == Obstacle::Kind::Sphere ? ob.centre + ob.radius : ob.max;
   require(glm::all(glm::lessThan(lo, s.domain.max)) && glm::all(glm::greaterThan(hi, s.domain.min)),
           path + " lies wholly outside the domain");
   return ob;
@@ -258,6 +289,10 @@ Scene parse_checked(const std::string& json_text, const std::string& origin, con
   if (!j.is_object()) throw InputError(origin + ": a scene must be a JSON object ({...})");
   for (const std::string& o : overrides) apply_override(j, o);
   reject_unknown(j, schema(), "");
+  // Files a scene names lie beside it; a built-in scene's (or a scene given as text) in the
+  // working directory.
+  const std::string directory =
+      std::filesystem::is_regular_file(origin) ? std::filesystem::path(origin).parent_path().string() : "";
 
   Scene s = scene_defaults();
   s.name = origin;
@@ -272,7 +307,7 @@ Scene parse_checked(const std::string& json_text, const std::string& origin, con
   read_fluid(j, s);
   const json& obstacles = list(j, "obstacles");
   for (size_t i = 0; i < obstacles.size(); ++i)
-    s.obstacles.push_back(obstacle(obstacles[i], "obstacles[" + std::to_string(i) + "]", s));
+    s.obstacles.push_back(obstacle(obstacles[i], "obstacles[" + std::to_string(i) + "]", s, directory));
   s.gravity = vec3(j, "gravity", "gravity", s.gravity);
   require(glm::length(s.gravity) <= 1e4, "gravity must not exceed 1e4 m/s^2 (a thousand g)");
   if (s.solver.substeps == SolverParams::kChosenSubsteps) s.solver.substeps = chosen_substeps(s);

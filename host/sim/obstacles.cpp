@@ -1,13 +1,38 @@
 #include "sim/obstacles.hpp"
 
+#include "shaders/contract.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
 namespace pbflow {
 
-bool Obstacle::contains(const glm::dvec3& x) const {
+double DistanceField::sample(const glm::dvec3& x, glm::dvec3& gradient) const {
+  const glm::dvec3 inside = glm::clamp(x, origin, extent()), beyond = x - inside;
+  const glm::dvec3 g = (inside - origin) / voxel;
+  const glm::ivec3 base = glm::clamp(glm::ivec3(glm::floor(g)), glm::ivec3(0), dims - 2);
+  const glm::dvec3 t = g - glm::dvec3(base);
+  double c[8];
+  for (int k = 0; k < 8; ++k) c[k] = at(base + glm::ivec3(k & 1, (k >> 1) & 1, (k >> 2) & 1));
+  // Along x, then y, then z; the gradient from the same corners.
+  const double x00 = glm::mix(c[0], c[1], t.x), x10 = glm::mix(c[2], c[3], t.x);
+  const double x01 = glm::mix(c[4], c[5], t.x), x11 = glm::mix(c[6], c[7], t.x);
+  const double y0 = glm::mix(x00, x10, t.y), y1 = glm::mix(x01, x11, t.y);
+  const double d = glm::mix(y0, y1, t.z);
+  const double dx0 = glm::mix(c[1] - c[0], c[3] - c[2], t.y), dx1 = glm::mix(c[5] - c[4], c[7] - c[6], t.y);
+  gradient = glm::dvec3(glm::mix(dx0, dx1, t.z), glm::mix(x10 - x00, x11 - x01, t.z), y1 - y0) / voxel;
+  const double out = glm::length(beyond);
+  if (out > 0) gradient = beyond / out;
+  return d + out;
+}
+bool Obstacle::contains(
+const glm::dvec3& x) const {
   if (kind == Kind::Sphere) return glm::length(x - centre) < radius;
+  if (kind == Kind::Mesh) {
+    glm::dvec3 unused;
+    return surface(x, unused) < 0;
+  }
   return glm::all(glm::greaterThan(x, min)) && glm::all(glm::lessThan(x, max));
 }
 
@@ -16,6 +41,7 @@ Obstacle Obstacle::grown(double margin) const {
   o.min -= margin;
   o.max += margin;
   o.radius += margin;
+  o.margin += margin;
   return o;
 }
 
@@ -25,6 +51,12 @@ double Obstacle::surface(const glm::dvec3& x, glm::dvec3& normal) const {
     const double r = glm::length(d);
     normal = r > 0 ? d / r : glm::dvec3(0, 1, 0);
     return r - radius;
+  }
+  if (kind == Kind::Mesh) {
+    glm::dvec3 gradient;
+    const double d = field->sample(x, gradient) - margin;
+    normal = glm::length(gradient) > 0 ? glm::normalize(gradient) : glm::dvec3(0, 1, 0);
+    return d;
   }
   const glm::dvec3 out = x - glm::clamp(x, min, max);
   if (const double outside = glm::length(out); outside > 0) {
@@ -63,6 +95,11 @@ glm::dvec3 project_out(const Obstacle& o, const glm::dvec3& x, const glm::dvec3&
     double r = glm::length(d);
     return o.centre + o.radius * (r > 0 ? d / r : glm::dvec3(0, 1, 0));  // the centre itself goes up
   }
+  if (o.kind == Obstacle::Kind::Mesh) {
+    glm::dvec3 normal;
+    const double d = o.surface(x, normal);
+    return x - d * normal;
+  }
   glm::dvec3 best = x;
   double nearest = std::numeric_limits<double>::infinity();
   for (int k = 0; k < 3; ++k) {
@@ -80,10 +117,28 @@ glm::dvec3 project_out(const Obstacle& o, const glm::dvec3& x, const glm::dvec3&
   return best;
 }
 
+namespace {
+// A mesh's move is sphere traced (shaders/contract.h, TRACE_STEPS).
+
+glm::dvec3 trace(const Obstacle& o, const glm::dvec3& from, const glm::dvec3& d, double contact) {
+  const double length = glm::length(d);
+  glm::dvec3 normal;
+  double t = 0;
+  for (int k = 0; length > 0 && k < TRACE_STEPS; ++k) {
+    const double s = o.surface(from + t * d, normal);
+    if (s <= TRACE_STOP * contact) break;
+    t += s / length;
+    if (t >= 1) return from + d;
+  }
+  return from + t * d;
+}
+}  // namespace
+
 glm::dvec3 stop_at(const Obstacle& o, const glm::dvec3& from, const glm::dvec3& to, double contact) {
   if (o.grown(contact).contains(from)) return to;  // touching or inside: project_out handles it
   const glm::dvec3 d = to - from;
   double t_enter = 0, t_exit = 1;
+  if (o.kind == Obstacle::Kind::Mesh) return trace(o, from, d, contact);
   if (o.kind == Obstacle::Kind::Sphere) {
     // |from + t d - c|^2 = r^2, the smaller root
     glm::dvec3 f = from - o.centre;
@@ -108,15 +163,25 @@ glm::dvec3 stop_at(const Obstacle& o, const glm::dvec3& from, const glm::dvec3& 
 
 std::vector<glm::vec4> pack_obstacles(const std::vector<Obstacle>& obstacles, double margin) {
   std::vector<glm::vec4> data{glm::vec4(float(obstacles.size()), float(margin), 0, 0)};
+  std::vector<float> values;  // the meshes' fields, after the obstacles
   for (const Obstacle& o : obstacles) {
     if (o.kind == Obstacle::Kind::Sphere) {
       data.emplace_back(glm::vec3(o.centre), 1.0f);
       data.emplace_back(float(o.radius), 0.0f, 0.0f, 0.0f);
+      data.emplace_back(0.0f);
+    } else if (o.kind == Obstacle::Kind::Mesh) {
+      data.emplace_back(glm::vec3(o.field->origin), 2.0f);
+      data.emplace_back(glm::vec3(o.field->dims), float(o.field->voxel));
+      data.emplace_back(float(values.size()), 0.0f, 0.0f, 0.0f);
+      values.insert(values.end(), o.field->values.begin(), o.field->values.end());
     } else {
       data.emplace_back(glm::vec3(o.min), 0.0f);
       data.emplace_back(glm::vec3(o.max), 0.0f);
+      data.emplace_back(0.0f);
     }
   }
+  values.resize((values.size() + 3) / 4 * 4, 0.0f);
+  for (size_t k = 0; k < values.size(); k += 4) data.emplace_back(values[k], values[k + 1], values[k + 2], values[k + 3]);
   return data;
 }
 

@@ -1,19 +1,24 @@
 #pragma once
-// Static obstacles: axis-aligned boxes and spheres that particles are projected out of,
-// like the walls, and that mirror the fluid (sim/mirrors.hpp). The solver keeps particle
+// Static obstacles: axis-aligned boxes, spheres and meshes (as distance fields) that particles
+// are projected out of, like the walls, and that mirror the fluid (sim/mirrors.hpp). The solver keeps particle
 // centres half a spacing away from an obstacle's surface, so it works with each shape grown
 // by that margin (Derived::keep_out). shaders/solids.glsl mirrors this file.
 #include <glm/glm.hpp>
 
+#include <memory>
 #include <vector>
+
+#include "sim/distance_field.hpp"
 
 namespace pbflow {
 
 struct Obstacle {
-  enum class Kind { Box, Sphere } kind = Kind::Box;
-  glm::dvec3 min{0.0}, max{0.0};  // box
+  enum class Kind { Box, Sphere, Mesh } kind = Kind::Box;
+  glm::dvec3 min{0.0}, max{0.0};  // box; a mesh's bounds
   glm::dvec3 centre{0.0};         // sphere
   double radius = 0;
+  std::shared_ptr<const DistanceField> field;  // mesh: the surface is its zero ...
+  double margin = 0;                           // ... moved out by this much (grown)
 
   bool contains(const glm::dvec3& x) const;   // strictly inside
   Obstacle grown(double margin) const;        // every surface moved out by margin
@@ -41,7 +46,9 @@ glm::dvec3 stop_at(const Obstacle& o, const glm::dvec3& from, const glm::dvec3& 
 double open_fraction(const std::vector<Obstacle>& solids, const glm::dvec3& centre, const glm::dvec3& reach, int samples);
 
 // The GPU layout: vec4 0 holds the count and the keep-out margin the shapes are grown by;
-// then two vec4 per obstacle: box (min, 0) (max, 0); sphere (centre, 1) (radius, 0, 0, 0).
+// then three vec4 per obstacle: box (min, 0) (max, 0) (0); sphere (centre, 1) (radius, 0, 0, 0)
+// (0); mesh (field origin, 2) (dims, voxel) (first value, 0, 0, 0); then the meshes' field
+// values, four a vec4, value 0 at vec4 1 + 3 count.
 std::vector<glm::vec4> pack_obstacles(const std::vector<Obstacle>& obstacles, double margin);
 
 }  // namespace pbflow

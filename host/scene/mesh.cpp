@@ -1,0 +1,81 @@
+#include "scene/mesh.hpp"
+
+#include <assimp/Importer.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <utility>
+
+#include "common/input_error.hpp"
+#include "common/read_file.hpp"
+
+namespace pbflow {
+
+namespace {
+
+glm::dmat3 rotation_matrix(const glm::dvec3& degrees) {
+  const glm::dvec3 r = glm::radians(degrees);
+  const glm::dmat3 x(1, 0, 0, 0, std::cos(r.x), std::sin(r.x), 0, -std::sin(r.x), std::cos(r.x));
+  const glm::dmat3 y(std::cos(r.y), 0, -std::sin(r.y), 0, 1, 0, std::sin(r.y), 0, std::cos(r.y));
+  const glm::dmat3 z(std::cos(r.z), std::sin(r.z), 0, -std::sin(r.z), std::cos(r.z), 0, 0, 0, 1);
+  return z * y * x;
+}
+
+// Every edge of a closed mesh borders exactly two triangles, once in each direction.
+bool closed(const aiMesh& m) {
+  std::map<std::pair<unsigned, unsigned>, int> edges;
+  for (unsigned f = 0; f < m.mNumFaces; ++f)
+    for (int e = 0; e < 3; ++e) {
+      const unsigned a = m.mFaces[f].mIndices[e], b = m.mFaces[f].mIndices[(e + 1) % 3];
+      edges[{std::min(a, b), std::max(a, b)}] += 1;
+    }
+  for (const auto& [edge, count] : edges)
+    if (count != 2) return false;
+  return true;
+}
+
+const aiScene* import(Assimp::Importer& importer, const std::string& path, const std::string& what) {
+  const std::string bytes = read_user_file(path, what, {kMaxMeshBytes});
+  std::string hint = std::filesystem::path(path).extension().string();
+  if (!hint.empty()) hint = hint.substr(1);
+  const aiScene* scene = importer.ReadFileFromMemory(bytes.data(), bytes.size(),
+                                                     aiProcess_Triangulate | aiProcess_JoinIdenticalVertices, hint.c_str());
+  if (!scene) throw InputError(what + " cannot be read as a mesh: " + importer.GetErrorString());
+  return scene;
+}
+
+}  // namespace
+
+TriangleMesh read_mesh(const std::string& path, const std::string& what, const Placement& placement) {
+  Assimp::Importer importer;
+  const aiScene* scene = import(importer, path, what);
+  const glm::dmat3 turn = rotation_matrix(placement.rotation);
+  TriangleMesh out;
+  for (unsigned k = 0; k < scene->mNumMeshes; ++k) {
+    const aiMesh& m = *scene->mMeshes[k];
+    if (!(m.mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;
+    if (out.triangles.size() + m.mNumFaces > kMaxMeshTriangles)
+      throw InputError(what + " has more than " + std::to_string(kMaxMeshTriangles) + " triangles");
+    if (!closed(m)) throw InputError(what + " is not closed (an edge not shared by exactly two triangles): a solid needs an inside");
+    const int first = int(out.vertices.size());
+    for (unsigned v = 0; v < m.mNumVertices; ++v) {
+      const glm::dvec3 p(m.mVertices[v].x, m.mVertices[v].y, m.mVertices[v].z);
+      if (glm::any(glm::isnan(p)) || glm::any(glm::isinf(p))) throw InputError(what + " has a vertex that is not a finite number");
+      out.vertices.push_back(placement.position + turn * (placement.scale * p));
+    }
+    for (unsigned f = 0; f < m.mNumFaces; ++f) {
+      const aiFace& face = m.mFaces[f];
+      if (face.mNumIndices == 3)
+        out.triangles.emplace_back(first + int(face.mIndices[0]), first + int(face.mIndices[1]), first + int(face.mIndices[2]));
+    }
+  }
+  if (out.triangles.empty()) throw InputError(what + " holds no triangles");
+  out.lo = out.hi = out.vertices[0];
+  for (const glm::dvec3& p : out.vertices) out.lo = glm::min(out.lo, p), out.hi = glm::max(out.hi, p);
+  return out;
+}
+
+}  // namespace pbflow

@@ -1,0 +1,25 @@
+#pragma once
+// A solid of any shape as a signed distance field on a grid (built from a mesh by
+// scene/mesh_field.cpp): negative inside, read trilinearly (sample: sim/obstacles.cpp). The GPU reads the same values
+// (shaders/solids.glsl, field_distance) from the obstacles' buffer.
+#include <glm/glm.hpp>
+
+#include <vector>
+
+namespace pbflow {
+
+struct DistanceField {
+  glm::dvec3 origin{0.0};  // the position of value (0, 0, 0)
+  double voxel = 0;        // the grid's spacing, m
+  glm::ivec3 dims{0};      // values along each axis, at least 2
+  std::vector<float> values;  // x fastest, then y, then z
+
+  float at(glm::ivec3 p) const { return values[size_t((p.z * dims.y + p.y) * dims.x + p.x)]; }
+  glm::dvec3 extent() const { return origin + voxel * glm::dvec3(dims - 1); }
+  // The trilinear distance at x and its gradient; outside the grid, the value at the nearest
+  // point of the grid plus the distance to it (the grid reaches past every kernel: no more is
+  // needed there).
+  double sample(const glm::dvec3& x, glm::dvec3& gradient) const;
+};
+
+}  // namespace pbflow
