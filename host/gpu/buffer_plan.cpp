@@ -50,7 +50,7 @@ SolverBuffers plan_buffers(const Derived& d, uint64_t particles, FrameOutputs ou
   b.x_lambda_spare = d.smooths_lambda() ? vec4 : 0;
   b.curl = d.solver.vorticity > 0 ? vec4 : 0;
   b.partials = 2 * partial_count(particles) * sizeof(glm::vec4);
-  b.obstacles = pack_obstacles(d.obstacles, d.keep_out).size() * sizeof(glm::vec4);
+  b.obstacles = packed_obstacle_vec4s(d.obstacles) * sizeof(glm::vec4);
   b.watch = sizeof(WatchWords);
   b.overflow_groups = 4 * sizeof(uint32_t);
   b.adaptive_words = d.solver.target_compression > 0 ? 2 * sizeof(glm::vec4) : 0;

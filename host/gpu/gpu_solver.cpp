@@ -390,7 +390,7 @@ void GpuSolver::constraint_smooth(const vk::Buffer* indirect) {
   for (int pass = 0; pass < d_.solver.lambda_smoothing; ++pass) {
     const bool back = pass % 2;
     run_neighbour_pass(smooth_, indirect, [&] {
-    cmd_.bind("obstacles", obstacles_);  // the solids' mirrors (solids.glsl)
+      cmd_.bind("obstacles", obstacles_);  // the solids' mirrors (solids.glsl)
       cmd_.bind("x_lambda_in", back ? x_lambda_spare_ : x_lambda_);
       cmd_.bind("x_lambda_out", back ? x_lambda_ : x_lambda_spare_);
     });

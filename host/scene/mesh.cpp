@@ -24,7 +24,7 @@ glm::dmat3 rotation_matrix(const glm::dvec3& degrees) {
   return z * y * x;
 }
 
-// Every edge of a closed mesh borders exactly two triangles, once in each direction.
+// Every edge of a closed mesh borders exactly two triangles (their winding is not checked).
 bool closed(const aiMesh& m) {
   std::map<std::pair<unsigned, unsigned>, int> edges;
   for (unsigned f = 0; f < m.mNumFaces; ++f)

@@ -212,9 +212,7 @@ void read_fluid(const json& j, Scene& s) {
 // A mesh obstacle: its file (relative to the scene's directory), placed, as a distance field
 // half a spacing fine reaching past every kernel.
 Obstacle mesh_obstacle(const json& o, const std::string& path, const Scene& s, const std::string& directory) {
-  for (auto it = o.begin(); it != o.end(); ++it)
-    require(it.key() == "file" || it.key() == "scale" || it.key() == "position" || it.key() == "rotation",
-            "unknown scene key '" + path + "." + it.key() + "'");
+  reject_unknown(o, json{{"file", 0}, {"scale", 0}, {"position", 0}, {"rotation", 0}}, path);
   require(o.contains("file") && o["file"].is_string(), "scene key '" + path + ".file' must name a mesh file");
   std::filesystem::path file = o["file"].get<std::string>();
   if (file.is_relative() && !directory.empty()) file = std::filesystem::path(directory) / file;

@@ -1,10 +1,10 @@
 #include "sim/obstacles.hpp"
 
-#include "shaders/contract.h"
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
+
+#include "shaders/contract.h"
 
 namespace pbflow {
 
@@ -26,8 +26,8 @@ double DistanceField::sample(const glm::dvec3& x, glm::dvec3& gradient) const {
   if (out > 0) gradient = beyond / out;
   return d + out;
 }
-bool Obstacle::contains(
-const glm::dvec3& x) const {
+
+bool Obstacle::contains(const glm::dvec3& x) const {
   if (kind == Kind::Sphere) return glm::length(x - centre) < radius;
   if (kind == Kind::Mesh) {
     glm::dvec3 unused;
@@ -89,16 +89,16 @@ double open_fraction(const std::vector<Obstacle>& solids, const glm::dvec3& cent
 
 glm::dvec3 project_out(const Obstacle& o, const glm::dvec3& x, const glm::dvec3& wall_min,
                        const glm::dvec3& wall_max) {
+  if (o.kind == Obstacle::Kind::Mesh) {  // along the normal, its field read once
+    glm::dvec3 normal;
+    const double d = o.surface(x, normal);
+    return d < 0 ? x - d * normal : x;
+  }
   if (!o.contains(x)) return x;
   if (o.kind == Obstacle::Kind::Sphere) {
     glm::dvec3 d = x - o.centre;
     double r = glm::length(d);
     return o.centre + o.radius * (r > 0 ? d / r : glm::dvec3(0, 1, 0));  // the centre itself goes up
-  }
-  if (o.kind == Obstacle::Kind::Mesh) {
-    glm::dvec3 normal;
-    const double d = o.surface(x, normal);
-    return x - d * normal;
   }
   glm::dvec3 best = x;
   double nearest = std::numeric_limits<double>::infinity();
@@ -119,7 +119,6 @@ glm::dvec3 project_out(const Obstacle& o, const glm::dvec3& x, const glm::dvec3&
 
 namespace {
 // A mesh's move is sphere traced (shaders/contract.h, TRACE_STEPS).
-
 glm::dvec3 trace(const Obstacle& o, const glm::dvec3& from, const glm::dvec3& d, double contact) {
   const double length = glm::length(d);
   glm::dvec3 normal;
@@ -161,8 +160,16 @@ glm::dvec3 stop_at(const Obstacle& o, const glm::dvec3& from, const glm::dvec3& 
   return t_enter < t_exit ? from + t_enter * d : to;
 }
 
+size_t packed_obstacle_vec4s(const std::vector<Obstacle>& obstacles) {
+  size_t values = 0;
+  for (const Obstacle& o : obstacles)
+    if (o.kind == Obstacle::Kind::Mesh) values += o.field->values.size();
+  return 1 + 3 * obstacles.size() + (values + 3) / 4;
+}
+
 std::vector<glm::vec4> pack_obstacles(const std::vector<Obstacle>& obstacles, double margin) {
   std::vector<glm::vec4> data{glm::vec4(float(obstacles.size()), float(margin), 0, 0)};
+  data.reserve(packed_obstacle_vec4s(obstacles));
   std::vector<float> values;  // the meshes' fields, after the obstacles
   for (const Obstacle& o : obstacles) {
     if (o.kind == Obstacle::Kind::Sphere) {

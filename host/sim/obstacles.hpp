@@ -50,5 +50,6 @@ double open_fraction(const std::vector<Obstacle>& solids, const glm::dvec3& cent
 // (0); mesh (field origin, 2) (dims, voxel) (first value, 0, 0, 0); then the meshes' field
 // values, four a vec4, value 0 at vec4 1 + 3 count.
 std::vector<glm::vec4> pack_obstacles(const std::vector<Obstacle>& obstacles, double margin);
+size_t packed_obstacle_vec4s(const std::vector<Obstacle>& obstacles);  // its length, without packing
 
 }  // namespace pbflow
