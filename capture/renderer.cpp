@@ -34,7 +34,7 @@ void along_axis(int axis) { glUniform2i(0, axis == 0, axis == 1); }
 
 // The Frame uniform block of render_common.glsl (std140).
 struct Renderer::FrameUniforms {
-  glm::mat4 view, proj;
+  glm::mat4 view, proj, model;
   glm::vec4 light_view, domain_min, domain_max;
   glm::vec2 viewport;
   float radius;
@@ -108,11 +108,25 @@ Renderer::Renderer(const View& view)
     // The dispatches (4 words each), then both lists interleaved: a tile's place in each.
     tile_lists_ = gl::make_buffer(GLsizeiptr(sizeof(GLuint)) * (8 + 2 * tiles_.x * tiles_.y));
   }
-  for (const Obstacle& o : view.obstacles) {
-    if (o.kind != Obstacle::Kind::Sphere) continue;
-    obstacle_spheres_.push_back(gl::make_buffer(GLsizeiptr(frame_bytes(1))));
-    upload_frame(obstacle_spheres_.back(), {{glm::vec4(glm::vec3(o.centre), 0)}, {glm::vec4(0)}, {0.0f}, {0}});
-  }
+  for (const Obstacle& o : view.obstacles)
+    if (o.kind == Obstacle::Kind::Sphere) obstacle_spheres_.push_back(gl::make_buffer(GLsizeiptr(frame_bytes(1))));
+  upload_spheres();
+}
+
+void Renderer::upload_spheres() {
+  size_t sphere = 0;
+  for (const Obstacle& o : view_.obstacles)
+    if (o.kind == Obstacle::Kind::Sphere)
+      upload_frame(obstacle_spheres_[sphere++], {{glm::vec4(glm::vec3(o.pose.world(o.centre)), 0)}, {glm::vec4(0)}, {0.0f}, {0}});
+}
+
+void Renderer::set_obstacle_poses(const std::vector<Pose>& poses) {
+  bool moved = false;
+  for (size_t k = 0; k < std::min(poses.size(), view_.obstacles.size()); ++k)
+    if (!(view_.obstacles[k].pose == poses[k])) view_.obstacles[k].pose = poses[k], moved = true;
+  if (!moved) return;
+  upload_spheres();
+  tank_drawn_ = false;  // drawn again where they stand now
 }
 
 void Renderer::set_camera(const Camera& camera) {
@@ -133,6 +147,7 @@ Renderer::FrameUniforms Renderer::uniforms(uint32_t count, int pass, glm::ivec2 
   glm::vec3 forward = glm::normalize(target - eye);
   glm::vec3 up = std::abs(forward.y) > 0.999f ? glm::vec3(0, 0, -1) : glm::vec3(0, 1, 0);
   u.view = glm::lookAt(eye, target, up);
+  u.model = glm::mat4(1.0f);
   u.proj = glm::perspective(glm::radians(float(c.fov_degrees)), float(view_.width) / float(view_.height),
                             std::max(far * 1e-4f, 1e-3f), far);
   u.light_view = glm::vec4(glm::normalize(glm::mat3(u.view) * glm::normalize(glm::vec3(0.3f, 1.0f, 0.5f))), 0.0f);
@@ -230,6 +245,8 @@ void Renderer::draw_tank_and_obstacles() {
     if (o.kind == Obstacle::Kind::Box) {
       u.domain_min = glm::vec4(glm::vec3(o.min), 0.0f);
       u.domain_max = glm::vec4(glm::vec3(o.max), 0.0f);
+      u.model = glm::mat4(glm::mat3(o.pose.rotation));
+      u.model[3] = glm::vec4(glm::vec3(o.pose.translation), 1.0f);
       upload(u);
       glUseProgram(box_);
       glDrawArrays(GL_TRIANGLES, 0, 36);

@@ -63,6 +63,8 @@ class Renderer {
   const Image& render(GLuint buffer, uint32_t count, uint32_t white_capacity = 0);
   const View& view() const { return view_; }
   void set_camera(const Camera& camera);  // the next render() draws from here
+  // Where the obstacles stand now (Solver::obstacle_poses): the next render() draws them there.
+  void set_obstacle_poses(const std::vector<Pose>& poses);
   // The GPU time of the last render() (a GL timer query), the read-back excluded: what a
   // frame costs the GPU, where the wall clock also counts the driver and the copy out.
   double last_gpu_seconds() const { return last_gpu_seconds_; }
@@ -76,6 +78,7 @@ class Renderer {
   void copy_image(GLuint from, GLuint to) const;  // a texture of the image's size
   bool surface_style() const { return draws_surface(view_.style); }
   void draw_tank_and_obstacles();  // into scene_fb_
+  void upload_spheres();  // the sphere obstacles' centres, where their poses put them
   // The fluid style's surface, in compute passes over the surface's tiles (surface_tiles.glsl).
   void fluid_surface(uint32_t count);
   void run_tiles(int kind);  // the bound program, one workgroup per tile of the list `kind`

@@ -10,8 +10,21 @@ layout(local_size_x_id = 0) in;
 layout(constant_id = 7) const float STRENGTH = 0.5;  // Derived::Coarse::strength
 layout(binding = 5, rgba32f) uniform imageBuffer x_lambda;  // (x_pred, lambda), constraint_lambda.comp
 layout(std430, binding = 6) readonly buffer Grad { vec4 grad[]; };
+layout(std430, binding = 9) readonly buffer Phi { float phi[]; };  // coarse_sweep.comp's solution
 #define OBSTACLES_BINDING 7
+#define WORK_BINDING 8
 #include "solids.glsl"
+
+// The work per unit mass a moving solid does through the correction on a particle of its
+// face's first layer: phi is a pressure, the push rho0 STRENGTH grad phi / dt^2 per volume, and
+// its reaction on the solid's face the particle stands for (a spacing squared) is
+// rho0 STRENGTH phi n / dt^2, which the solid's velocity works (ReferenceSolver::coarse_correction).
+float face_work(vec3 x, float p) {
+  vec3 normal, velocity;
+  float spacing = 2.0 * obstacle_data[0].y;  // the margin is half a spacing
+  if (!MOVING || nearest_moving_solid(x, normal, velocity) >= spacing) return 0.0;
+  return -sim.rho0 * STRENGTH * p * dot(normal, velocity) * spacing * spacing / (sim.dt * sim.mass);
+}
 
 void main() {
   uint i = thread_index();
@@ -20,10 +33,14 @@ void main() {
   vec3 xi = own.xyz;
   CoarseCorner c = coarse_corner(xi);
   vec3 g = vec3(0.0);
+  float p = 0.0;
   for (int k = 0; k < 8; ++k) {
     float w;
     int node = coarse_node(c, k, w);
     g += w * grad[node].xyz;
+    p += w * phi[node];
   }
-  imageStore(x_lambda, int(i), vec4(project_out_of_solids(xi + STRENGTH * g), own.w));
+  float work = face_work(xi, p);
+  imageStore(x_lambda, int(i), vec4(project_out_of_solids(xi + STRENGTH * g, work), own.w));
+  add_work(i, work);
 }

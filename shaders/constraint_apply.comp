@@ -13,6 +13,7 @@ layout(local_size_x_id = 0) in;
 layout(binding = 1, rgba32f) uniform readonly imageBuffer x_lambda;  // (x*, lambda), constraint_lambda.comp
 layout(std430, binding = 2) writeonly buffer XOut { vec4 x_out[]; };
 #define OBSTACLES_BINDING 3
+#define WORK_BINDING 6
 #include "solids.glsl"
 #define NEIGHBOUR_BINDING 4
 #define NEIGHBOUR_CAPACITY_ID 2
@@ -25,13 +26,18 @@ void main() {
   vec3 xi = own.xyz;
   Mirrors mirrors = mirrors_near(xi);
   float lambda_i = own.w;
-  vec3 dp = vec3(0.0);
+  vec3 dp = vec3(0.0), dp_solid = vec3(0.0);  // and the obstacle's images' share
   int image;
   // An image behind a wall carries its particle's lambda; i's own images push i away.
   FOR_EACH_NEIGHBOUR(i, xi, mirrors, j, image) {
     vec4 xj = imageLoad(x_lambda, int(j));
     vec3 d = xi - mirror(mirrors, image, xj.xyz);
-    dp += (lambda_i + xj.w) * spiky_grad(d, length(d));
+    vec3 term = (lambda_i + xj.w) * spiky_grad(d, length(d));
+    dp += term;
+    if (MOVING && (image & OBSTACLE_MIRROR) != 0) dp_solid += term;
   }
-  x_out[i] = vec4(project_out_of_solids(xi + sim.relaxation * (sim.mass / sim.rho0) * dp), 0.0);
+  float scale = sim.relaxation * (sim.mass / sim.rho0);
+  float work = MOVING ? dot(scale * dp_solid, mirrors.solid_velocity) / sim.dt : 0.0;
+  x_out[i] = vec4(project_out_of_solids(xi + scale * dp, work), 0.0);
+  add_work(i, work);
 }

@@ -17,6 +17,7 @@ layout(binding = 2, r32f) uniform readonly imageBuffer rho;
 layout(std430, binding = 3) buffer V { vec4 v[]; };
 layout(std430, binding = 6) writeonly buffer XPred { vec4 x_pred[]; };
 #define OBSTACLES_BINDING 7
+#define WORK_BINDING 8
 #include "solids.glsl"
 layout(constant_id = 100) const bool SOLVER_LDC_CLAMP = false;  // the scene's key (gpu/key_constants.hpp)
 layout(constant_id = 2) const float LDC_ROOM = 1.8;  // Derived::ldc_room
@@ -42,11 +43,13 @@ void main() {
   Mirrors mirrors = mirrors_near(xi);
   // Differences keep the float sum exact at uniform density.
   float rho_i = ldc_density(i);
-  vec3 f = vec3(0.0);
+  vec3 f = vec3(0.0), f_solid = vec3(0.0);  // and the obstacle's images' share
   int image;
   FOR_EACH_NEIGHBOUR(i, xi, mirrors, j, image) {  // an image carries its particle's density
     vec3 xj = mirror(mirrors, image, imageLoad(x, int(j)).xyz);
-    f += (ldc_density(j) - rho_i) * pair_term(xj - xi);
+    vec3 term = (ldc_density(j) - rho_i) * pair_term(xj - xi);
+    f += term;
+    if (MOVING && (image & OBSTACLE_MIRROR) != 0) f_solid += term;
   }
   // The force's stiffness grows with the neighbours inside h, by up to (rho/rho0)^2 on a
   // squeezed lattice (host/sim/stability.hpp): K, a fraction of what the step carries at rho0,
@@ -56,5 +59,8 @@ void main() {
   vec3 vi = v[i].xyz + (-k_i / sim.rho0 * sim.dt) * f;
   vi += sim.gravity * sim.dt;
   v[i].xyz = vi;
-  x_pred[i] = vec4(predicted_position(xi, vi), 0.0);
+  // The images' force does work at the solid's velocity over the step.
+  float work = dot((-k_i / sim.rho0) * f_solid, mirrors.solid_velocity) * sim.dt;
+  x_pred[i] = vec4(predicted_position(xi, vi, work), 0.0);
+  add_work(i, work);
 }

@@ -9,6 +9,7 @@ layout(std430, binding = 0) readonly buffer X { vec4 x[]; };
 layout(std430, binding = 1) buffer V { vec4 v[]; };
 layout(std430, binding = 2) writeonly buffer XPred { vec4 x_pred[]; };
 #define OBSTACLES_BINDING 3
+#define WORK_BINDING 4
 #include "solids.glsl"
 
 void main() {
@@ -16,5 +17,7 @@ void main() {
   if (i >= sim.count) return;
   vec3 vi = v[i].xyz + sim.gravity * sim.dt;
   v[i].xyz = vi;
-  x_pred[i] = vec4(predicted_position(x[i].xyz, vi), 0.0);
+  float work = 0.0;
+  x_pred[i] = vec4(predicted_position(x[i].xyz, vi, work), 0.0);
+  add_work(i, work);
 }

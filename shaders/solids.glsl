@@ -2,11 +2,12 @@
 // keep-out margin, half a spacing). Particles are kept out of them (predicted_position,
 // project_out_of_solids), and every solid is a mirror for the neighbour passes (mirrors_near,
 // as host/sim/mirrors.cpp). The includer defines OBSTACLES_BINDING.
-// Layout (pack_obstacles): obstacle_data[0] = (count, margin, 0, 0); then per obstacle three
-// vec4: box (min, 0) (max, 0) (0), sphere (centre, 1) (radius, 0, 0, 0) (0), mesh (field
-// origin, 2) (dims, voxel) (first value, 0, 0, 0); then the meshes' distance fields, four
-// values a vec4. Boxes and spheres are stored grown by the margin, a mesh's field is its own
-// surface.
+// Layout (pack_obstacles): obstacle_data[0] = (count, margin, 0, 0); then per obstacle nine
+// vec4: its shape in its body frame, box (min, 0) (max, 0) (0), sphere (centre, 1) (radius, 0,
+// 0, 0) (0), mesh (field origin, 2) (dims, voxel) (first value, 0, 0, 0); then its pose at the
+// step's end and at its start, each three rows of the world-to-body transform; then the meshes'
+// distance fields, four values a vec4. Boxes and spheres are stored grown by the margin, a
+// mesh's field is its own surface.
 #ifndef SOLIDS_GLSL
 #define SOLIDS_GLSL
 #include "contract.h"
@@ -15,8 +16,40 @@ layout(std430, binding = OBSTACLES_BINDING) readonly buffer Obstacles { vec4 obs
 // Whether the scene has obstacles (gpu/key_constants.hpp): without, their mirrors compile out,
 // which a CPU device would otherwise run masked for every neighbour (3x the step on lavapipe).
 layout(constant_id = 90) const bool OBSTACLES = false;
+// Whether any obstacle moves (Derived::moving): the work they do is counted only then.
+layout(constant_id = 91) const bool MOVING = false;
+#ifdef WORK_BINDING
+// The work moving solids did on each particle slot this frame, per unit mass (J/kg): slots are
+// re-sorted every step, but reduce_stats.comp only sums them.
+layout(std430, binding = WORK_BINDING) buffer Work { float work[]; };
+void add_work(uint i, float w) {
+  if (MOVING) work[i] += w;
+}
+#endif
 
-int obstacle_header(int k) { return 1 + 3 * k; }
+int obstacle_header(int k) { return 1 + 9 * k; }
+const int POSE_NOW = 3, POSE_BEFORE = 6;  // the poses' first row in an obstacle's header
+// x in obstacle k's body frame, from the pose at `pose` (Pose::body).
+vec3 to_body(int k, int pose, vec3 x) {
+  int r = obstacle_header(k) + pose;
+  vec4 x1 = vec4(x, 1.0);
+  return vec3(dot(obstacle_data[r], x1), dot(obstacle_data[r + 1], x1), dot(obstacle_data[r + 2], x1));
+}
+// A body-frame direction in the world (the rows' transpose).
+vec3 to_world_direction(int k, int pose, vec3 d) {
+  int r = obstacle_header(k) + pose;
+  return d.x * obstacle_data[r].xyz + d.y * obstacle_data[r + 1].xyz + d.z * obstacle_data[r + 2].xyz;
+}
+// A body-frame point in the world (Pose::world): R (b - shift).
+vec3 to_world(int k, int pose, vec3 b) {
+  int r = obstacle_header(k) + pose;
+  return to_world_direction(k, pose, b - vec3(obstacle_data[r].w, obstacle_data[r + 1].w, obstacle_data[r + 2].w));
+}
+// How far the solid's point now at x moved over the step (Obstacle::displacement).
+vec3 obstacle_displacement(int k, vec3 x) { return x - to_world(k, POSE_BEFORE, to_body(k, POSE_NOW, x)); }
+// The work per unit mass of a push dx by a solid whose surface moved by `moved` over the step:
+// its force m dx / dt^2 times its velocity moved / dt, for dt (push_work in sim/mirrors.hpp).
+float push_work(vec3 dx, vec3 moved) { return MOVING ? dot(dx, moved) / (sim.dt * sim.dt) : 0.0; }
 float field_value(int first, ivec3 dims, ivec3 p) {
   int k = first + (p.z * dims.y + p.y) * dims.x + p.x;
   return obstacle_data[obstacle_header(int(obstacle_data[0].x)) + k / 4][k % 4];
@@ -41,9 +74,9 @@ float field_distance(int k, vec3 x, out vec3 gradient) {
   return mix(y0, y1, t.z) + out_of;
 }
 
-// Obstacle k's own surface (its stored shape less the margin): the signed distance from x
-// (negative inside) and the outward normal at the surface point nearest x (Obstacle::surface).
-float obstacle_surface(int k, vec3 x, out vec3 normal) {
+// Obstacle k's own surface (its stored shape less the margin) in its body frame: the signed
+// distance from x (negative inside) and the outward normal at the surface point nearest x.
+float body_surface(int k, vec3 x, out vec3 normal) {
   vec4 a = obstacle_data[obstacle_header(k)], b = obstacle_data[obstacle_header(k) + 1];
   float margin = obstacle_data[0].y;
   if (a.w > 1.5) {  // mesh
@@ -73,6 +106,27 @@ float obstacle_surface(int k, vec3 x, out vec3 normal) {
   }
   return -depth;
 }
+// The same where the solid is now, in the world (Obstacle::surface).
+float obstacle_surface(int k, vec3 x, out vec3 normal) {
+  float d = body_surface(k, to_body(k, POSE_NOW, x), normal);
+  normal = to_world_direction(k, POSE_NOW, normal);
+  return d;
+}
+
+// The distance from x to the nearest moving obstacle's own surface (3.4e38 where none moves),
+// its outward normal and the velocity of the solid's point at x over the step
+// (Derived::nearest_moving_solid).
+float nearest_moving_solid(vec3 x, out vec3 normal, out vec3 velocity) {
+  float nearest = 3.4e38;
+  normal = velocity = vec3(0.0);
+  for (int k = 0; MOVING && k < int(obstacle_data[0].x); ++k) {
+    if (obstacle_data[obstacle_header(k) + 2].y < 0.5) continue;  // it stands still
+    vec3 n;
+    float d = obstacle_surface(k, x, n);
+    if (d < nearest) nearest = d, normal = n, velocity = obstacle_displacement(k, x) / sim.dt;
+  }
+  return nearest;
+}
 
 // Every solid is a mirror (ghost particles; host/sim/mirrors.hpp says why): the fluid behind
 // it is the fluid in front of it, reflected. A neighbour j of particle i has an image behind
@@ -90,6 +144,7 @@ struct Mirrors {
   vec3 at;         // the particle they are seen from
   float distance;  // its distance to that obstacle
   vec3 normal;     // and the obstacle's outward normal at the point nearest it
+  vec3 solid_velocity;  // the velocity of that point over the step (0: it stands still)
 };
 Mirrors mirrors_near(vec3 x) {
   Mirrors m;
@@ -108,11 +163,15 @@ Mirrors mirrors_near(vec3 x) {
     float distance = obstacle_surface(k, x, normal);
     if (distance < m.distance) m.distance = distance, m.normal = normal, m.obstacle = k;
   }
-  if (m.obstacle >= 0) m.axes |= OBSTACLE_MIRROR;
+  m.solid_velocity = vec3(0.0);
+  if (m.obstacle >= 0) {
+    m.axes |= OBSTACLE_MIRROR;
+    m.solid_velocity = obstacle_displacement(m.obstacle, x - m.distance * m.normal) / sim.dt;
+  }
   return m;
 }
 // For a pass that sees the fluid only: the cell walk then yields no images.
-Mirrors no_mirrors() { return Mirrors(0, vec3(0.0), -1, vec3(0.0), 0.0, vec3(0.0)); }
+Mirrors no_mirrors() { return Mirrors(0, vec3(0.0), -1, vec3(0.0), 0.0, vec3(0.0), vec3(0.0)); }
 // Every image of a neighbour: for (int k = m.axes; k != 0; k = next_image(m.axes, k)) ...
 int next_image(int axes, int k) { return (k - 1) & axes; }
 bvec3 reflected(int k) { return bvec3((k & 1) != 0, (k & 2) != 0, (k & 4) != 0); }
@@ -142,20 +201,21 @@ vec3 mirror(Mirrors m, int k, vec3 x) {
   if (OBSTACLES && (k & OBSTACLE_MIRROR) != 0) x = obstacle_image(m, x);
   return mix(x, m.plane2 - x, reflected(k));
 }
-// An image moves as its particle, mirrored.
+// An image moves as its particle, mirrored; across an obstacle, relative to its surface
+// (Mirrors::velocity).
 vec3 mirror_velocity(Mirrors m, int k, vec3 v) {
-  if (OBSTACLES && (k & OBSTACLE_MIRROR) != 0) v -= 2.0 * dot(v, m.normal) * m.normal;
+  if (OBSTACLES && (k & OBSTACLE_MIRROR) != 0) v -= 2.0 * dot(v - m.solid_velocity, m.normal) * m.normal;
   return mix(v, -v, reflected(k));
 }
 
-// How far along the move d from `from` mesh k's grown surface is met (obstacles.cpp, trace);
-// 1 where it is not, 0 where `from` touches it.
+// How far along the move d from `from` mesh k's grown surface is met, in its body frame
+// (obstacles.cpp, trace); 1 where it is not, 0 where `from` touches it.
 float trace(int k, vec3 from, vec3 d, float contact) {
   vec3 normal;
   float margin = obstacle_data[0].y, len = length(d), t = 0.0;
-  if (obstacle_surface(k, from, normal) - margin < contact) return 1.0;  // touching: the projection's
+  if (body_surface(k, from, normal) - margin < contact) return 1.0;  // touching: the projection's
   for (int s = 0; len > 0.0 && s < TRACE_STEPS; ++s) {
-    float gap = obstacle_surface(k, from + t * d, normal) - margin;
+    float gap = body_surface(k, from + t * d, normal) - margin;
     if (gap <= TRACE_STOP * contact) break;
     t += gap / len;
     if (t >= 1.0) return 1.0;
@@ -163,82 +223,93 @@ float trace(int k, vec3 from, vec3 d, float contact) {
   return t;
 }
 
-// Where the move from -> to first enters an obstacle (host/sim/obstacles.cpp, stop_at): a
-// fast particle stops at the first surface it meets instead of tunnelling through. A
-// start within 1e-3 h of an obstacle touches it and is left to the projection.
-vec3 stop_at_solids(vec3 from, vec3 to) {
-  int count = int(obstacle_data[0].x);
-  float contact = 1e-3 * sim.h;
+// How far along the move from -> to, in obstacle k's body frame, its grown shape is first
+// entered (stop_at_rest); 1 where it is not. A start within `contact` touches it and is left
+// to the projection.
+float first_entry(int k, vec3 from, vec3 to, float contact) {
+  vec4 a = obstacle_data[obstacle_header(k)], b = obstacle_data[obstacle_header(k) + 1];
   vec3 d = to - from;
-  float first = 1.0;
-  for (int k = 0; k < count; ++k) {
-    vec4 a = obstacle_data[obstacle_header(k)], b = obstacle_data[obstacle_header(k) + 1];
-    float t_enter = 0.0, t_exit = 1.0;
-    if (a.w > 1.5) {
-      first = min(first, trace(k, from, d, contact));
-      continue;
-    }
-    if (a.w > 0.5) {  // sphere: the smaller root of |from + t d - c|^2 = r^2
-      vec3 f = from - a.xyz;
-      float qa = dot(d, d), qb = dot(f, d), qc = dot(f, f) - b.x * b.x;
-      float disc = qb * qb - qa * qc;
-      if (length(f) < b.x + contact || qa == 0.0 || disc < 0.0) continue;  // touching, still, or a miss
-      t_enter = (-qb - sqrt(disc)) / qa;
-      if (t_enter >= 0.0 && t_enter <= 1.0) first = min(first, t_enter);
-      continue;
-    }
-    if (all(greaterThan(from, a.xyz - contact)) && all(lessThan(from, b.xyz + contact))) continue;  // touching
-    bool miss = false;
-    for (int c = 0; c < 3; ++c) {
-      if (d[c] == 0.0) {
-        miss = miss || from[c] <= a[c] || from[c] >= b[c];
-        continue;
-      }
-      float t0 = (a[c] - from[c]) / d[c], t1 = (b[c] - from[c]) / d[c];
-      t_enter = max(t_enter, min(t0, t1));
-      t_exit = min(t_exit, max(t0, t1));
-    }
-    if (!miss && t_enter < t_exit) first = min(first, t_enter);
+  if (a.w > 1.5) return trace(k, from, d, contact);
+  if (a.w > 0.5) {  // sphere: the smaller root of |from + t d - c|^2 = r^2
+    vec3 f = from - a.xyz;
+    float qa = dot(d, d), qb = dot(f, d), qc = dot(f, f) - b.x * b.x;
+    float disc = qb * qb - qa * qc;
+    if (length(f) < b.x + contact || qa == 0.0 || disc < 0.0) return 1.0;  // touching, still, or a miss
+    float t = (-qb - sqrt(disc)) / qa;
+    return t >= 0.0 && t <= 1.0 ? t : 1.0;
   }
-  return from + first * d;
+  if (all(greaterThan(from, a.xyz - contact)) && all(lessThan(from, b.xyz + contact))) return 1.0;  // touching
+  float t_enter = 0.0, t_exit = 1.0;
+  for (int c = 0; c < 3; ++c) {  // slabs
+    if (d[c] == 0.0) {
+      if (from[c] <= a[c] || from[c] >= b[c]) return 1.0;
+      continue;
+    }
+    float t0 = (a[c] - from[c]) / d[c], t1 = (b[c] - from[c]) / d[c];
+    t_enter = max(t_enter, min(t0, t1));
+    t_exit = min(t_exit, max(t0, t1));
+  }
+  return t_enter < t_exit ? t_enter : 1.0;
 }
 
-// x moved onto the nearest surface of each obstacle it is inside, then into the walls.
-// Box faces outside the walls are no candidates: the clamp would push x back in.
-vec3 project_out_of_solids(vec3 x) {
+// Where the move from -> to first enters an obstacle (host/sim/obstacles.cpp, stop_at): a
+// fast particle stops at the first surface it meets instead of tunnelling through. Each
+// obstacle sees the move in its body frame, from its pose at the step's start to its end;
+// each can only shorten it.
+vec3 stop_at_solids(vec3 from, vec3 to, inout float work) {
+  float contact = 1e-3 * sim.h;
+  for (int k = 0; k < int(obstacle_data[0].x); ++k) {
+    vec3 a = to_body(k, POSE_BEFORE, from), b = to_body(k, POSE_NOW, to);
+    float t = first_entry(k, a, b, contact);
+    if (t >= 1.0) continue;
+    vec3 stopped = to_world(k, POSE_NOW, a + t * (b - a));
+    work += push_work(stopped - to, obstacle_displacement(k, stopped));
+    to = stopped;
+  }
+  return to;
+}
+
+// x moved onto the nearest surface of each obstacle it is inside (project_out), then into the
+// walls. A box's face from which the walls' clamp would put x back inside is no candidate.
+vec3 project_out_of_solids(vec3 x, inout float work) {
   int count = int(obstacle_data[0].x);
+  float margin = obstacle_data[0].y;
   for (int k = 0; k < count; ++k) {
     vec4 a = obstacle_data[obstacle_header(k)], b = obstacle_data[obstacle_header(k) + 1];
-    if (a.w > 1.5) {  // mesh: onto its grown surface along the normal
+    if (a.w > 0.5) {  // a sphere, a mesh: along the normal
       vec3 normal;
-      float d = obstacle_surface(k, x, normal) - obstacle_data[0].y;
-      if (d < 0.0) x -= d * normal;
-    } else if (a.w > 0.5) {  // sphere
-      vec3 d = x - a.xyz;
-      float r = length(d);
-      if (r < b.x) x = a.xyz + b.x * (r > 0.0 ? d / r : vec3(0.0, 1.0, 0.0));
-    } else if (all(greaterThan(x, a.xyz)) && all(lessThan(x, b.xyz))) {
-      vec3 best = x;
-      float nearest = 3.4e38;
-      for (int c = 0; c < 3; ++c) {
-        if (a[c] >= sim.wall_min[c] && x[c] - a[c] < nearest) {
-          nearest = x[c] - a[c];
-          best = x;
-          best[c] = a[c];
-        }
-        if (b[c] <= sim.wall_max[c] && b[c] - x[c] < nearest) {
-          nearest = b[c] - x[c];
-          best = x;
-          best[c] = b[c];
-        }
+      float d = obstacle_surface(k, x, normal) - margin;
+      if (d < 0.0) {
+        work += push_work(-d * normal, obstacle_displacement(k, x - d * normal));
+        x -= d * normal;
       }
-      x = best;
+      continue;
     }
+    vec3 body = to_body(k, POSE_NOW, x), best = x;
+    if (!(all(greaterThan(body, a.xyz)) && all(lessThan(body, b.xyz)))) continue;
+    float nearest = 3.4e38;
+    for (int f = 0; f < 6; ++f) {
+      int c = f % 3;
+      vec3 onto = body;
+      onto[c] = f < 3 ? a[c] : b[c];
+      vec3 w = to_world(k, POSE_NOW, onto);
+      float tolerance = 1e-6 * (1.0 + length(w));  // a rotated face's rounding
+      vec3 kept = to_body(k, POSE_NOW, clamp(w, sim.wall_min, sim.wall_max));
+      bool back_inside = all(greaterThan(kept, a.xyz + tolerance)) && all(lessThan(kept, b.xyz - tolerance));
+      float move = abs(onto[c] - body[c]);
+      if (move < nearest && !back_inside) nearest = move, best = w;
+    }
+    work += push_work(best - x, obstacle_displacement(k, best));
+    x = best;
   }
   return project_to_walls(x);
 }
 
-// The prediction x* = x + v dt, stopped at the first solid it meets and kept out of them all.
-vec3 predicted_position(vec3 x, vec3 v) { return project_out_of_solids(stop_at_solids(x, x + v * sim.dt)); }
+
+// The prediction x* = x + v dt, stopped at the first solid it meets and kept out of them all;
+// `work` gains what moving solids did in it.
+vec3 predicted_position(vec3 x, vec3 v, inout float work) {
+  return project_out_of_solids(stop_at_solids(x, x + v * sim.dt, work), work);
+}
 
 #endif

@@ -37,6 +37,7 @@ layout(std430, binding = 3) writeonly buffer VOut { vec4 v_out[]; };
 layout(std430, binding = 4) writeonly buffer Curl { vec4 curl[]; };  // VORTICITY only
 layout(std430, binding = 5) writeonly buffer Rho { float rho[]; };
 #define OBSTACLES_BINDING 8
+#define WORK_BINDING 9
 #define NEIGHBOUR_BINDING 6
 #define NEIGHBOUR_CAPACITY_ID 4
 #include "neighbours.glsl"
@@ -57,7 +58,7 @@ void main() {
   vec3 vi = own.xyz;
   vec3 smooth_v = vec3(0.0);
   vec3 curl_i = vec3(0.0);
-  vec3 damp = vec3(0.0);
+  vec3 damp = vec3(0.0), damp_solid = vec3(0.0);  // and the obstacle's images' share
   float density = 0.0;
   float rho_i = max(own.w, sim.rho0);
   Mirrors mirrors = mirrors_near(xi);
@@ -78,10 +79,13 @@ void main() {
     // DAMPING_LIMIT times the denser one's rho0/rho, so no mode is driven (2.4x at 3x rho0
     // drove them: blow-up).
     float c = min(SOLVER_DAMPING, DAMPING_LIMIT * sim.rho0 / max(rho_i, vj.w));
-    damp += dashpot(d, vij, c);
+    vec3 pushed = dashpot(d, vij, c);
+    damp += pushed;
+    if (MOVING && (image & OBSTACLE_MIRROR) != 0) damp_solid += pushed;
   }
   float volume = sim.mass / sim.rho0;
   v_out[i] = vec4(vi + (SOLVER_XSPH * volume) * smooth_v + damp, 0.0);
   if (VORTICITY) curl[i] = vec4(volume * curl_i, 0.0);
   rho[i] = sim.mass * density;
+  add_work(i, dot(damp_solid, mirrors.solid_velocity));  // the images' drag, at the solid's velocity
 }

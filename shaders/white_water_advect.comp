@@ -50,7 +50,8 @@ void main() {
     u = carried;
   else
     u += -WHITE_BUOYANCY * dt * sim.gravity + WHITE_DRAG * (carried - u);
-  vec3 to = p + dt * u, inside = project_out_of_solids(stop_at_solids(p, to));
+  float unused = 0.0;  // white water does no work
+  vec3 to = p + dt * u, inside = project_out_of_solids(stop_at_solids(p, to, unused), unused);
   u = mix(u, vec3(0.0), notEqual(inside, to));  // stopped by a wall or an obstacle
   float life = xl.w - dt;
   if (life <= 0.0) return;

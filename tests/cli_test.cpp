@@ -45,7 +45,7 @@ TEST(Cli, GpuAndCpuWriteMatchingStats) {
   std::string header_g, header_c;
   auto rows_g = read_csv(gpu / "stats.csv", &header_g), rows_c = read_csv(cpu / "stats.csv", &header_c);
   EXPECT_EQ(header_g,
-            "frame,time,mean_compression,max_compression,kinetic_energy,potential_energy,max_speed,iterations,step_ms");
+            "frame,time,mean_compression,max_compression,kinetic_energy,potential_energy,solid_work,max_speed,iterations,step_ms");
   EXPECT_EQ(header_c, header_g);
   ASSERT_EQ(rows_g.size(), 4u);
   ASSERT_EQ(rows_c.size(), 4u);
@@ -55,11 +55,13 @@ TEST(Cli, GpuAndCpuWriteMatchingStats) {
     EXPECT_NEAR(rows_g[f][2], rows_c[f][2], 1e-4 + 0.02 * rows_c[f][2]) << "mean compression, frame " << f;
     EXPECT_NEAR(rows_g[f][4], rows_c[f][4], 1e-3 * rows_c[f][4] + 1e-9) << "kinetic energy, frame " << f;
     EXPECT_NEAR(rows_g[f][5], rows_c[f][5], 1e-5 * rows_c[f][5]) << "potential energy, frame " << f;
-    EXPECT_NEAR(rows_g[f][6], rows_c[f][6], 1e-3 * rows_c[f][6] + 1e-9) << "max speed, frame " << f;
-    EXPECT_EQ(rows_g[f][7], f > 0 ? 2.0 : 0.0) << "iterations, frame " << f;  // the default two
-    EXPECT_EQ(rows_c[f][7], rows_g[f][7]) << "iterations, frame " << f;
+    EXPECT_EQ(rows_g[f][6], 0.0) << "solid work, frame " << f;  // nothing moves
+    EXPECT_EQ(rows_c[f][6], 0.0) << "solid work, frame " << f;
+    EXPECT_NEAR(rows_g[f][7], rows_c[f][7], 1e-3 * rows_c[f][7] + 1e-9) << "max speed, frame " << f;
+    EXPECT_EQ(rows_g[f][8], f > 0 ? 2.0 : 0.0) << "iterations, frame " << f;  // the default two
+    EXPECT_EQ(rows_c[f][8], rows_g[f][8]) << "iterations, frame " << f;
     if (f > 0) {
-      EXPECT_GT(rows_g[f][8], 0.0) << "step_ms";
+      EXPECT_GT(rows_g[f][9], 0.0) << "step_ms";
     }
   }
 }

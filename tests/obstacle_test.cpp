@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 #include <random>
 
 #include "gpu/gpu_solver.hpp"
@@ -18,6 +19,59 @@ namespace pbflow {
 namespace {
 
 class ObstacleTest : public test::GpuTest {};
+
+// A motion's poses: keyframes interpolate linearly and by slerp between keys and hold beyond
+// them; a rotation turns about its centre; an oscillation is a sine from rest.
+TEST(Motion, PosesFollowTheirKeys) {
+  Motion keys;
+  keys.type = Motion::Type::Keyframes;
+  keys.centre = {1, 0, 0};
+  keys.keys = {{1.0, {0, 0, 0}, glm::dquat(1, 0, 0, 0)}, {3.0, {0.2, 0, 0}, glm::quat_cast(euler_rotation({0, 90, 0}))}};
+  EXPECT_EQ(keys.at(0.0), Pose{});  // held before the first key
+  const Pose mid = keys.at(2.0);
+  EXPECT_NEAR(glm::length(mid.world(keys.centre) - glm::dvec3(1.1, 0, 0)), 0.0, 1e-12);  // the centre moves half way
+  const glm::dvec3 turned = mid.world({2, 0, 0}) - mid.world(keys.centre);  // and turns 45 degrees about y
+  EXPECT_NEAR(turned.x, std::sqrt(0.5), 1e-12);
+  EXPECT_NEAR(turned.z, -std::sqrt(0.5), 1e-12);
+  EXPECT_NEAR(glm::length(keys.at(9.0).world(keys.centre) - glm::dvec3(1.2, 0, 0)), 0.0, 1e-12);  // held after
+  EXPECT_NEAR(keys.top_speed(1.0), (0.2 + std::numbers::pi / 2) / 2.0, 1e-9);
+
+  Motion turn;
+  turn.type = Motion::Type::Rotate;
+  turn.axis = {0, 0, 1};
+  turn.centre = {0.5, 0.5, 0};
+  turn.rate = 90;
+  EXPECT_NEAR(glm::length(turn.at(1.0).world(turn.centre) - turn.centre), 0.0, 1e-12);
+  EXPECT_NEAR(glm::length(turn.at(1.0).world({1.5, 0.5, 0}) - glm::dvec3(0.5, 1.5, 0)), 0.0, 1e-12);
+
+  Motion swing;
+  swing.type = Motion::Type::Oscillate;
+  swing.axis = {0, 1, 0};
+  swing.amplitude = 0.1;
+  swing.period = 2;
+  EXPECT_NEAR(swing.at(0.5).translation.y, 0.1, 1e-12);
+  EXPECT_NEAR(swing.top_speed(0), 0.1 * std::numbers::pi, 1e-12);
+}
+
+// A turned box is a box in its own frame: a particle inside is projected onto its nearest
+// face, and the solid's displacement over a step is the turn's at that point.
+TEST(Motion, ATurnedBoxProjectsOntoItsFacesAndMovesAsItTurns) {
+  Obstacle box;
+  box.min = {-0.1, -0.5, -0.1}, box.max = {0.1, 0.5, 0.1};
+  box.motion.type = Motion::Type::Rotate;
+  box.motion.axis = {0, 1, 0};
+  box.motion.rate = 45;
+  box.pose = box.previous = box.motion.at(0);
+  box.move_to(box.motion.at(1.0));  // turned 45 degrees about y
+  const glm::dvec3 x(0.06, 0, 0.0);  // inside, nearest the face that was +x
+  const glm::dvec3 out = project_out(box, x, glm::dvec3(-1), glm::dvec3(1));
+  glm::dvec3 normal;
+  EXPECT_NEAR(box.surface(out, normal), 0.0, 1e-12);
+  EXPECT_NEAR(glm::length(out - x), 0.1 - 0.06 * std::sqrt(0.5), 1e-12);
+  const glm::dvec3 moved = box.displacement(out);
+  EXPECT_NEAR(glm::length(moved), 2 * glm::length(out) * std::sin(glm::radians(22.5)), 1e-12);  // a 45 degree chord
+  EXPECT_NEAR(moved.y, 0.0, 1e-12);
+}
 
 // A box standing on the floor, its faces half a spacing from the lattice's layers (0.02 m).
 constexpr const char* kAlignedBox = R"(obstacles=[{"type": "box", "min": [0.06, 0, 0.06], "max": [0.16, 0.1, 0.16]}])";
@@ -139,6 +193,48 @@ TEST_P(ObstacleRestTest, ATankWithSolidsStandsStill) {
 }
 
 INSTANTIATE_TEST_SUITE_P(RealStepSlow, ObstacleRestTest, ::testing::Values(RestSetting{"pbf", 2}, RestSetting{"ldc", 1}),
+                         [](const auto& info) { return std::string(info.param.method) + std::to_string(info.param.iterations); });
+
+class ObstacleMotionTest : public test::GpuTest, public ::testing::WithParamInterface<RestSetting> {};
+
+// A paddle turning through a settled tank and a ball swinging beside it, 2 s: no particle
+// ever inside a solid or outside the domain, and the fluid gains no energy beyond the work
+// the solids did (FrameStats::solid_work), which is what brought it in.
+TEST_P(ObstacleMotionTest, MovingSolidsKeepTheFluidOutAndBringOnlyTheirWork) {
+  const RestSetting& p = GetParam();
+  const Scene scene = load_scene(
+      "hydrostatic", {R"(domain={"min": [0, 0, 0], "max": [0.6, 0.5, 0.3]})",
+                      R"(fluid_blocks=[{"min": [0, 0, 0], "max": [0.6, 0.25, 0.3]}])",
+                      R"(obstacles=[{"type": "box", "min": [0.38, 0.05, 0.05], "max": [0.42, 0.45, 0.25],
+                                     "motion": {"type": "rotate", "axis": [0, 1, 0], "rate": 180}},
+                                    {"type": "sphere", "centre": [0.15, 0.1, 0.15], "radius": 0.06,
+                                     "motion": {"type": "oscillate", "axis": [0, 0, 1], "amplitude": 0.05, "period": 1}}])",
+                      std::string("solver.method=\"") + p.method + "\"", "solver.iterations=" + std::to_string(p.iterations)});
+  Derived d = derive(scene);
+  GpuSolver solver(test::gpu(), d, lattice_particles(scene));
+  ASSERT_TRUE(settle(solver, d).converged);
+  EnergyGain energy;
+  energy.add(solver.advance(0));
+  double work = 0;
+  int inside = 0;
+  for (int f = 1; f <= int(2 * scene.fps); ++f) {
+    const FrameStats s = solver.advance(scene.solver.substeps);
+    ASSERT_FALSE(s.divergence.any()) << "frame " << f << ": " << s.divergence.describe(d.speed_limit);
+    energy.add(s);
+    work += s.solid_work;
+    if (f % 10) continue;
+    d.move_solids(f / scene.fps);  // where the solver's solids are now
+    for (const glm::dvec3& x : solver.download().x)
+      for (const Obstacle& o : d.obstacles) inside += o.grown(-d.keep_out).contains(x);
+  }
+  std::printf("  %s@%d: the solids did %.3f J; energy gain beyond it %+.5f; %d inside a solid\n", p.method, p.iterations,
+              work, energy.largest(), inside);
+  EXPECT_GT(work, 0.01) << "the solids should have stirred the tank";
+  EXPECT_LE(energy.largest(), 0.01);
+  EXPECT_EQ(inside, 0);
+}
+
+INSTANTIATE_TEST_SUITE_P(RealStepSlow, ObstacleMotionTest, ::testing::Values(RestSetting{"pbf", 2}, RestSetting{"ldc", 1}),
                          [](const auto& info) { return std::string(info.param.method) + std::to_string(info.param.iterations); });
 
 }  // namespace

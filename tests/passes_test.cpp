@@ -27,6 +27,12 @@ void expect_close(const test::ErrorReport& e, double tolerance = kPassTolerance)
 constexpr const char* kObstaclesInTheColumn =
     R"([{"type": "box", "min": [0.25, 0, 0.1], "max": [0.45, 0.2, 0.3]},
         {"type": "sphere", "centre": [0.2, 0.5, 0.2], "radius": 0.1}])";
+// The same solids moving: the box turning about its upright axis, the ball swinging along x.
+constexpr const char* kMovingInTheColumn =
+    R"([{"type": "box", "min": [0.25, 0, 0.1], "max": [0.45, 0.2, 0.3],
+         "motion": {"type": "rotate", "axis": [0, 1, 0], "rate": 300}},
+        {"type": "sphere", "centre": [0.2, 0.5, 0.2], "radius": 0.1,
+         "motion": {"type": "oscillate", "axis": [1, 0, 0], "amplitude": 0.05, "period": 0.5}}])";
 // A mesh in the column (scripts/make_meshes.py's rock): its distance field read by both solvers.
 const std::string kMeshInTheColumn =
     std::string(R"([{"type": "mesh", "file": ")") + PBFLOW_TEST_DATA + R"(/../scenes/meshes/rock.obj", "position": [0.25, 0.2, 0.2]}])";
@@ -359,6 +365,8 @@ TEST_P(StepTest, SeveralStepsAgree) {
     FrameStats g = gpu.advance(2), r = ref.advance(2);
     EXPECT_NEAR(g.mean_compression, r.mean_compression, 1e-4 + 1e-2 * r.mean_compression);
     EXPECT_NEAR(g.kinetic_energy, r.kinetic_energy, 1e-3 * r.kinetic_energy);
+    EXPECT_NEAR(g.solid_work, r.solid_work, 1e-6 + 1e-2 * std::abs(r.solid_work));  // J
+    if (d.moving()) EXPECT_GT(std::abs(r.solid_work), 1e-4) << "the moving solids did no work";
   }
   ParticleState g = gpu.download();
   test::ErrorReport e = test::compare(g.x, ref.state.x, std::string(c.name) + " positions after 4 steps");
@@ -396,7 +404,9 @@ TEST_P(StepTest, TheStartsRelaxationAgreesAndDecompresses) {
 INSTANTIATE_TEST_SUITE_P(Methods, StepTest,
                          ::testing::Values(StepCase{"pbf", "pbf", "[]"}, StepCase{"ldc", "ldc", "[]"},
                                            StepCase{"ldc_obstacles", "ldc", kObstaclesInTheColumn},
-                                           StepCase{"pbf_mesh", "pbf", kMeshInTheColumn.c_str()}),
+                                           StepCase{"pbf_mesh", "pbf", kMeshInTheColumn.c_str()},
+                                           StepCase{"pbf_moving", "pbf", kMovingInTheColumn},
+                                           StepCase{"ldc_moving", "ldc", kMovingInTheColumn}),
                          [](const auto& info) { return std::string(info.param.name); });
 
 class ProfileTest : public test::GpuTest {};

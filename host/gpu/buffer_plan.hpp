@@ -29,7 +29,7 @@ static_assert(offsetof(WatchWords, flags) == WATCH_FLAGS * 4 && offsetof(WatchWo
 // watch.comp's words.
 struct FrameResult {
   float mean_compression, max_compression, kinetic_energy, max_speed;  // reduce_final's `result`
-  float potential_energy, unused_energy[3];                            // and its `energy`
+  float potential_energy, solid_work, unused_energy[2];                // and its `energy`
   uint32_t iterations, unused[3];
   WatchWords watch;
 };
@@ -57,6 +57,7 @@ struct SolverBuffers {
   uint64_t neighbour_count = 0, neighbour_list = 0;  // counts then the overflow list; entries
   uint64_t x_lambda_spare = 0, curl = 0;             // 0 where the scene has no smoothing, no vorticity
   uint64_t partials = 0, obstacles = 0, watch = 0, overflow_groups = 0;
+  uint64_t work = 0;  // the moving solids' work per particle slot (a word where none moves)
   uint64_t adaptive_words = 0;  // each of check_converged's three buffers; 0 without adaptive iterations
   uint64_t coarse_sums = 0, coarse_phi = 0, coarse_grad = 0, coarse_open = 0;  // the coarse correction's nodes; 0 where it is off
   uint64_t result = sizeof(FrameResult);

@@ -88,6 +88,7 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
       partials_(ctx, plan_.partials),
       result_(ctx, plan_.result, vk::Memory::Host),
       obstacles_(ctx, plan_.obstacles),
+      work_(ctx, plan_.work),
       overflow_groups_(ctx, plan_.overflow_groups),
       watch_buf_(ctx, plan_.watch),
       cmd_(ctx),
@@ -357,6 +358,7 @@ void GpuSolver::correction_and_predict() {
     cmd_.bind("rho", rho_);
     cmd_.bind("v", at(V));
     cmd_.bind("x_pred", at(XPred));
+    cmd_.bind("work", work_);
   });
 }
 
@@ -366,6 +368,7 @@ void GpuSolver::predict() {
   cmd_.bind("v", at(V));
   cmd_.bind("x_pred", at(XPred));
   cmd_.bind("obstacles", obstacles_);
+  cmd_.bind("work", work_);
   cmd_.dispatch(n_);
 }
 
@@ -404,6 +407,7 @@ void GpuSolver::constraint_apply(double relaxation, const vk::Buffer* indirect) 
     cmd_.bind("obstacles", obstacles_);  // the solids' mirrors (solids.glsl)
     cmd_.bind("x_lambda", x_lambda_);  // x_pred, with lambda beside it
     cmd_.bind("x_out", at(Spare0));
+    cmd_.bind("work", work_);
   });
   swap_roles(XPred, Spare0);
 }
@@ -437,7 +441,9 @@ void GpuSolver::coarse_correction() {
   bind_particle_pass(coarse_apply_);
   cmd_.bind("x_lambda", x_lambda_);
   cmd_.bind("grad", coarse_grad_);
+  cmd_.bind("phi", coarse_phi_);
   cmd_.bind("obstacles", obstacles_);
+  cmd_.bind("work", work_);
   cmd_.dispatch(n_);
 }
 
@@ -447,6 +453,7 @@ void GpuSolver::reduce_measures(const vk::Buffer& into) {
   cmd_.bind("rho", rho_);
   cmd_.bind("v", at(V));
   cmd_.bind("x", at(X));
+  cmd_.bind("work", work_);
   cmd_.bind("partials", partials_);
   cmd_.dispatch(n_);
   cmd_.set_program(reduce_final_);
@@ -497,6 +504,7 @@ void GpuSolver::viscosity_vorticity() {
     // Without vorticity the shader never touches the curl (VORTICITY): any buffer fills the slot.
     cmd_.bind("curl", vorticity_pass_ ? curl_ : at(Spare0));
     cmd_.bind("rho", rho_);
+    cmd_.bind("work", work_);
   });
   swap_roles(V, Spare0);
 }
@@ -511,6 +519,7 @@ void GpuSolver::vorticity_force() {
 
 void GpuSolver::record(const PlannedPass& p, const vk::Buffer* indirect) {
   switch (p.pass) {
+    case Pass::Move: move_solids(); break;
     case Pass::Density: density_at_positions(); break;
     case Pass::CorrectionPredict: correction_and_predict(); break;
     case Pass::Predict: predict(); break;
@@ -543,6 +552,17 @@ void GpuSolver::relax() {
   finish();
   density_current_ = false;  // no pass summed rho at the new x
   smoothed_current_ = false;
+}
+
+// The moving solids' poses (the obstacles' header) and, with the coarse correction, the nodes'
+// open shares, recorded into the frame's commands: the host knows every step's time.
+void GpuSolver::move_solids() {
+  if (solids_held_) return;
+  d_.move_solids(double(++steps_moved_) * d_.dt);
+  const std::vector<glm::vec4> header = pack_obstacle_header(d_.obstacles, d_.keep_out);
+  cmd_.update(obstacles_, header.data(), uint32_t(header.size() * sizeof(glm::vec4)));
+  if (d_.coarse.strength > 0)
+    cmd_.update(coarse_open_, d_.coarse.open.data(), uint32_t(d_.coarse.open.size() * sizeof(float)));
 }
 
 void GpuSolver::watch() {
@@ -588,6 +608,7 @@ FrameStats GpuSolver::read_measures() const {
   s.kinetic_energy = r.kinetic_energy;
   s.max_speed = r.max_speed;
   s.potential_energy = r.potential_energy;
+  s.solid_work = r.solid_work;
   const WatchWords& w = r.watch;
   if (w.flags) s.divergence = {int(w.first_step), w.counts[0], w.counts[1], w.counts[2]};
   return s;
@@ -637,6 +658,7 @@ FrameStats GpuSolver::advance(int steps) {
   smoothed_current_ = false;  // the steps' sorts reuse the spare slot
   const WatchWords watch_reset;
   cmd_.update(watch_buf_, &watch_reset, sizeof watch_reset);
+  cmd_.fill(work_, 0);  // the frame's work, from none
   step_in_frame_ = 0;
   if (d_.solver.target_compression > 0) {
     const uint32_t zero[4] = {0, 0, 0, 0};  // the frame's count of adaptive iterations

@@ -38,6 +38,7 @@ class GpuSolver : public Solver {
   void upload_white_water(const std::vector<WhiteParticle>& w) override;
   size_t particle_count() const override { return n_; }
   void relax() override;
+  std::vector<Pose> obstacle_poses() const override { return d_.obstacle_poses(); }
   std::string device_name() const override;
 
   // Pass-level access for the tests: begin(), record passes, finish() submits and waits.
@@ -57,6 +58,7 @@ class GpuSolver : public Solver {
   void velocity_update();
   void viscosity_vorticity();
   void vorticity_force();
+  void move_solids();  // Pass::Move: the solids to the step's end (Derived::move_solids)
   void watch();  // flags non-finite, runaway and escaped particles of this step
   // The fluid surface's positions at x, from the last lists (smoothed_positions.comp), into a
   // spare slot, which no pass writes again before the next frame's first grid build, and
@@ -142,6 +144,7 @@ class GpuSolver : public Solver {
   vk::Buffer rho_, neighbour_count_, neighbour_list_;
   vk::Buffer x_lambda_, x_lambda_spare_;  // (x_pred, lambda) and its smoothing spare (constraint_lambda.comp)
   vk::Buffer curl_, partials_, result_, obstacles_;
+  vk::Buffer work_;  // solids.glsl's work: per slot, summed by reduce_stats
   vk::Buffer shape_;  // the drawn shapes, two vec4s a particle, where smoothed positions are asked for
   vk::Buffer check_, indirect_;
   // The cell walkers' dispatch (neighbour_lists.comp), and its copy for an adaptive
@@ -154,6 +157,7 @@ class GpuSolver : public Solver {
   // births are placed), its lists ([0] the living, [1] where they move before the survivors are
   // packed back into [0]), each (x, life) and (v, tag); the prefix sums that fix their order.
   uint32_t frames_advanced_ = 0;
+  long steps_moved_ = 0;  // steps whose solids have moved: the time is this times dt
   double frame_time_ = 0;  // s the frame's steps advance, for white water
   NeighbourPass white_emit_;
   vk::Program white_advect_, white_compact_, white_birth_;

@@ -15,6 +15,7 @@ std::string KeyConstants::shader_name(std::string_view key) {
 KeyConstants::KeyConstants(const Derived& d) {
   // Whether the scene has obstacles: without, their mirrors compile out (shaders/solids.glsl).
   constants_.emplace_back("OBSTACLES", !d.obstacles.empty());
+  constants_.emplace_back("MOVING", d.moving());  // and whether any moves: their work is counted
   for (const ParamKey& k : d.shader_keys) {
     auto offer = [&](auto value) { constants_.emplace_back(names_.emplace_back(shader_name(k.name)), value); };
     auto offer_member = [&](const auto& params) {

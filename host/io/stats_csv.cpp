@@ -20,15 +20,16 @@ std::FILE* create_new(const std::filesystem::path& path) {
 
 StatsCsv::StatsCsv(const std::filesystem::path& path) : path_(path), file_(create_new(path)) {
   if (!file_) throw std::runtime_error("cannot write " + path.string() + ": " + std::strerror(errno));
-  append("frame,time,mean_compression,max_compression,kinetic_energy,potential_energy,max_speed,iterations,step_ms\n");
+  append("frame,time,mean_compression,max_compression,kinetic_energy,potential_energy,solid_work,max_speed,iterations,step_ms\n");
 }
 
 StatsCsv::~StatsCsv() { std::fclose(file_); }
 
 void StatsCsv::write(int frame, double time, const FrameStats& s) {
   char row[512];
-  std::snprintf(row, sizeof row, "%d,%.6f,%.9g,%.9g,%.9g,%.9g,%.9g,%.4g,%.6f\n", frame, time, s.mean_compression,
-                s.max_compression, s.kinetic_energy, s.potential_energy, s.max_speed, s.iterations, s.step_ms);
+  std::snprintf(row, sizeof row, "%d,%.6f,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.4g,%.6f\n", frame, time, s.mean_compression,
+                s.max_compression, s.kinetic_energy, s.potential_energy, s.solid_work, s.max_speed, s.iterations,
+                s.step_ms);
   append(row);
 }
 

@@ -69,13 +69,8 @@ void derive_coarse(double spacing, Derived& d) {
   d.coarse.nodes = glm::max(glm::ivec3(1), glm::ivec3(glm::round(span / (COARSE_CELL * spacing))));
   for (int a = 0; a < 3; ++a) d.coarse.cell[a] = span[a] > 0 ? span[a] / d.coarse.nodes[a] : COARSE_CELL * spacing;
   d.coarse.strength = d.solver.iterations == 1 ? COARSE_LONE_STRENGTH : COARSE_STRENGTH;
-  std::vector<Obstacle> solids;  // the obstacles' own surfaces, where the mirrors lie
-  for (const Obstacle& grown : d.obstacles) solids.push_back(grown.grown(-d.keep_out));
   d.coarse.open.assign(size_t(d.coarse.count()), 1.0f);
-  for (int k = 0; !solids.empty() && k < d.coarse.count(); ++k) {
-    const glm::dvec3 node = d.wall_min + (glm::dvec3(d.coarse.node(k)) + 0.5) * d.coarse.cell;
-    d.coarse.open[size_t(k)] = float(open_fraction(solids, node, d.coarse.cell, COARSE_OPEN_SAMPLES));
-  }
+  d.measure_open({});
 }
 
 }  // namespace
@@ -91,8 +86,8 @@ Derived derive(const Scene& scene) {
   d.dt = 1.0 / (scene.fps * scene.solver.substeps);
   // Ten times the speed of a fall through the whole domain (at least 1 m/s): no flow of the
   // scene reaches it, a blow-up passes it within a few steps.
-  d.speed_limit = 10.0 * std::max(fall_speed(scene), 1.0);
-  d.flow_speed = std::max(fall_speed(scene), 0.1);
+  d.speed_limit = 10.0 * std::max({fall_speed(scene), solid_speed(scene), 1.0});
+  d.flow_speed = std::max({fall_speed(scene), solid_speed(scene), 0.1});
   d.rho0 = scene.solver.rest_density;
   d.mass = lattice_mass(s, d.h, d.rho0);
   d.epsilon = scene.solver.relaxation * lattice_gradient_sq(s, d.h, d.mass, d.rho0);

@@ -28,10 +28,14 @@ const SceneKey kKeys[] = {
      "some fluid",
      "", {}},
     {"obstacles", K::Shapes, "[]", {}, {}, "m",
-     "static solids `{\"type\": \"box\", min, max}`, `{\"type\": \"sphere\", centre, radius}` or `{\"type\": "
+     "solids `{\"type\": \"box\", min, max}`, `{\"type\": \"sphere\", centre, radius}` or `{\"type\": "
      "\"mesh\", file, scale, position, rotation}` (a closed OBJ, STL or PLY mesh, its path relative to the scene "
      "file; scale a number or three; rotation in degrees about x, then y, then z, fixed axes); mirrors to the fluid as "
-     "the walls are",
+     "the walls are. Each may move rigidly with `\"motion\"`: `{\"type\": \"oscillate\", axis, amplitude (m), period "
+     "(s)}` (a sine from rest position), `{\"type\": \"rotate\", axis, centre, rate (degrees/s)}` or `{\"type\": "
+     "\"keyframes\", keys: [{t, position, rotation}, ...], centre}` (times increasing; position a displacement from "
+     "where the scene places it, rotation as above about centre, the solid's middle if left out; linear and slerp "
+     "between keys, held before the first and after the last); its surface at most half a particle_spacing a step",
      "", {}},
     {"gravity", K::Vector, "[0, -9.81, 0]", {}, {}, "m/s²", "at most 1e4 m/s² (a thousand g)", "", {}},
     // A tank starts in the solver's own equilibrium only when asked: a drop in the air must not settle.

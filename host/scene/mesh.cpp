@@ -11,18 +11,11 @@
 
 #include "common/input_error.hpp"
 #include "common/read_file.hpp"
+#include "sim/motion.hpp"
 
 namespace pbflow {
 
 namespace {
-
-glm::dmat3 rotation_matrix(const glm::dvec3& degrees) {
-  const glm::dvec3 r = glm::radians(degrees);
-  const glm::dmat3 x(1, 0, 0, 0, std::cos(r.x), std::sin(r.x), 0, -std::sin(r.x), std::cos(r.x));
-  const glm::dmat3 y(std::cos(r.y), 0, -std::sin(r.y), 0, 1, 0, std::sin(r.y), 0, std::cos(r.y));
-  const glm::dmat3 z(std::cos(r.z), std::sin(r.z), 0, -std::sin(r.z), std::cos(r.z), 0, 0, 0, 1);
-  return z * y * x;
-}
 
 // Every edge of a closed mesh borders exactly two triangles (their winding is not checked).
 bool closed(const aiMesh& m) {
@@ -52,7 +45,7 @@ const aiScene* import(Assimp::Importer& importer, const std::string& path, const
 TriangleMesh read_mesh(const std::string& path, const std::string& what, const Placement& placement) {
   Assimp::Importer importer;
   const aiScene* scene = import(importer, path, what);
-  const glm::dmat3 turn = rotation_matrix(placement.rotation);
+  const glm::dmat3 turn = euler_rotation(placement.rotation);
   TriangleMesh out;
   for (unsigned k = 0; k < scene->mNumMeshes; ++k) {
     const aiMesh& m = *scene->mMeshes[k];

@@ -234,11 +234,74 @@ Obstacle mesh_obstacle(const json& o, const std::string& path, const Scene& s, c
   return ob;
 }
 
+// A number at j[key] within [lo, hi] (a motion's keys), named by its path.
+double bounded(const json& j, const char* key, const std::string& path, double lo, double hi) {
+  const std::string name = "scene key '" + path + "." + key + "'";
+  require(j.contains(key), name + " is missing");
+  require(j[key].is_number(), name + " must be a number");
+  const double v = j[key].get<double>();
+  require(v >= lo && v <= hi, name + " must lie in [" + json(lo).dump() + ", " + json(hi).dump() + "]");
+  return v;
+}
+
+glm::dvec3 unit_axis(const json& j, const std::string& path) {
+  const glm::dvec3 axis = vec3(j, "axis", path + ".axis", {});
+  require(glm::length(axis) > 0, "scene key '" + path + ".axis' must be a direction (not zero, not missing)");
+  return glm::normalize(axis);
+}
+
+// The keyframes' times strictly increasing, each pose a displacement and a rotation (about
+// the centre: the solid's middle unless stated).
+void read_keys(const json& j, const std::string& path, Motion& m) {
+  require(j.contains("keys") && j["keys"].is_array() && !j["keys"].empty() && j["keys"].size() <= 100000,
+          "scene key '" + path + ".keys' must be an array of 1 to 100000 keyframes");
+  for (size_t k = 0; k < j["keys"].size(); ++k) {
+    const json& key = j["keys"][k];
+    const std::string at = path + ".keys[" + std::to_string(k) + "]";
+    require(key.is_object(), "scene key '" + at + "' must be an object with t, position and rotation");
+    reject_unknown(key, json{{"t", 0}, {"position", 0}, {"rotation", 0}}, at);
+    const double t = bounded(key, "t", at, 0, 1e9);
+    require(m.keys.empty() || t > m.keys.back().t, "scene key '" + at + ".t' must come after the key before it");
+    m.keys.push_back({t, vec3(key, "position", at + ".position", {}),
+                      glm::quat_cast(euler_rotation(vec3(key, "rotation", at + ".rotation", {})))});
+  }
+}
+
+// An obstacle's motion (sim/motion.hpp); `middle` is where its keyframes turn about by default.
+Motion motion(const json& j, const std::string& path, const glm::dvec3& middle) {
+  require(j.is_object() && j.contains("type") && j["type"].is_string(),
+          path + " needs a \"type\": \"oscillate\", \"rotate\" or \"keyframes\"");
+  Motion m;
+  const std::string type = j["type"];
+  if (type == "oscillate") {
+    reject_unknown(j, json{{"type", 0}, {"axis", 0}, {"amplitude", 0}, {"period", 0}}, path);
+    m.type = Motion::Type::Oscillate;
+    m.axis = unit_axis(j, path);
+    m.amplitude = bounded(j, "amplitude", path, 0, kMaxCoordinate);
+    m.period = bounded(j, "period", path, 1e-6, 1e9);
+  } else if (type == "rotate") {
+    reject_unknown(j, json{{"type", 0}, {"axis", 0}, {"centre", 0}, {"rate", 0}}, path);
+    m.type = Motion::Type::Rotate;
+    m.axis = unit_axis(j, path);
+    m.centre = vec3(j, "centre", path + ".centre", middle);
+    m.rate = bounded(j, "rate", path, -1e9, 1e9);
+  } else if (type == "keyframes") {
+    reject_unknown(j, json{{"type", 0}, {"keys", 0}, {"centre", 0}}, path);
+    m.type = Motion::Type::Keyframes;
+    m.centre = vec3(j, "centre", path + ".centre", middle);
+    read_keys(j, path, m);
+  } else {
+    throw InputError(path + ".type must be \"oscillate\", \"rotate\" or \"keyframes\"");
+  }
+  return m;
+}
+
 Obstacle obstacle(const json& o, const std::string& path, const Scene& s, const std::string& directory) {
   require(o.is_object() && o.contains("type") && o["type"].is_string(),
           path + " needs a \"type\": \"box\", \"sphere\" or \"mesh\"");
   json shape = o;
   shape.erase("type");
+  shape.erase("motion");
   Obstacle ob;
   if (o["type"] == "mesh") {
     ob = mesh_obstacle(shape, path, s, directory);
@@ -255,7 +318,22 @@ Obstacle obstacle(const json& o, const std::string& path, const Scene& s, const 
   glm::dvec3 hi = ob.kind == Obstacle::Kind::Sphere ? ob.centre + ob.radius : ob.max;
   require(glm::all(glm::lessThan(lo, s.domain.max)) && glm::all(glm::greaterThan(hi, s.domain.min)),
           path + " lies wholly outside the domain");
+  if (o.contains("motion")) {
+    ob.motion = motion(o["motion"], path + ".motion", ob.middle());
+    ob.pose = ob.previous = ob.motion.at(0);
+  }
   return ob;
+}
+
+// A moving solid may move at most kSolidStep spacings a step (scene/scene.hpp says why).
+void check_solid_speed(const Scene& s) {
+  const double most = kSolidStep * s.particle_spacing * s.fps * s.solver.substeps;
+  if (solid_speed(s) <= most) return;
+  std::ostringstream m;
+  m.precision(3);
+  m << "a moving obstacle's surface reaches " << solid_speed(s) << " m/s, faster than the " << most
+    << " m/s this time step keeps sound (half a particle_spacing a step): slow its motion or raise solver.substeps";
+  throw InputError(m.str());
 }
 
 void read_method(const json& j, SolverParams& p) {
@@ -309,6 +387,7 @@ Scene parse_checked(const std::string& json_text, const std::string& origin, con
   s.gravity = vec3(j, "gravity", "gravity", s.gravity);
   require(glm::length(s.gravity) <= 1e4, "gravity must not exceed 1e4 m/s^2 (a thousand g)");
   if (s.solver.substeps == SolverParams::kChosenSubsteps) s.solver.substeps = chosen_substeps(s);
+  check_solid_speed(s);
   read_method(j, s.solver);
   read_camera(j, s);
   return s;

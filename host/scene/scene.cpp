@@ -18,10 +18,18 @@ double fall_speed(const Scene& scene) {
   return std::sqrt(2.0 * glm::length(scene.gravity) * (scene.domain.max.y - scene.domain.min.y));
 }
 
+double solid_speed(const Scene& scene) {
+  double top = 0;
+  for (const Obstacle& o : scene.obstacles)
+    if (o.motion.moves()) top = std::max(top, o.motion.top_speed(glm::length(o.middle() - o.motion.centre) + o.extent()));
+  return top;
+}
+
 int chosen_substeps(const Scene& scene) {
   constexpr double kRealTimeStep = 1.0 / 120.0, kRounding = 1e-9;
   const double h = scene.solver.kernel_ratio * scene.particle_spacing;
-  const double n = std::max(1.0 / (scene.fps * kRealTimeStep), fall_speed(scene) / (scene.fps * h));
+  const double n = std::max({1.0 / (scene.fps * kRealTimeStep), fall_speed(scene) / (scene.fps * h),
+                             solid_speed(scene) / (scene.fps * kSolidStep * scene.particle_spacing)});
   return int(std::clamp(std::ceil(n - kRounding), 1.0, 1000.0));
 }
 

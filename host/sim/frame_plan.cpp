@@ -23,10 +23,13 @@ const std::vector<PlannedPass> kGridAndLists = {{Pass::Grid, PassGroup::Grid}, {
 std::vector<PlannedPass> step_plan(const Derived& d) {
   const SolverParams& p = d.solver;
   std::vector<PlannedPass> plan;
+  // The solids move before the prediction, which meets them where the step ends.
   if (p.method == Method::Ldc) {
     plan.push_back({Pass::Density, PassGroup::Density});
+    if (d.moving()) plan.push_back({Pass::Move, PassGroup::Correction});
     plan.push_back({Pass::CorrectionPredict, PassGroup::Correction});
   } else {
+    if (d.moving()) plan.push_back({Pass::Move, PassGroup::Predict});
     plan.push_back({Pass::Predict, PassGroup::Predict});
   }
   append(plan, kGridAndLists);

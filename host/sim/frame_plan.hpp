@@ -12,6 +12,7 @@ namespace pbflow {
 
 enum class Pass {
   // A step's passes.
+  Move,               // the moving solids to their poses at the step's end (Derived::move_solids)
   Density,            // rho at x, for LDC's force (skipped where a pass left it current)
   CorrectionPredict,  // LDC's force, then v += g dt and x* = x + v dt (one pass on the GPU)
   Predict,            // v += g dt, x* = x + v dt

@@ -32,6 +32,7 @@ Mirrors mirrors_near(const Derived& d, const glm::dvec3& x) {
       m.axes |= kObstacleMirror;
     }
   }
+  if (m.axes & kObstacleMirror) m.solid_velocity = m.obstacle.displacement(x - m.distance * m.normal) / d.dt;
   return m;
 }
 
@@ -53,7 +54,7 @@ glm::dvec3 Mirrors::of(int k, const glm::dvec3& x) const {
 
 glm::dvec3 Mirrors::velocity(int k, const glm::dvec3& v) const {
   glm::dvec3 u = v;
-  if (k & kObstacleMirror) u -= 2 * glm::dot(u, normal) * normal;
+  if (k & kObstacleMirror) u -= 2 * glm::dot(u - solid_velocity, normal) * normal;
   for (int a = 0; a < 3; ++a)
     if (k >> a & 1) u[a] = -u[a];
   return u;

@@ -23,10 +23,13 @@ struct Mirrors {
   glm::dvec3 at{0.0};         // the particle they are seen from
   double distance = 0;        // its distance to that obstacle
   glm::dvec3 normal{0.0};     // and the obstacle's outward normal at the point nearest it
+  glm::dvec3 solid_velocity{0.0};  // the velocity of that point over the step (0: it stands still)
 
   // Neighbour x's image `k` (0: x itself); far away where an obstacle's image does not count.
   glm::dvec3 of(int k, const glm::dvec3& x) const;
-  glm::dvec3 velocity(int k, const glm::dvec3& v) const;  // an image moves as its particle, mirrored
+  // An image moves as its particle, mirrored: across an obstacle, its velocity relative to the
+  // solid's surface is (the normal part reversed, so the fluid slips along a moving solid too).
+  glm::dvec3 velocity(int k, const glm::dvec3& v) const;
 
   // The obstacle's image of neighbour x: at D from the particle, D^2 = |x_i - x|^2 + 4 phi_i
   // phi_x with phi the distance to the surface, along grad_i D. Across a plane this is the
@@ -39,6 +42,14 @@ struct Mirrors {
   // without it).
   glm::dvec3 obstacle_image(const glm::dvec3& x) const;
 };
+
+// The work per unit mass (J/kg) a solid does pushing a particle by dx while its surface there
+// moves by `moved` over a step of dt: its force m dx / dt^2 times its velocity moved / dt, for
+// dt. A pass that moves a particle for a moving solid (a projection, an image's term) adds it;
+// the frame's sum is FrameStats::solid_work.
+inline double push_work(const glm::dvec3& dx, const glm::dvec3& moved, double dt) {
+  return glm::dot(dx, moved) / (dt * dt);
+}
 
 // The mirrors seen from x: the walls within h and the nearest obstacle within h.
 Mirrors mirrors_near(const Derived& d, const glm::dvec3& x);

@@ -28,12 +28,8 @@ double DistanceField::sample(const glm::dvec3& x, glm::dvec3& gradient) const {
 }
 
 bool Obstacle::contains(const glm::dvec3& x) const {
-  if (kind == Kind::Sphere) return glm::length(x - centre) < radius;
-  if (kind == Kind::Mesh) {
-    glm::dvec3 unused;
-    return surface(x, unused) < 0;
-  }
-  return glm::all(glm::greaterThan(x, min)) && glm::all(glm::lessThan(x, max));
+  glm::dvec3 unused;
+  return body_surface(pose.body(x), unused) < 0;
 }
 
 Obstacle Obstacle::grown(double margin) const {
@@ -46,6 +42,12 @@ Obstacle Obstacle::grown(double margin) const {
 }
 
 double Obstacle::surface(const glm::dvec3& x, glm::dvec3& normal) const {
+  const double d = body_surface(pose.body(x), normal);
+  normal = pose.rotation * normal;
+  return d;
+}
+
+double Obstacle::body_surface(const glm::dvec3& x, glm::dvec3& normal) const {
   if (kind == Kind::Sphere) {
     const glm::dvec3 d = x - centre;
     const double r = glm::length(d);
@@ -89,30 +91,22 @@ double open_fraction(const std::vector<Obstacle>& solids, const glm::dvec3& cent
 
 glm::dvec3 project_out(const Obstacle& o, const glm::dvec3& x, const glm::dvec3& wall_min,
                        const glm::dvec3& wall_max) {
-  if (o.kind == Obstacle::Kind::Mesh) {  // along the normal, its field read once
-    glm::dvec3 normal;
-    const double d = o.surface(x, normal);
-    return d < 0 ? x - d * normal : x;
-  }
-  if (!o.contains(x)) return x;
-  if (o.kind == Obstacle::Kind::Sphere) {
-    glm::dvec3 d = x - o.centre;
-    double r = glm::length(d);
-    return o.centre + o.radius * (r > 0 ? d / r : glm::dvec3(0, 1, 0));  // the centre itself goes up
-  }
-  glm::dvec3 best = x;
+  glm::dvec3 normal;
+  const double d = o.surface(x, normal);
+  if (d >= 0) return x;
+  if (o.kind != Obstacle::Kind::Box) return x - d * normal;  // along the normal: onto a sphere, a mesh
+  // A box: onto the nearest face from which the walls' clamp does not put x back inside.
+  const glm::dvec3 b = o.pose.body(x);
+  glm::dvec3 best = x, unused;
   double nearest = std::numeric_limits<double>::infinity();
-  for (int k = 0; k < 3; ++k) {
-    if (o.min[k] >= wall_min[k] && x[k] - o.min[k] < nearest) {
-      nearest = x[k] - o.min[k];
-      best = x;
-      best[k] = o.min[k];
-    }
-    if (o.max[k] <= wall_max[k] && o.max[k] - x[k] < nearest) {
-      nearest = o.max[k] - x[k];
-      best = x;
-      best[k] = o.max[k];
-    }
+  for (int k = 0; k < 6; ++k) {
+    glm::dvec3 onto = b;
+    onto[k % 3] = k < 3 ? o.min[k] : o.max[k - 3];
+    const glm::dvec3 w = o.pose.world(onto);
+    const double tolerance = 1e-6 * (1 + glm::length(w));  // a rotated face's rounding, in float on the GPU
+    if (const double move = std::abs(onto[k % 3] - b[k % 3]);
+        move < nearest && o.surface(glm::clamp(w, wall_min, wall_max), unused) > -tolerance)
+      nearest = move, best = w;
   }
   return best;
 }
@@ -131,9 +125,9 @@ glm::dvec3 trace(const Obstacle& o, const glm::dvec3& from, const glm::dvec3& d,
   }
   return from + t * d;
 }
-}  // namespace
 
-glm::dvec3 stop_at(const Obstacle& o, const glm::dvec3& from, const glm::dvec3& to, double contact) {
+// stop_at for a solid at rest in its body frame.
+glm::dvec3 stop_at_rest(const Obstacle& o, const glm::dvec3& from, const glm::dvec3& to, double contact) {
   if (o.grown(contact).contains(from)) return to;  // touching or inside: project_out handles it
   const glm::dvec3 d = to - from;
   double t_enter = 0, t_exit = 1;
@@ -159,18 +153,36 @@ glm::dvec3 stop_at(const Obstacle& o, const glm::dvec3& from, const glm::dvec3& 
   }
   return t_enter < t_exit ? from + t_enter * d : to;
 }
+}  // namespace
+
+glm::dvec3 stop_at(const Obstacle& o, const glm::dvec3& from, const glm::dvec3& to, double contact) {
+  if (o.pose == Pose{} && o.previous == Pose{}) return stop_at_rest(o, from, to, contact);
+  // Moving: the move as the solid sees it, from its start pose to its end pose.
+  Obstacle still = o;
+  still.pose = still.previous = Pose{};
+  const glm::dvec3 b = o.pose.body(to), hit = stop_at_rest(still, o.previous.body(from), b, contact);
+  return hit == b ? to : o.pose.world(hit);
+}
 
 size_t packed_obstacle_vec4s(const std::vector<Obstacle>& obstacles) {
   size_t values = 0;
   for (const Obstacle& o : obstacles)
     if (o.kind == Obstacle::Kind::Mesh) values += o.field->values.size();
-  return 1 + 3 * obstacles.size() + (values + 3) / 4;
+  return obstacle_header_vec4s(obstacles.size()) + (values + 3) / 4;
 }
 
-std::vector<glm::vec4> pack_obstacles(const std::vector<Obstacle>& obstacles, double margin) {
+namespace {
+// A pose as the GPU reads it: the rows of its body transform, x_body = R^T x_world + shift.
+void pack_pose(const Pose& p, std::vector<glm::vec4>& data) {
+  const glm::dmat3 to_body = glm::transpose(p.rotation);
+  const glm::dvec3 shift = -(to_body * p.translation);
+  for (int r = 0; r < 3; ++r) data.emplace_back(to_body[0][r], to_body[1][r], to_body[2][r], shift[r]);
+}
+}  // namespace
+
+std::vector<glm::vec4> pack_obstacle_header(const std::vector<Obstacle>& obstacles, double margin) {
   std::vector<glm::vec4> data{glm::vec4(float(obstacles.size()), float(margin), 0, 0)};
-  data.reserve(packed_obstacle_vec4s(obstacles));
-  std::vector<float> values;  // the meshes' fields, after the obstacles
+  size_t first = 0;  // the mesh's first field value
   for (const Obstacle& o : obstacles) {
     if (o.kind == Obstacle::Kind::Sphere) {
       data.emplace_back(glm::vec3(o.centre), 1.0f);
@@ -179,14 +191,26 @@ std::vector<glm::vec4> pack_obstacles(const std::vector<Obstacle>& obstacles, do
     } else if (o.kind == Obstacle::Kind::Mesh) {
       data.emplace_back(glm::vec3(o.field->origin), 2.0f);
       data.emplace_back(glm::vec3(o.field->dims), float(o.field->voxel));
-      data.emplace_back(float(values.size()), 0.0f, 0.0f, 0.0f);
-      values.insert(values.end(), o.field->values.begin(), o.field->values.end());
+      data.emplace_back(float(first), 0.0f, 0.0f, 0.0f);
+      first += o.field->values.size();
     } else {
       data.emplace_back(glm::vec3(o.min), 0.0f);
       data.emplace_back(glm::vec3(o.max), 0.0f);
       data.emplace_back(0.0f);
     }
+    data.back().y = o.motion.moves() ? 1.0f : 0.0f;
+    pack_pose(o.pose, data);
+    pack_pose(o.previous, data);
   }
+  return data;
+}
+
+std::vector<glm::vec4> pack_obstacles(const std::vector<Obstacle>& obstacles, double margin) {
+  std::vector<glm::vec4> data = pack_obstacle_header(obstacles, margin);
+  data.reserve(packed_obstacle_vec4s(obstacles));
+  std::vector<float> values;  // the meshes' fields, after the header
+  for (const Obstacle& o : obstacles)
+    if (o.kind == Obstacle::Kind::Mesh) values.insert(values.end(), o.field->values.begin(), o.field->values.end());
   values.resize((values.size() + 3) / 4 * 4, 0.0f);
   for (size_t k = 0; k < values.size(); k += 4) data.emplace_back(values[k], values[k + 1], values[k + 2], values[k + 3]);
   return data;

@@ -1,40 +1,54 @@
 #pragma once
-// Static obstacles: axis-aligned boxes, spheres and meshes (as distance fields) that particles
-// are projected out of, like the walls, and that mirror the fluid (sim/mirrors.hpp). The solver keeps particle
-// centres half a spacing away from an obstacle's surface, so it works with each shape grown
-// by that margin (Derived::keep_out). shaders/solids.glsl mirrors this file.
+// Obstacles: boxes, spheres and meshes (as distance fields) that particles are projected out
+// of, like the walls, and that mirror the fluid (sim/mirrors.hpp). Each is a shape in its body
+// frame (where the scene places it) and a pose, which its motion moves every step. The solver
+// keeps particle centres half a spacing away from an obstacle's surface, so it works with each
+// shape grown by that margin (Derived::keep_out). shaders/solids.glsl mirrors this file.
 #include <glm/glm.hpp>
 
 #include <memory>
 #include <vector>
 
 #include "sim/distance_field.hpp"
+#include "sim/motion.hpp"
 
 namespace pbflow {
 
 struct Obstacle {
   enum class Kind { Box, Sphere, Mesh } kind = Kind::Box;
+  // The shape, in the body frame:
   glm::dvec3 min{0.0}, max{0.0};  // box; a mesh's bounds
   glm::dvec3 centre{0.0};         // sphere
   double radius = 0;
   std::shared_ptr<const DistanceField> field;  // mesh: the surface is its zero ...
   double margin = 0;                           // ... moved out by this much (grown)
+  Motion motion;
+  Pose pose, previous;  // where it is at the end of the current step, and was at its start
 
   bool contains(const glm::dvec3& x) const;   // strictly inside
   Obstacle grown(double margin) const;        // every surface moved out by margin
   // The signed distance from x to the surface (negative inside) and the outward normal at
   // the surface point nearest x; inside a box, the nearest face's.
   double surface(const glm::dvec3& x, glm::dvec3& normal) const;
+  // How far the solid's point now at x moved over the step (0 for a solid that stands still).
+  glm::dvec3 displacement(const glm::dvec3& x) const { return x - previous.world(pose.body(x)); }
+  // The body-frame sphere holding the shape: its centre and radius (where motion may reach).
+  glm::dvec3 middle() const { return kind == Kind::Sphere ? centre : 0.5 * (min + max); }
+  double extent() const { return kind == Kind::Sphere ? radius : 0.5 * glm::length(max - min); }
+  void move_to(const Pose& p) { previous = pose, pose = p; }
+
+ private:
+  double body_surface(const glm::dvec3& x, glm::dvec3& normal) const;  // surface() in the body frame
 };
 
-// x moved onto the nearest surface of `o` if it is inside. For a box, only faces
-// between the walls are candidates, so that the walls' clamp cannot push the particle
+// x moved onto the nearest surface of `o` if it is inside. For a box, only faces that leave
+// x between the walls are candidates, so that the walls' clamp cannot push the particle
 // back in (a box standing on the floor pushes up or sideways, never down).
 glm::dvec3 project_out(const Obstacle& o, const glm::dvec3& x, const glm::dvec3& wall_min,
                        const glm::dvec3& wall_max);
 
-// Where the move from -> to first enters `o`: the entry point, or `to` when the segment
-// misses it. Keeps a fast particle from tunnelling through a thin obstacle within one
+// Where the move from -> to first enters `o`, in its body frame (`from` at the step's start
+// pose, `to` at its end): the entry point, or `to` when the segment misses it. Keeps a fast particle from tunnelling through a thin obstacle within one
 // step; project_out then settles it on the surface. A start within `contact` of the
 // obstacle counts as touching it and is left to project_out, so that rounding (float on
 // the GPU, double here) cannot decide between the two.
@@ -46,10 +60,15 @@ glm::dvec3 stop_at(const Obstacle& o, const glm::dvec3& from, const glm::dvec3& 
 double open_fraction(const std::vector<Obstacle>& solids, const glm::dvec3& centre, const glm::dvec3& reach, int samples);
 
 // The GPU layout: vec4 0 holds the count and the keep-out margin the shapes are grown by;
-// then three vec4 per obstacle: box (min, 0) (max, 0) (0); sphere (centre, 1) (radius, 0, 0, 0)
-// (0); mesh (field origin, 2) (dims, voxel) (first value, 0, 0, 0); then the meshes' field
-// values, four a vec4, value 0 at vec4 1 + 3 count.
+// then kObstacleVec4s per obstacle: its shape, box (min, 0) (max, 0) (0); sphere (centre, 1)
+// (radius, 0, 0, 0) (0); mesh (field origin, 2) (dims, voxel) (first value, 0, 0, 0); then its
+// pose and previous pose, each as the rows of the body transform (world to body, rotation | shift);
+// then the meshes' field values, four a vec4, value 0 at vec4 1 + kObstacleVec4s count. The
+// header (all but the field values) is what a step's move changes.
+constexpr size_t kObstacleVec4s = 9;
 std::vector<glm::vec4> pack_obstacles(const std::vector<Obstacle>& obstacles, double margin);
+std::vector<glm::vec4> pack_obstacle_header(const std::vector<Obstacle>& obstacles, double margin);
 size_t packed_obstacle_vec4s(const std::vector<Obstacle>& obstacles);  // its length, without packing
+inline size_t obstacle_header_vec4s(size_t count) { return 1 + kObstacleVec4s * count; }
 
 }  // namespace pbflow

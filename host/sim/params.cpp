@@ -1,11 +1,14 @@
 #include "sim/params.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "sim/kernels.hpp"
 #include "sim/lattice.hpp"
 #include "sim/stability.hpp"
+#include "shaders/contract.h"
 
 namespace pbflow {
 
@@ -58,6 +61,53 @@ SimConstants Derived::to_gpu(uint32_t count) const {
   c.ldc_k = float(ldc_k);
   c.relaxation = 1.0f;  // set per constraint pass
   return c;
+}
+
+bool Derived::moving() const {
+  return std::any_of(obstacles.begin(), obstacles.end(), [](const Obstacle& o) { return o.motion.moves(); });
+}
+
+std::vector<Pose> Derived::obstacle_poses() const {
+  std::vector<Pose> poses;
+  for (const Obstacle& o : obstacles) poses.push_back(o.pose);
+  return poses;
+}
+
+void Derived::move_solids(double t) {
+  std::vector<Reach> near;
+  for (Obstacle& o : obstacles) {
+    if (!o.motion.moves()) continue;
+    o.move_to(o.motion.at(t));
+    for (const Pose* p : {&o.previous, &o.pose}) near.push_back({p->world(o.middle()), o.extent()});
+  }
+  if (!near.empty()) measure_open(near);
+}
+
+double Derived::nearest_moving_solid(const glm::dvec3& x, glm::dvec3& normal, glm::dvec3& velocity) const {
+  double nearest = std::numeric_limits<double>::infinity();
+  normal = velocity = glm::dvec3(0.0);
+  for (const Obstacle& o : obstacles) {
+    glm::dvec3 n;
+    if (!o.motion.moves()) continue;
+    if (const double d = o.grown(-keep_out).surface(x, n); d < nearest)
+      nearest = d, normal = n, velocity = o.displacement(x) / dt;
+  }
+  return nearest;
+}
+
+void Derived::measure_open(const std::vector<Reach>& near) {
+  if (coarse.open.empty()) return;  // no coarse correction
+  std::vector<Obstacle> solids;  // the obstacles' own surfaces, where the mirrors lie
+  for (const Obstacle& grown : obstacles) solids.push_back(grown.grown(-keep_out));
+  for (int k = 0; !solids.empty() && k < coarse.count(); ++k) {
+    const glm::dvec3 node = wall_min + (glm::dvec3(coarse.node(k)) + 0.5) * coarse.cell;
+    // A node gathers from a box one cell to each side: does it meet the reach's sphere?
+    auto meets = [&](const Reach& r) {
+      return glm::length(r.centre - glm::clamp(r.centre, node - coarse.cell, node + coarse.cell)) < r.radius;
+    };
+    if (near.empty() || std::any_of(near.begin(), near.end(), meets))
+      coarse.open[size_t(k)] = float(open_fraction(solids, node, coarse.cell, COARSE_OPEN_SAMPLES));
+  }
 }
 
 }  // namespace pbflow

@@ -129,6 +129,21 @@ struct Derived {
   std::vector<ParamKey> shader_keys;  // the keys of `solver` and `white_water`, offered to every pass
   double keep_out = 0;  // m: how far particle centres stay from every solid's surface, half a spacing
   std::vector<Obstacle> obstacles;  // grown by keep_out: where particle centres may not be
+  bool moving() const;  // whether any obstacle moves
+  std::vector<Pose> obstacle_poses() const;  // where each stands now
+  // The obstacles moved to their poses at time t, the end of a step, and the coarse nodes'
+  // open shares measured again where a moving one reaches (at its start pose or its end).
+  void move_solids(double t);
+  // The distance from x to the nearest moving obstacle's own surface (infinity where none
+  // moves), its outward normal and the velocity of the solid's point at x over the step.
+  double nearest_moving_solid(const glm::dvec3& x, glm::dvec3& normal, glm::dvec3& velocity) const;
+  // The coarse nodes' open shares (Coarse::open) of the nodes within `reach` of a point in
+  // `near` (every node where `near` is empty).
+  struct Reach {
+    glm::dvec3 centre;
+    double radius;
+  };
+  void measure_open(const std::vector<Reach>& near);
   double speed_limit;  // m/s: the divergence watch stops a run with a particle faster than this
   // m/s: the scale of the scene's flows, a fall through the domain's height (at least 0.1 m/s:
   // a scene without gravity has one too), white water's unit of speed (shaders/white_water.h).

@@ -94,25 +94,29 @@ void ReferenceSolver::density() {
   }
 }
 
-dvec3 ReferenceSolver::correction_force(size_t i) const {
+dvec3 ReferenceSolver::correction_force(size_t i, double* work) const {
   auto rho = [&](size_t k) { return d_.solver.ldc_clamp ? std::max(state.rho[k], d_.rho0) : state.rho[k]; };
   const dvec3 xi = state.x[i];
+  // correction_force.comp says why K is capped in squeezed fluid.
+  const double squeeze = std::max(state.rho[i], d_.rho0) / d_.rho0;
+  const double k = -d_.ldc_k * std::min(1.0, d_.ldc_room / (squeeze * squeeze));
   // f = sum_j (rho_j - rho_i) h (1 - r/h) d/r
   dvec3 f(0.0);
   for_each_neighbour(i, xi, [&](size_t j, const Image& m) {
     const double difference = (rho(j) - rho(i)) / d_.rho0;
     dvec3 d = m.of(state.x[j]) - xi;
     double r = glm::length(d);
-    if (r > 0 && r < d_.h) f += difference * d_.h * (1 - r / d_.h) * (d / r);
+    if (r <= 0 || r >= d_.h) return;
+    const dvec3 term = difference * d_.h * (1 - r / d_.h) * (d / r);
+    f += term;
+    if (work && (m.k & kObstacleMirror)) *work += glm::dot(k * term, m.mirrors->solid_velocity) * d_.dt;
   });
-  // correction_force.comp says why K is capped in squeezed fluid.
-  const double squeeze = std::max(state.rho[i], d_.rho0) / d_.rho0;
-  return -d_.ldc_k * std::min(1.0, d_.ldc_room / (squeeze * squeeze)) * f;
+  return k * f;
 }
 
 void ReferenceSolver::correction() {
   std::vector<dvec3> f(state.x.size());
-  for (size_t i = 0; i < f.size(); ++i) f[i] = correction_force(i);
+  for (size_t i = 0; i < f.size(); ++i) f[i] = correction_force(i, &solid_work_);
   for (size_t i = 0; i < f.size(); ++i) state.v[i] += f[i] * d_.dt;
 }
 
@@ -122,14 +126,18 @@ constexpr double kContact = 1e-3;
 void ReferenceSolver::predict() {
   for (size_t i = 0; i < state.x.size(); ++i) {
     state.v[i] += d_.gravity * d_.dt;
-    state.x_pred[i] = move_outside_solids(state.x[i], state.x[i] + state.v[i] * d_.dt);
+    state.x_pred[i] = move_outside_solids(state.x[i], state.x[i] + state.v[i] * d_.dt, solid_work_);
   }
 }
 
-dvec3 ReferenceSolver::move_outside_solids(const dvec3& from, dvec3 to) const {
+dvec3 ReferenceSolver::move_outside_solids(const dvec3& from, dvec3 to, double& work) const {
   // Each obstacle can only shorten the move, so the last shortening is the first entry.
-  for (const Obstacle& o : d_.obstacles) to = stop_at(o, from, to, kContact * d_.h);
-  return project_out_of_solids(to);
+  for (const Obstacle& o : d_.obstacles) {
+    const dvec3 stopped = stop_at(o, from, to, kContact * d_.h);
+    if (stopped != to) work += push_work(stopped - to, o.displacement(stopped), d_.dt);
+    to = stopped;
+  }
+  return project_out_of_solids(to, work);
 }
 
 void ReferenceSolver::constraint_lambda() {
@@ -181,12 +189,15 @@ void ReferenceSolver::constraint_apply(double relaxation) {
   for (size_t i = 0; i < next.size(); ++i) {
     const dvec3 xi = state.x_pred[i];
     dvec3 dp(0.0);
+    const double scale = relaxation * (d_.mass / d_.rho0);
     // An image carries its particle's lambda; i's own images push i away from the wall.
     for_each_neighbour(i, xi, [&](size_t j, const Image& m) {
       dvec3 d = xi - m.of(state.x_pred[j]);
-      dp += (state.lambda[i] + state.lambda[j]) * kernels::spiky_grad(d, d_.h);
+      const dvec3 term = (state.lambda[i] + state.lambda[j]) * kernels::spiky_grad(d, d_.h);
+      dp += term;
+      if (m.k & kObstacleMirror) solid_work_ += push_work(scale * term, m.mirrors->solid_velocity * d_.dt, d_.dt);
     });
-    next[i] = project_out_of_solids(xi + relaxation * (d_.mass / d_.rho0) * dp);
+    next[i] = project_out_of_solids(xi + scale * dp, solid_work_);
   }
   state.x_pred = std::move(next);
 }
@@ -257,8 +268,14 @@ void ReferenceSolver::coarse_correction() {
   const std::vector<dvec3> grad = coarse_gradient(fluid);
   for (size_t i = 0; i < state.x.size(); ++i) {
     dvec3 g(0.0);
-    for_each_coarse_node(state.x_pred[i], [&](int k, double w) { g += w * grad[k]; });
-    state.x_pred[i] = project_out_of_solids(state.x_pred[i] + c.strength * g);
+    double p = 0;
+    for_each_coarse_node(state.x_pred[i], [&](int k, double w) { g += w * grad[k], p += w * phi[k]; });
+    // phi is a pressure: on a particle of a moving solid's first layer, its reaction on the
+    // face it stands for (a spacing squared) is worked by the solid (coarse_apply.comp).
+    dvec3 normal, velocity;
+    if (d_.nearest_moving_solid(state.x_pred[i], normal, velocity) < d_.spacing)
+      solid_work_ += -d_.rho0 * c.strength * p * glm::dot(normal, velocity) * d_.spacing * d_.spacing / (d_.dt * d_.mass);
+    state.x_pred[i] = project_out_of_solids(state.x_pred[i] + c.strength * g, solid_work_);
   }
 }
 
@@ -303,7 +320,10 @@ void ReferenceSolver::viscosity_vorticity() {
         curl += glm::cross(vij, kernels::spiky_grad(d, d_.h));
       }
       const double c = std::min(d_.solver.damping, d_.damping_limit * d_.rho0 / std::max(rho_i, state.rho[j]));
-      if (r2 > 0 && r2 < d_.h * d_.h) damp += c * (1 - std::sqrt(r2) / d_.h) * glm::dot(vij, d) / r2 * d;
+      if (r2 <= 0 || r2 >= d_.h * d_.h) return;
+      const dvec3 pushed = c * (1 - std::sqrt(r2) / d_.h) * glm::dot(vij, d) / r2 * d;
+      damp += pushed;
+      if (m.k & kObstacleMirror) solid_work_ += glm::dot(pushed, m.mirrors->solid_velocity);  // the images' drag
     });
     v_next[i] = state.v[i] + d_.solver.xsph * volume * smooth + damp;
     state.curl[i] = volume * curl;
@@ -331,6 +351,9 @@ void ReferenceSolver::relax() {
 
 void ReferenceSolver::run(const PlannedPass& p) {
   switch (p.pass) {
+    case Pass::Move:
+      if (!solids_held_) d_.move_solids(double(++steps_moved_) * d_.dt);
+      break;
     case Pass::Density: density_at_positions(); break;
     case Pass::CorrectionPredict: correction(), predict(); break;
     case Pass::Predict: predict(); break;
@@ -345,7 +368,10 @@ void ReferenceSolver::run(const PlannedPass& p) {
     case Pass::Viscosity: viscosity_vorticity(); break;
     case Pass::Vorticity: vorticity_force(); break;
     case Pass::Watch: watch_step(step_in_frame_++, watch_); break;
-    case Pass::Measures: measured_ = measure(); break;
+    case Pass::Measures:
+      measured_ = measure();
+      measured_.solid_work = d_.mass * solid_work_;
+      break;
     case Pass::Surface: drawn = smoothed_positions(); break;
     case Pass::WhiteWaterAdvect: white_water_advect(frame_time_); break;
     case Pass::WhiteWaterEmit: white_water_emit(frame_time_, frames_advanced_); break;
@@ -493,8 +519,12 @@ ReferenceSolver::DrawnParticles ReferenceSolver::smoothed_positions() {
   return out;
 }
 
-glm::dvec3 ReferenceSolver::project_out_of_solids(glm::dvec3 x) const {
-  for (const Obstacle& o : d_.obstacles) x = project_out(o, x, d_.wall_min, d_.wall_max);
+glm::dvec3 ReferenceSolver::project_out_of_solids(glm::dvec3 x, double& work) const {
+  for (const Obstacle& o : d_.obstacles) {
+    const dvec3 out = project_out(o, x, d_.wall_min, d_.wall_max);
+    if (out != x) work += push_work(out - x, o.displacement(out), d_.dt);
+    x = out;
+  }
   return glm::clamp(x, d_.wall_min, d_.wall_max);
 }
 
@@ -518,6 +548,7 @@ ParticleFrame ReferenceSolver::read_frame() const {
 FrameStats ReferenceSolver::advance(int steps) {
   const auto start = std::chrono::steady_clock::now();
   iterations_run_ = long(steps) * d_.solver.iterations;  // the adaptive pairs add theirs
+  solid_work_ = 0;
   step_in_frame_ = 0;
   watch_ = {};
   frame_time_ = steps * d_.dt;

@@ -23,6 +23,7 @@ class ReferenceSolver : public Solver {
   void upload(const ParticleState& s) override;
   size_t particle_count() const override { return state.x.size(); }
   void relax() override;
+  std::vector<Pose> obstacle_poses() const override { return d_.obstacle_poses(); }
   std::string device_name() const override { return "cpu (C++ reference)"; }
   void set_outputs(FrameOutputs outputs) override;
   size_t white_water_capacity() const override;
@@ -61,7 +62,8 @@ class ReferenceSolver : public Solver {
   void white_water_emit(double elapsed, uint32_t frame);
 
   // The LDC acceleration on particle i (from rho and x); correction() applies it.
-  glm::dvec3 correction_force(size_t i) const;
+  // `work` (where given) gains the work per unit mass its moving solids' images did.
+  glm::dvec3 correction_force(size_t i, double* work = nullptr) const;
 
   const Derived& derived() const { return d_; }
   ParticleState state;
@@ -86,10 +88,11 @@ class ReferenceSolver : public Solver {
 
   glm::ivec3 cell_of(const glm::dvec3& x) const;
   size_t cell_id(const glm::ivec3& c) const { return (size_t(c.z) * d_.grid.y + c.y) * d_.grid.x + c.x; }
-  glm::dvec3 project_out_of_solids(glm::dvec3 x) const;  // out of the obstacles, then into the walls
+  // Out of the obstacles, then into the walls; `work` gains what moving ones did (push_work).
+  glm::dvec3 project_out_of_solids(glm::dvec3 x, double& work) const;
   // The move from -> to stopped at the first obstacle on its way, then out of solids
   // (solids.glsl's predicted_position).
-  glm::dvec3 move_outside_solids(const glm::dvec3& from, glm::dvec3 to) const;
+  glm::dvec3 move_outside_solids(const glm::dvec3& from, glm::dvec3 to, double& work) const;
 
   double mean_compression() const;  // of state.rho
   // The eight coarse nodes around x with their trilinear weights (shaders/coarse_deposit.comp).
@@ -101,6 +104,8 @@ class ReferenceSolver : public Solver {
 
   Derived d_;
   uint32_t frames_advanced_ = 0;  // white water's random stream
+  long steps_moved_ = 0;          // steps whose solids have moved: the time is this times dt
+  double solid_work_ = 0;         // J/kg moving solids did in the current advance()
   double frame_time_ = 0;         // s the frame's steps advance, for white water
   long iterations_run_ = 0;  // constraint iterations in the current advance()
   int step_in_frame_ = 0;    // the watch's step

@@ -44,7 +44,8 @@ void ReferenceSolver::white_water_advect(double elapsed) {
       p.v = carried;
     else
       p.v += -WHITE_BUOYANCY * elapsed * d_.gravity + WHITE_DRAG * (carried - p.v);
-    const dvec3 to = p.x + elapsed * p.v, moved = move_outside_solids(p.x, to);
+    double unused = 0;  // white water does no work
+    const dvec3 to = p.x + elapsed * p.v, moved = move_outside_solids(p.x, to, unused);
     for (int a = 0; a < 3; ++a)
       if (moved[a] != to[a]) p.v[a] = 0;  // stopped by a wall or an obstacle
     p.x = moved;

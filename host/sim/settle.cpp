@@ -27,6 +27,7 @@ SettleReport settle(Solver& solver, const Derived& d, const std::function<bool(i
   auto along = [&](const glm::dvec3& a) { return glm::dot(a, down) * down; };
   auto whole = [](const glm::dvec3& a) { return a; };
 
+  solver.hold_solids(true);  // the fluid comes to rest around the solids where they start
   ParticleState state = solver.download();
   const double start = solver.advance(0).potential_energy;
   double potential = start;
@@ -69,6 +70,7 @@ SettleReport settle(Solver& solver, const Derived& d, const std::function<bool(i
   state = solver.download();
   for (glm::dvec3& v : state.v) v = glm::dvec3(0.0);
   solver.upload(state);
+  solver.hold_solids(false);
   report.potential_drop = start - potential;
   return report;
 }

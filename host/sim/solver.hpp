@@ -3,6 +3,7 @@
 #include <glm/glm.hpp>
 
 #include "shaders/white_water.h"
+#include "sim/motion.hpp"
 
 #include <algorithm>
 #include <array>
@@ -47,6 +48,9 @@ struct FrameStats {
   // sum m |g| (height above the domain's lowest corner along g), J: with kinetic_energy the
   // mechanical energy that must never rise (docs/design.md).
   double potential_energy = 0;
+  // J the moving solids did on the fluid over the frame's steps (their pushes and their
+  // images' pressure and drag, sim/mirrors.hpp): what may be added to the energy. 0 without.
+  double solid_work = 0;
   double step_ms = 0;  // mean time of one step (GPU timestamps, else wall time); 0 when no step ran
   double iterations = 0;  // constraint iterations per step, on average (adaptive runs vary)
   double white_water_ms = 0;  // GPU time of the frame's white water passes (GpuSolver; 0 while off)
@@ -56,13 +60,15 @@ struct FrameStats {
 };
 
 // docs/design.md's energy gain of a run: the largest (E_k - E_0) / PE_0 over its frames, with
-// E = kinetic + potential energy and frame 0 (the first added) giving E_0 and PE_0. A
+// E = kinetic + potential energy less the work moving solids did since frame 0 (the first
+// added, giving E_0 and PE_0). A
 // sound run stays at or below 0.01. Also the largest rise of E over its running minimum
 // (energy stored in compression and given back), in the same unit.
 class EnergyGain {
  public:
   void add(const FrameStats& s) {
-    const double energy = s.kinetic_energy + s.potential_energy;
+    work_ += s.solid_work;  // energy the solids brought in is no gain of the solver's
+    const double energy = s.kinetic_energy + s.potential_energy - work_;
     if (!started_) std::tie(started_, e0_, pe0_, lowest_) = std::tuple(true, energy, s.potential_energy, energy);
     lowest_ = std::min(lowest_, energy);
     if (pe0_ > 0) {
@@ -77,7 +83,7 @@ class EnergyGain {
 
  private:
   bool started_ = false;
-  double e0_ = 0, pe0_ = 0, largest_ = 0, last_ = 0, lowest_ = 0, largest_rise_ = 0;
+  double e0_ = 0, pe0_ = 0, largest_ = 0, last_ = 0, lowest_ = 0, largest_rise_ = 0, work_ = 0;
 };
 
 // Host copy of the per-particle state, indexed by particle id (the order of initial_particles).
@@ -177,8 +183,15 @@ class Solver {
   virtual std::vector<WhiteParticle> white_water() const = 0;  // those alive, in no set order
   virtual void upload_white_water(const std::vector<WhiteParticle>& w) = 0;  // at most the capacity
 
+  // Where each obstacle stands after the last advance() (scene order): for drawing them.
+  virtual std::vector<Pose> obstacle_poses() const = 0;
+  // While held, moving solids stand where they are and their clock stands still (the settle
+  // brings the fluid to rest around them at time 0).
+  void hold_solids(bool held) { solids_held_ = held; }
+
  protected:
   FrameOutputs outputs_;
+  bool solids_held_ = false;
 };
 
 }  // namespace pbflow

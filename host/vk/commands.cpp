@@ -114,7 +114,10 @@ void CommandList::dispatch_indirect(const Buffer& args) {
 }
 
 void CommandList::update(const Buffer& buffer, const void* data, uint32_t bytes, uint32_t offset) {
-  vkCmdUpdateBuffer(cb_, buffer.handle(), offset, bytes, data);
+  constexpr uint32_t kMostBytes = 65536;  // vkCmdUpdateBuffer's limit per call
+  for (uint32_t done = 0; done < bytes; done += kMostBytes)
+    vkCmdUpdateBuffer(cb_, buffer.handle(), offset + done, std::min(kMostBytes, bytes - done),
+                      static_cast<const char*>(data) + done);
   memory_barrier(cb_);
 }
 

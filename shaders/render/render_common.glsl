@@ -15,6 +15,7 @@ const vec3 SOLID_COLOUR = vec3(0.62, 0.48, 0.34);
 layout(std140, binding = 0) uniform Frame {
   mat4 view;
   mat4 proj;
+  mat4 model;       // box.vert: where an obstacle's pose puts its box (the identity for the tank)
   vec4 light_view;  // unit vector towards the light, view space
   vec4 domain_min;  // world space; w unused (box.vert: the box drawn, the domain or an obstacle)
   vec4 domain_max;

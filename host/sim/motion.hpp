@@ -1,0 +1,85 @@
+#pragma once
+// Rigid motion of a solid: where it is at time t (a Pose), from a scene's "motion" key. The
+// solvers move each solid to the end of every step (Derived::move_solids); the surface's own
+// velocity is its displacement over the step (Obstacle::displacement).
+#include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+namespace pbflow {
+
+// Degrees about x, then y, then z, the axes fixed (extrinsic): the convention of every
+// "rotation" key (mesh placement, keyframes).
+inline glm::dmat3 euler_rotation(const glm::dvec3& degrees) {
+  const glm::dvec3 r = glm::radians(degrees);
+  const glm::dmat3 x(1, 0, 0, 0, std::cos(r.x), std::sin(r.x), 0, -std::sin(r.x), std::cos(r.x));
+  const glm::dmat3 y(std::cos(r.y), 0, -std::sin(r.y), 0, 1, 0, std::sin(r.y), 0, std::cos(r.y));
+  const glm::dmat3 z(std::cos(r.z), std::sin(r.z), 0, -std::sin(r.z), std::cos(r.z), 0, 0, 0, 1);
+  return z * y * x;
+}
+
+// A rigid placement: a point of the solid as the scene places it (its body frame) is at
+// world(x) = rotation x + translation.
+struct Pose {
+  glm::dmat3 rotation{1.0};
+  glm::dvec3 translation{0.0};
+  glm::dvec3 world(const glm::dvec3& body) const { return rotation * body + translation; }
+  glm::dvec3 body(const glm::dvec3& world) const { return glm::transpose(rotation) * (world - translation); }
+  bool operator==(const Pose&) const = default;
+};
+
+// A solid's motion (the scene key obstacles[].motion, scene/keys.cpp), as a pose at time t;
+// Type::None stands still.
+struct Motion {
+  enum class Type { None, Oscillate, Rotate, Keyframes } type = Type::None;
+  glm::dvec3 axis{0.0};   // unit: oscillate's direction, rotate's axis
+  double amplitude = 0;   // oscillate: m
+  double period = 0;      // oscillate: s
+  glm::dvec3 centre{0.0};  // rotate: a point on the axis; keyframes: the point rotations turn about
+  double rate = 0;        // rotate: degrees per second
+  struct Key {
+    double t;
+    glm::dvec3 position;  // displacement from where the scene places the solid, m
+    glm::dquat rotation;  // about `centre`
+  };
+  std::vector<Key> keys;  // keyframes: times strictly increasing
+
+  bool moves() const { return type != Type::None; }
+
+  Pose at(double t) const {
+    Pose p;
+    if (type == Type::Oscillate) p.translation = amplitude * std::sin(2 * std::numbers::pi * t / period) * axis;
+    if (type == Type::Rotate) p.rotation = glm::mat3_cast(glm::angleAxis(glm::radians(rate * t), axis));
+    if (type == Type::Keyframes) {
+      const auto next = std::upper_bound(keys.begin(), keys.end(), t, [](double s, const Key& k) { return s < k.t; });
+      const Key& b = next == keys.end() ? keys.back() : *next;
+      const Key& a = next == keys.begin() ? keys.front() : *(next - 1);
+      const double s = b.t > a.t ? std::clamp((t - a.t) / (b.t - a.t), 0.0, 1.0) : 0.0;
+      p.rotation = glm::mat3_cast(glm::slerp(a.rotation, b.rotation, s));
+      p.translation = glm::mix(a.position, b.position, s);
+    }
+    if (type != Type::Oscillate) p.translation += centre - p.rotation * centre;  // turned about the centre
+    return p;
+  }
+
+  // The fastest any point within `reach` of the centre (rotate, keyframes) moves, m/s: the
+  // speed the scene's time step is checked against (scene/parse.cpp).
+  double top_speed(double reach) const {
+    if (type == Type::Oscillate) return amplitude * 2 * std::numbers::pi / period;
+    if (type == Type::Rotate) return std::abs(glm::radians(rate)) * reach;
+    double top = 0;
+    for (size_t k = 1; k < keys.size(); ++k) {
+      const double dt = keys[k].t - keys[k - 1].t;
+      const double angle = glm::angle(glm::inverse(keys[k - 1].rotation) * keys[k].rotation);
+      const double turn = std::min(angle, 2 * std::numbers::pi - angle);  // slerp's shorter way
+      top = std::max(top, (glm::length(keys[k].position - keys[k - 1].position) + turn * reach) / dt);
+    }
+    return top;
+  }
+};
+
+}  // namespace pbflow
