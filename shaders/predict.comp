@@ -15,9 +15,9 @@ layout(std430, binding = 2) writeonly buffer XPred { vec4 x_pred[]; };
 void main() {
   uint i = thread_index();
   if (i >= sim.count) return;
-  vec3 vi = v[i].xyz + sim.gravity * sim.dt;
+  vec3 vi = v[i].xyz + sim.gravity * sim.dt + tank_kick();
   v[i].xyz = vi;
-  float work = 0.0;
+  float work = MOVING ? dot(tank_kick(), vi) : 0.0;  // the shaking's work, in the tank's frame
   x_pred[i] = vec4(predicted_position(x[i].xyz, vi, work), 0.0);
   add_work(i, work);
 }

@@ -2,7 +2,8 @@
 // keep-out margin, half a spacing). Particles are kept out of them (predicted_position,
 // project_out_of_solids), and every solid is a mirror for the neighbour passes (mirrors_near,
 // as host/sim/mirrors.cpp). The includer defines OBSTACLES_BINDING.
-// Layout (pack_obstacles): obstacle_data[0] = (count, margin, 0, 0); then per obstacle nine
+// Layout (pack_obstacles): obstacle_data[0] = (count, margin, 0, 0), [1] = (the tank's kick this
+// step, 0) (Derived::tank_kick: the tank's frame's velocity change); then per obstacle nine
 // vec4: its shape in its body frame, box (min, 0) (max, 0) (0), sphere (centre, 1) (radius, 0,
 // 0, 0) (0), mesh (field origin, 2) (dims, voxel) (first value, 0, 0, 0); then its pose at the
 // step's end and at its start, each three rows of the world-to-body transform; then the meshes'
@@ -27,7 +28,9 @@ void add_work(uint i, float w) {
 }
 #endif
 
-int obstacle_header(int k) { return 1 + 9 * k; }
+int obstacle_header(int k) { return 2 + 9 * k; }
+// The velocity every particle gains this step from the tank's shaking, seen in its frame.
+vec3 tank_kick() { return obstacle_data[1].xyz; }
 const int POSE_NOW = 3, POSE_BEFORE = 6;  // the poses' first row in an obstacle's header
 // x in obstacle k's body frame, from the pose at `pose` (Pose::body).
 vec3 to_body(int k, int pose, vec3 x) {

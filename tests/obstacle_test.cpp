@@ -237,5 +237,36 @@ TEST_P(ObstacleMotionTest, MovingSolidsKeepTheFluidOutAndBringOnlyTheirWork) {
 INSTANTIATE_TEST_SUITE_P(RealStepSlow, ObstacleMotionTest, ::testing::Values(RestSetting{"pbf", 2}, RestSetting{"ldc", 1}),
                          [](const auto& info) { return std::string(info.param.method) + std::to_string(info.param.iterations); });
 
+class ShakenTankTest : public test::GpuTest, public ::testing::WithParamInterface<RestSetting> {};
+
+// The slosh scene, its tank shaken at its first mode for 2 s: the water sloshes, stays inside,
+// and gains no energy beyond the work the shaking did (in the tank's frame).
+TEST_P(ShakenTankTest, TheWaterSloshesAndGainsOnlyTheShakingsWork) {
+  const RestSetting& p = GetParam();
+  const Scene scene = load_scene("slosh", {std::string("solver.method=\"") + p.method + "\"",
+                                           "solver.iterations=" + std::to_string(p.iterations)});
+  const Derived d = derive(scene);
+  GpuSolver solver(test::gpu(), d, lattice_particles(scene));
+  ASSERT_TRUE(settle(solver, d).converged);
+  EnergyGain energy;
+  energy.add(solver.advance(0));
+  double work = 0, kinetic = 0;
+  for (int f = 1; f <= int(2 * scene.fps); ++f) {
+    const FrameStats s = solver.advance(scene.solver.substeps);
+    ASSERT_FALSE(s.divergence.any()) << "frame " << f << ": " << s.divergence.describe(d.speed_limit);
+    energy.add(s);
+    work += s.solid_work;
+    kinetic = std::max(kinetic, s.kinetic_energy);
+  }
+  std::printf("  %s@%d: the shaking did %.3f J, kinetic energy up to %.3f J; gain beyond the work %+.5f\n", p.method,
+              p.iterations, work, kinetic, energy.largest());
+  EXPECT_GT(kinetic, 0.1) << "the water should slosh";
+  EXPECT_GT(work, kinetic);
+  EXPECT_LE(energy.largest(), 0.01);
+}
+
+INSTANTIATE_TEST_SUITE_P(RealStepSlow, ShakenTankTest, ::testing::Values(RestSetting{"pbf", 2}, RestSetting{"ldc", 1}),
+                         [](const auto& info) { return std::string(info.param.method) + std::to_string(info.param.iterations); });
+
 }  // namespace
 }  // namespace pbflow

@@ -33,6 +33,10 @@ constexpr const char* kMovingInTheColumn =
          "motion": {"type": "rotate", "axis": [0, 1, 0], "rate": 300}},
         {"type": "sphere", "centre": [0.2, 0.5, 0.2], "radius": 0.1,
          "motion": {"type": "oscillate", "axis": [1, 0, 0], "amplitude": 0.05, "period": 0.5}}])";
+// The dam break's tank shaken sideways and up at once (keyframes, a kick at each key).
+constexpr const char* kShakenTank =
+    R"({"min": [0, 0, 0], "max": [1.6, 1.0, 0.4], "motion": {"type": "keyframes", "keys": [
+        {"t": 0, "position": [0, 0, 0]}, {"t": 0.02, "position": [0.01, 0.004, 0]}, {"t": 0.05, "position": [0, 0, 0]}]}})";
 // A mesh in the column (scripts/make_meshes.py's rock): its distance field read by both solvers.
 const std::string kMeshInTheColumn =
     std::string(R"([{"type": "mesh", "file": ")") + PBFLOW_TEST_DATA + R"(/../scenes/meshes/rock.obj", "position": [0.25, 0.2, 0.2]}])";
@@ -347,6 +351,7 @@ struct StepCase {
   const char* name;
   const char* method;
   const char* obstacles;  // JSON for the scene's obstacles
+  const char* domain = R"({"min": [0, 0, 0], "max": [1.6, 1.0, 0.4]})";  // the dam break's, or shaken
 };
 void PrintTo(const StepCase& c, std::ostream* os) { *os << c.name; }
 
@@ -356,7 +361,7 @@ TEST_P(StepTest, SeveralStepsAgree) {
   const StepCase& c = GetParam();
   Scene scene = load_scene("dam_break", {"particle_spacing=0.04", std::string("solver.method=\"") + c.method + "\"",
                                          "solver.iterations=2", "solver.vorticity=0.1",
-                                         std::string("obstacles=") + c.obstacles});
+                                         std::string("obstacles=") + c.obstacles, std::string("domain=") + c.domain});
   Derived d = derive(scene);
   auto x0 = initial_particles(scene);
   GpuSolver gpu(test::gpu(), d, x0);
@@ -406,7 +411,8 @@ INSTANTIATE_TEST_SUITE_P(Methods, StepTest,
                                            StepCase{"ldc_obstacles", "ldc", kObstaclesInTheColumn},
                                            StepCase{"pbf_mesh", "pbf", kMeshInTheColumn.c_str()},
                                            StepCase{"pbf_moving", "pbf", kMovingInTheColumn},
-                                           StepCase{"ldc_moving", "ldc", kMovingInTheColumn}),
+                                           StepCase{"ldc_moving", "ldc", kMovingInTheColumn},
+                                           StepCase{"pbf_shaken", "pbf", "[]", kShakenTank}),
                          [](const auto& info) { return std::string(info.param.name); });
 
 class ProfileTest : public test::GpuTest {};

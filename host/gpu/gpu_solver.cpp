@@ -559,7 +559,7 @@ void GpuSolver::relax() {
 void GpuSolver::move_solids() {
   if (solids_held_) return;
   d_.move_solids(double(++steps_moved_) * d_.dt);
-  const std::vector<glm::vec4> header = pack_obstacle_header(d_.obstacles, d_.keep_out);
+  const std::vector<glm::vec4> header = pack_obstacle_header(d_.obstacles, d_.keep_out, d_.tank_kick);
   cmd_.update(obstacles_, header.data(), uint32_t(header.size() * sizeof(glm::vec4)));
   if (d_.coarse.strength > 0)
     cmd_.update(coarse_open_, d_.coarse.open.data(), uint32_t(d_.coarse.open.size() * sizeof(float)));

@@ -19,6 +19,11 @@ using W = WhiteWaterParams;
 const SceneKey kKeys[] = {
     {"description", K::Text, "\"\"", {}, {}, "", "a line for `pbflow scenes`", "", {}},
     {"domain", K::Box, "required", {}, {}, "m", "the tank `{min, max}`: closed walls", "", {}},
+    {"domain.motion", K::Motion, "none", {}, {}, "m, s",
+     "the tank shaken, as an obstacle's `motion` but without turning: `oscillate` or `keyframes` without "
+     "rotation. The fluid is simulated, drawn and exported in the tank's frame, where it feels g less the "
+     "tank's acceleration; `solid_work` counts the shaking's work",
+     "", {}},
     {"particle_spacing", K::Number, "required", {}, KeyRange{1e-6, 1e6}, "m",
      "lattice spacing of the fluid; halving it makes 8x the particles", "", &Scene::particle_spacing},
     {"fluid_blocks", K::Boxes, "[]", {}, {}, "m", "boxes `{min, max}` filled with particles (lattice from the box's corner)",

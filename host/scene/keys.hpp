@@ -24,6 +24,7 @@ enum class KeyKind {
   Boxes,    // a list of {min, max}
   Balls,    // a list of {centre, radius}
   Shapes,   // a list of {"type": "box" | "sphere", ...}
+  Motion,   // {"type": "oscillate" | "rotate" | "keyframes", ...}
 };
 
 struct KeyRange {

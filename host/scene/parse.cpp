@@ -325,6 +325,19 @@ Obstacle obstacle(const json& o, const std::string& path, const Scene& s, const 
   return ob;
 }
 
+// The tank and how it shakes: by translation only, simulated in its own frame.
+void read_domain(const json& j, Scene& s) {
+  json walls = j;
+  if (walls.is_object()) walls.erase("motion");
+  s.domain = box(walls, "domain");
+  if (!j.contains("motion")) return;
+  s.tank_motion = motion(j["motion"], "domain.motion", 0.5 * (s.domain.min + s.domain.max));
+  const bool turns = s.tank_motion.type == Motion::Type::Rotate ||
+                     std::any_of(s.tank_motion.keys.begin(), s.tank_motion.keys.end(),
+                                 [](const Motion::Key& k) { return k.rotation != glm::dquat(1, 0, 0, 0); });
+  require(!turns, "domain.motion must move the tank without turning it (oscillate, or keyframes without rotation)");
+}
+
 // A moving solid may move at most kSolidStep spacings a step (scene/scene.hpp says why).
 void check_solid_speed(const Scene& s) {
   const double most = kSolidStep * s.particle_spacing * s.fps * s.solver.substeps;
@@ -376,7 +389,7 @@ Scene parse_checked(const std::string& json_text, const std::string& origin, con
   require(!j.contains("description") || j["description"].is_string(), "scene key 'description' must be a string");
   s.description = j.value("description", "");
   require(j.contains("domain"), "scene needs a 'domain'");
-  s.domain = box(j["domain"], "domain");
+  read_domain(j["domain"], s);
   require(j.contains("particle_spacing"), "scene needs a 'particle_spacing'");
   read_scalars(j, s);
   check_iterations(j, s.solver);

@@ -19,7 +19,7 @@ double fall_speed(const Scene& scene) {
 }
 
 double solid_speed(const Scene& scene) {
-  double top = 0;
+  double top = scene.tank_motion.moves() ? scene.tank_motion.top_speed(0) : 0.0;
   for (const Obstacle& o : scene.obstacles)
     if (o.motion.moves()) top = std::max(top, o.motion.top_speed(glm::length(o.middle() - o.motion.centre) + o.extent()));
   return top;

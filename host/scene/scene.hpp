@@ -46,6 +46,7 @@ struct Scene {
   std::vector<Box> fluid_blocks;
   std::vector<Ball> fluid_spheres;
   std::vector<Obstacle> obstacles;
+  Motion tank_motion;  // domain.motion: the tank shaken (translation only)
   glm::dvec3 gravity;
   // The fluid starts at rest in the solver's own equilibrium (host/sim/settle.hpp): for a tank,
   // not for a drop in the air (every particle settles along gravity).
@@ -67,7 +68,8 @@ double particle_estimate(const Scene& scene);
 // scale of the scene's flows (time-step check, divergence watch, speed colours).
 double fall_speed(const Scene& scene);
 
-// The fastest any moving solid's surface moves, m/s (Motion::top_speed): 0 where none moves.
+// The fastest any moving solid's surface, or the shaken tank, moves, m/s (Motion::top_speed): 0
+// where nothing moves.
 double solid_speed(const Scene& scene);
 // The most a solid's surface may move in one step, in particle spacings: the projection then
 // moves a particle it meets by less than the gap to its neighbours, and the mirrors' images by

@@ -64,7 +64,7 @@ SimConstants Derived::to_gpu(uint32_t count) const {
 }
 
 bool Derived::moving() const {
-  return std::any_of(obstacles.begin(), obstacles.end(), [](const Obstacle& o) { return o.motion.moves(); });
+  return tank_motion.moves() || std::any_of(obstacles.begin(), obstacles.end(), [](const Obstacle& o) { return o.motion.moves(); });
 }
 
 std::vector<Pose> Derived::obstacle_poses() const {
@@ -74,6 +74,10 @@ std::vector<Pose> Derived::obstacle_poses() const {
 }
 
 void Derived::move_solids(double t) {
+  if (tank_motion.moves()) {
+    auto at = [&](double s) { return tank_motion.at(std::max(s, 0.0)).translation; };
+    tank_kick = -(at(t) - 2.0 * at(t - dt) + at(t - 2.0 * dt)) / dt;
+  }
   std::vector<Reach> near;
   for (Obstacle& o : obstacles) {
     if (!o.motion.moves()) continue;

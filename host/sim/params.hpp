@@ -129,7 +129,12 @@ struct Derived {
   std::vector<ParamKey> shader_keys;  // the keys of `solver` and `white_water`, offered to every pass
   double keep_out = 0;  // m: how far particle centres stay from every solid's surface, half a spacing
   std::vector<Obstacle> obstacles;  // grown by keep_out: where particle centres may not be
-  bool moving() const;  // whether any obstacle moves
+  // The tank's shaking (translation only): the solvers work in the tank's frame, where the fluid
+  // feels g less the tank's acceleration, given each step as the velocity it changes by:
+  // -(X(t+dt) - 2 X(t) + X(t-dt)) / dt for the step ending at t+dt, X the tank's displacement.
+  Motion tank_motion;
+  glm::dvec3 tank_kick{0.0};
+  bool moving() const;  // whether any obstacle moves, or the tank
   std::vector<Pose> obstacle_poses() const;  // where each stands now
   // The obstacles moved to their poses at time t, the end of a step, and the coarse nodes'
   // open shares measured again where a moving one reaches (at its start pose or its end).

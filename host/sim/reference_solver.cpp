@@ -117,7 +117,7 @@ dvec3 ReferenceSolver::correction_force(size_t i, double* work) const {
 void ReferenceSolver::correction() {
   std::vector<dvec3> f(state.x.size());
   for (size_t i = 0; i < f.size(); ++i) f[i] = correction_force(i, &solid_work_);
-  for (size_t i = 0; i < f.size(); ++i) state.v[i] += f[i] * d_.dt;
+  for (size_t i = 0; i < f.size(); ++i) state.v[i] += f[i] * d_.dt;  // predict() adds g and the kick
 }
 
 // A particle this close to an obstacle (a fraction of h) touches it (solids.glsl too).
@@ -125,7 +125,8 @@ constexpr double kContact = 1e-3;
 
 void ReferenceSolver::predict() {
   for (size_t i = 0; i < state.x.size(); ++i) {
-    state.v[i] += d_.gravity * d_.dt;
+    state.v[i] += d_.gravity * d_.dt + d_.tank_kick;
+    solid_work_ += glm::dot(d_.tank_kick, state.v[i]);  // the shaking's work, in the tank's frame
     state.x_pred[i] = move_outside_solids(state.x[i], state.x[i] + state.v[i] * d_.dt, solid_work_);
   }
 }
