@@ -32,24 +32,28 @@ int obstacle_header(int k) { return 2 + 9 * k; }
 // The velocity every particle gains this step from the tank's shaking, seen in its frame.
 vec3 tank_kick() { return obstacle_data[1].xyz; }
 const int POSE_NOW = 3, POSE_BEFORE = 6;  // the poses' first row in an obstacle's header
-// x in obstacle k's body frame, from the pose at `pose` (Pose::body).
+// x in obstacle k's body frame, from the pose at `pose` (Pose::body). Where nothing moves every
+// pose is the identity (a scene places each solid in its own frame): that costs nothing.
 vec3 to_body(int k, int pose, vec3 x) {
+  if (!MOVING) return x;
   int r = obstacle_header(k) + pose;
   vec4 x1 = vec4(x, 1.0);
   return vec3(dot(obstacle_data[r], x1), dot(obstacle_data[r + 1], x1), dot(obstacle_data[r + 2], x1));
 }
 // A body-frame direction in the world (the rows' transpose).
 vec3 to_world_direction(int k, int pose, vec3 d) {
+  if (!MOVING) return d;
   int r = obstacle_header(k) + pose;
   return d.x * obstacle_data[r].xyz + d.y * obstacle_data[r + 1].xyz + d.z * obstacle_data[r + 2].xyz;
 }
 // A body-frame point in the world (Pose::world): R (b - shift).
 vec3 to_world(int k, int pose, vec3 b) {
+  if (!MOVING) return b;
   int r = obstacle_header(k) + pose;
   return to_world_direction(k, pose, b - vec3(obstacle_data[r].w, obstacle_data[r + 1].w, obstacle_data[r + 2].w));
 }
 // How far the solid's point now at x moved over the step (Obstacle::displacement).
-vec3 obstacle_displacement(int k, vec3 x) { return x - to_world(k, POSE_BEFORE, to_body(k, POSE_NOW, x)); }
+vec3 obstacle_displacement(int k, vec3 x) { return MOVING ? x - to_world(k, POSE_BEFORE, to_body(k, POSE_NOW, x)) : vec3(0.0); }
 // The work per unit mass of a push dx by a solid whose surface moved by `moved` over the step:
 // its force m dx / dt^2 times its velocity moved / dt, for dt (push_work in sim/mirrors.hpp).
 float push_work(vec3 dx, vec3 moved) { return MOVING ? dot(dx, moved) / (sim.dt * sim.dt) : 0.0; }

@@ -557,8 +557,7 @@ void GpuSolver::relax() {
 // The moving solids' poses (the obstacles' header) and, with the coarse correction, the nodes'
 // open shares, recorded into the frame's commands: the host knows every step's time.
 void GpuSolver::move_solids() {
-  if (solids_held_) return;
-  d_.move_solids(double(++steps_moved_) * d_.dt);
+  solids_held_ ? d_.hold_solids() : d_.move_solids(double(++steps_moved_) * d_.dt);
   const std::vector<glm::vec4> header = pack_obstacle_header(d_.obstacles, d_.keep_out, d_.tank_kick);
   cmd_.update(obstacles_, header.data(), uint32_t(header.size() * sizeof(glm::vec4)));
   if (d_.coarse.strength > 0)

@@ -73,8 +73,9 @@ const SceneKey kKeys[] = {
      "the adaptive mode's limit per step, at least `iterations`", "", &P::max_iterations},
     // dt = 1/120 s at 60 fps: a falling column of 0.8 m reaches ~4 m/s, under two spacings a step.
     {"solver.substeps", K::Whole, "chosen", double(P::kChosenSubsteps), KeyRange{1, 1000}, "",
-     "steps per frame, dt = 1/(fps·substeps); left out: the fewest that keep dt ≤ 1/120 s and a fall through the domain "
-     "within h a step (2 for the built-in scenes; the run's first line says which)",
+     "steps per frame, dt = 1/(fps·substeps); left out: the fewest that keep dt ≤ 1/120 s, a fall through the domain "
+     "within h a step and a moving solid's surface within half a spacing (2 for the built-in scenes; the run's first "
+     "line says which); set, too few for a moving solid is an error",
      "", &P::substeps},
     // h = 2 spacings: ~33 neighbours inside h on a lattice, the usual SPH choice.
     // The range's edges measured (docs/physics.md, "Accepted ranges").

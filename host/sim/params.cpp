@@ -99,6 +99,11 @@ double Derived::nearest_moving_solid(const glm::dvec3& x, glm::dvec3& normal, gl
   return nearest;
 }
 
+void Derived::hold_solids() {
+  tank_kick = glm::dvec3(0.0);
+  for (Obstacle& o : obstacles) o.previous = o.pose;
+}
+
 void Derived::measure_open(const std::vector<Reach>& near) {
   if (coarse.open.empty()) return;  // no coarse correction
   std::vector<Obstacle> solids;  // the obstacles' own surfaces, where the mirrors lie

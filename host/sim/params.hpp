@@ -139,6 +139,7 @@ struct Derived {
   // The obstacles moved to their poses at time t, the end of a step, and the coarse nodes'
   // open shares measured again where a moving one reaches (at its start pose or its end).
   void move_solids(double t);
+  void hold_solids();  // every solid where it is and still, the tank unshaken, for a step
   // The distance from x to the nearest moving obstacle's own surface (infinity where none
   // moves), its outward normal and the velocity of the solid's point at x over the step.
   double nearest_moving_solid(const glm::dvec3& x, glm::dvec3& normal, glm::dvec3& velocity) const;
