@@ -75,6 +75,7 @@ Renderer::Renderer(const View& view)
   frame_ubo_ = gl::make_buffer(sizeof(FrameUniforms));
   sphere_ = gl::make_program("sphere.vert", "sphere.frag");
   box_ = gl::make_program("box.vert", "box.frag");
+  mesh_ = gl::make_program("mesh.vert", "box.frag");
   scene_colour_ = gl::make_texture(GL_RGBA8, w, h);
   scene_depth_ = gl::make_texture(GL_DEPTH_COMPONENT32F, w, h);
   scene_fb_ = gl::make_framebuffer({scene_colour_}, scene_depth_);
@@ -108,8 +109,14 @@ Renderer::Renderer(const View& view)
     // The dispatches (4 words each), then both lists interleaved: a tile's place in each.
     tile_lists_ = gl::make_buffer(GLsizeiptr(sizeof(GLuint)) * (8 + 2 * tiles_.x * tiles_.y));
   }
-  for (const Obstacle& o : view.obstacles)
+  for (const Obstacle& o : view.obstacles) {
     if (o.kind == Obstacle::Kind::Sphere) obstacle_spheres_.push_back(gl::make_buffer(GLsizeiptr(frame_bytes(1))));
+    if (o.kind != Obstacle::Kind::Mesh || !o.corners) continue;
+    std::vector<glm::vec4> corners;  // std430 pads a vec3 array to vec4s
+    for (const glm::vec3& c : *o.corners) corners.emplace_back(c, 1.0f);
+    obstacle_meshes_.push_back(gl::make_buffer(GLsizeiptr(corners.size() * sizeof(glm::vec4))));
+    glNamedBufferSubData(obstacle_meshes_.back(), 0, GLsizeiptr(corners.size() * sizeof(glm::vec4)), corners.data());
+  }
   upload_spheres();
 }
 
@@ -239,14 +246,19 @@ void Renderer::draw_tank_and_obstacles() {
   upload(uniforms(0, kPassShaded, image_size_));
   glDrawArrays(GL_TRIANGLES, 0, 36);
 
-  size_t sphere = 0;
+  size_t sphere = 0, mesh = 0;
   for (const Obstacle& o : view_.obstacles) {
     FrameUniforms u = uniforms(1, kPassSolid, image_size_);
-    if (o.kind == Obstacle::Kind::Box) {
+    u.model = glm::mat4(glm::mat3(o.pose.rotation));
+    u.model[3] = glm::vec4(glm::vec3(o.pose.translation), 1.0f);
+    if (o.kind == Obstacle::Kind::Mesh && o.corners) {
+      upload(u);
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, obstacle_meshes_[mesh++]);
+      glUseProgram(mesh_);
+      glDrawArrays(GL_TRIANGLES, 0, GLsizei(o.corners->size()));
+    } else if (o.kind == Obstacle::Kind::Box) {
       u.domain_min = glm::vec4(glm::vec3(o.min), 0.0f);
       u.domain_max = glm::vec4(glm::vec3(o.max), 0.0f);
-      u.model = glm::mat4(glm::mat3(o.pose.rotation));
-      u.model[3] = glm::vec4(glm::vec3(o.pose.translation), 1.0f);
       upload(u);
       glUseProgram(box_);
       glDrawArrays(GL_TRIANGLES, 0, 36);

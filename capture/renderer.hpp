@@ -90,13 +90,14 @@ class Renderer {
   View view_;
   glm::ivec2 image_size_, surface_size_;  // the fluid surface's passes run at surface_size_
   gl::Object vao_, frame_ubo_;
-  gl::Object sphere_, box_, splat_, tile_mask_, fill_pits_, smooth_, smooth_thickness_, normals_, smooth_normals_, fluid_, white_water_;
+  gl::Object sphere_, box_, mesh_, splat_, tile_mask_, fill_pits_, smooth_, smooth_thickness_, normals_, smooth_normals_, fluid_, white_water_;
   gl::Object scene_colour_, scene_depth_, scene_fb_;
   gl::Object output_colour_, output_depth_, output_fb_;  // a frame: the tank's image copied, then the particles
   Image image_;  // what render() returns
   gl::Object began_, drawn_;  // timestamps around the drawing
   double last_gpu_seconds_ = 0;
   std::vector<gl::Object> obstacle_spheres_;  // one particle each (frame layout), drawn at its radius
+  std::vector<gl::Object> obstacle_meshes_;   // each mesh's triangles' corners, vec4s (mesh.vert)
   // The fluid surface, at surface_size_: the splat's nearest depth (float bits, atomic min;
   // read as R32F through the view) and chord sum; the smoothed depth (x into [1], y into
   // [0]), the thickness blurred (x into thickness_blur_, y into thickness_), the normals

@@ -121,6 +121,30 @@ TEST_F(RenderTest, SpheresCoverTheirProjectedDiscsAndNothingElse) {
   EXPECT_EQ(c.outside_drawn, 0) << "pixels outside every projected sphere were drawn";
 }
 
+// A mesh obstacle (the ball of scenes/meshes, 0.2 m across) is drawn as its triangles where its
+// pose puts it: its projected disc covered, nothing outside it drawn.
+TEST_F(RenderTest, AMeshObstacleCoversItsProjectedDiscWhereItsPosePutsIt) {
+  const Scene scene = load_scene(
+      "hydrostatic", {"particle_spacing=0.05", std::string(R"(obstacles=[{"type": "mesh", "file": ")") +
+                                                   PBFLOW_TEST_DATA + R"(/../scenes/meshes/ball.obj", "scale": 2, "position": [0.3, 0.3, 0.3]}])"});
+  capture::View v = view(Style::Particles, 0.1);
+  v.obstacles = scene.obstacles;
+  Pose moved;  // the ball's centre from (0.3, 0.3, 0.3) to (0.8, 0.5, 0)
+  moved.translation = glm::dvec3(0.5, 0.2, -0.3);
+  const Image empty = render(view(Style::Particles, 0.1), {});  // the tank alone
+  gl::Object buffer = gl::make_buffer(GLsizeiptr(frame_bytes(1)));
+  capture::upload_frame(buffer, {{glm::vec4(0)}, {glm::vec4(0)}, {0.0f}, {0}});
+  capture::Renderer renderer(v);
+  renderer.set_obstacle_poses({moved});
+  const Image drawn = renderer.render(buffer, 0);
+  Coverage c = coverage(empty, drawn, projected_discs(v, {{0.8f, 0.5f, 0.0f}}, 0.2), 3);
+  std::printf("[ render   ] %d pixels inside the mesh's disc (%d missed), %d outside (%d drawn)\n", c.inside,
+              c.inside_missed, c.outside, c.outside_drawn);
+  EXPECT_GT(c.inside, 500);  // a disc 17 pixels across, less its rim
+  EXPECT_EQ(c.inside_missed, 0) << "pixels inside the projected ball left as the tank";
+  EXPECT_EQ(c.outside_drawn, 0) << "pixels outside the projected ball were drawn";
+}
+
 // The fluid style smooths and shades only the tiles of the surface that the fluid may
 // touch (tile_mask.comp, surface_tiles.glsl): lone drops in the corners and at the edges
 // of an image whose size is no multiple of a tile are shaded whole, at either surface

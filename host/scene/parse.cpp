@@ -231,6 +231,10 @@ Obstacle mesh_obstacle(const json& o, const std::string& path, const Scene& s, c
   ob.min = mesh.lo, ob.max = mesh.hi;
   const double reach = (s.solver.kernel_ratio + 1) * s.particle_spacing;  // h and the keep-out margin, with room
   ob.field = mesh_field(mesh, 0.5 * s.particle_spacing, reach, what);
+  auto corners = std::make_shared<std::vector<glm::vec3>>();
+  for (const glm::ivec3& t : mesh.triangles)
+    for (int c = 0; c < 3; ++c) corners->push_back(glm::vec3(mesh.vertices[size_t(t[c])]));
+  ob.corners = std::move(corners);
   return ob;
 }
 

@@ -22,6 +22,7 @@ struct Obstacle {
   double radius = 0;
   std::shared_ptr<const DistanceField> field;  // mesh: the surface is its zero ...
   double margin = 0;                           // ... moved out by this much (grown)
+  std::shared_ptr<const std::vector<glm::vec3>> corners;  // mesh: its triangles, three corners each, for drawing
   Motion motion;
   Pose pose, previous;  // where it is at the end of the current step, and was at its start
 
