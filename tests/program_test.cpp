@@ -50,10 +50,11 @@ TEST(ShaderLayout, ANeighbourPassReadsItsSlotsTypesAndConstantsFromTheSpirv) {
     EXPECT_EQ(b->format, e.format) << e.name;
     EXPECT_EQ(b->type, e.format ? VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER) << e.name;
   }
-  ASSERT_EQ(density.constants.size(), 3u);
+  ASSERT_EQ(density.constants.size(), 4u);
   EXPECT_EQ(density.constants[0].name, "NEIGHBOUR_CAPACITY");
   EXPECT_EQ(density.constants[1].name, "WALK_CELLS");
   EXPECT_EQ(density.constants[2].name, "OBSTACLES");
+  EXPECT_EQ(density.constants[3].name, "MOVING");  // the poses read through (solids.glsl)
   EXPECT_EQ(density.constants[1].id, density.constants[0].id + 1);
 }
 
