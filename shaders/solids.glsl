@@ -4,11 +4,11 @@
 // as host/sim/mirrors.cpp). The includer defines OBSTACLES_BINDING.
 // Layout (pack_obstacles): obstacle_data[0] = (count, margin, 0, 0), [1] = (the tank's kick this
 // step, 0) (Derived::tank_kick: the tank's frame's velocity change); then per obstacle nine
-// vec4: its shape in its body frame, box (min, 0) (max, 0) (0), sphere (centre, 1) (radius, 0,
-// 0, 0) (0), mesh (field origin, 2) (dims, voxel) (first value, 0, 0, 0); then its pose at the
-// step's end and at its start, each three rows of the world-to-body transform; then the meshes'
-// distance fields, four values a vec4. Boxes and spheres are stored grown by the margin, a
-// mesh's field is its own surface.
+// vec4: its shape in its body frame, box (min, 0) (max, 0) (0, moves), sphere (centre, 1) (radius,
+// 0, 0, 0) (0, moves), mesh (field origin, 2) (dims, voxel) (first value, moves, 0, 0), moves 1
+// where it has a motion; then its pose at the step's end and at its start, each three rows of
+// the world-to-body transform; then the meshes' distance fields, four values a vec4. Boxes and
+// spheres are stored grown by the margin, a mesh's field is its own surface.
 #ifndef SOLIDS_GLSL
 #define SOLIDS_GLSL
 #include "contract.h"

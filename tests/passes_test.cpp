@@ -371,7 +371,9 @@ TEST_P(StepTest, SeveralStepsAgree) {
     EXPECT_NEAR(g.mean_compression, r.mean_compression, 1e-4 + 1e-2 * r.mean_compression);
     EXPECT_NEAR(g.kinetic_energy, r.kinetic_energy, 1e-3 * r.kinetic_energy);
     EXPECT_NEAR(g.solid_work, r.solid_work, 1e-6 + 1e-2 * std::abs(r.solid_work));  // J
-    if (d.moving()) EXPECT_GT(std::abs(r.solid_work), 1e-4) << "the moving solids did no work";
+    if (d.moving()) {
+      EXPECT_GT(std::abs(r.solid_work), 1e-4) << "the moving solids did no work";
+    }
   }
   ParticleState g = gpu.download();
   test::ErrorReport e = test::compare(g.x, ref.state.x, std::string(c.name) + " positions after 4 steps");

@@ -557,11 +557,14 @@ void GpuSolver::relax() {
 // The moving solids' poses (the obstacles' header) and, with the coarse correction, the nodes'
 // open shares, recorded into the frame's commands: the host knows every step's time.
 void GpuSolver::move_solids() {
-  solids_held_ ? d_.hold_solids() : d_.move_solids(double(++steps_moved_) * d_.dt);
+  bool open_changed = false;
+  if (solids_held_)
+    d_.hold_solids();
+  else
+    open_changed = d_.move_solids(double(++steps_moved_) * d_.dt);
   const std::vector<glm::vec4> header = pack_obstacle_header(d_.obstacles, d_.keep_out, d_.tank_kick);
   cmd_.update(obstacles_, header.data(), uint32_t(header.size() * sizeof(glm::vec4)));
-  if (d_.coarse.strength > 0)
-    cmd_.update(coarse_open_, d_.coarse.open.data(), uint32_t(d_.coarse.open.size() * sizeof(float)));
+  if (open_changed) cmd_.update(coarse_open_, d_.coarse.open.data(), uint32_t(d_.coarse.open.size() * sizeof(float)));
 }
 
 void GpuSolver::watch() {

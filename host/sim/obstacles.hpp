@@ -49,8 +49,9 @@ glm::dvec3 project_out(const Obstacle& o, const glm::dvec3& x, const glm::dvec3&
                        const glm::dvec3& wall_max);
 
 // Where the move from -> to first enters `o`, in its body frame (`from` at the step's start
-// pose, `to` at its end): the entry point, or `to` when the segment misses it. Keeps a fast particle from tunnelling through a thin obstacle within one
-// step; project_out then settles it on the surface. A start within `contact` of the
+// pose, `to` at its end): the entry point, or `to` when the segment misses it. Keeps a fast
+// particle from tunnelling through a thin obstacle within one step; project_out then settles it
+// on the surface. A start within `contact` of the
 // obstacle counts as touching it and is left to project_out, so that rounding (float on
 // the GPU, double here) cannot decide between the two.
 glm::dvec3 stop_at(const Obstacle& o, const glm::dvec3& from, const glm::dvec3& to, double contact);
@@ -62,11 +63,12 @@ double open_fraction(const std::vector<Obstacle>& solids, const glm::dvec3& cent
 
 // The GPU layout: vec4 0 holds the count and the keep-out margin the shapes are grown by, vec4 1
 // the tank's kick this step (Derived::tank_kick);
-// then kObstacleVec4s per obstacle: its shape, box (min, 0) (max, 0) (0); sphere (centre, 1)
-// (radius, 0, 0, 0) (0); mesh (field origin, 2) (dims, voxel) (first value, 0, 0, 0); then its
-// pose and previous pose, each as the rows of the body transform (world to body, rotation | shift);
-// then the meshes' field values, four a vec4, value 0 at vec4 1 + kObstacleVec4s count. The
-// header (all but the field values) is what a step's move changes.
+// then kObstacleVec4s per obstacle: its shape, box (min, 0) (max, 0) (0, moves); sphere (centre, 1)
+// (radius, 0, 0, 0) (0, moves); mesh (field origin, 2) (dims, voxel) (first value, moves, 0, 0),
+// `moves` 1 where it has a motion; then its pose and previous pose, each as the rows of the body
+// transform (world to body, rotation | shift); then the meshes' field values, four a vec4, value 0
+// at vec4 obstacle_header_vec4s(count). The header (all but the field values) is what a step's
+// move changes.
 constexpr size_t kObstacleVec4s = 9;
 std::vector<glm::vec4> pack_obstacles(const std::vector<Obstacle>& obstacles, double margin,
                                       const glm::dvec3& tank_kick = glm::dvec3(0.0));

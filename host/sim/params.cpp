@@ -73,7 +73,7 @@ std::vector<Pose> Derived::obstacle_poses() const {
   return poses;
 }
 
-void Derived::move_solids(double t) {
+bool Derived::move_solids(double t) {
   if (tank_motion.moves()) {
     auto at = [&](double s) { return tank_motion.at(std::max(s, 0.0)).translation; };
     tank_kick = -(at(t) - 2.0 * at(t - dt) + at(t - 2.0 * dt)) / dt;
@@ -84,7 +84,9 @@ void Derived::move_solids(double t) {
     o.move_to(o.motion.at(t));
     for (const Pose* p : {&o.previous, &o.pose}) near.push_back({p->world(o.middle()), o.extent()});
   }
-  if (!near.empty()) measure_open(near);
+  if (near.empty() || coarse.open.empty()) return false;
+  measure_open(near);
+  return true;
 }
 
 double Derived::nearest_moving_solid(const glm::dvec3& x, glm::dvec3& normal, glm::dvec3& velocity) const {

@@ -137,8 +137,9 @@ struct Derived {
   bool moving() const;  // whether any obstacle moves, or the tank
   std::vector<Pose> obstacle_poses() const;  // where each stands now
   // The obstacles moved to their poses at time t, the end of a step, and the coarse nodes'
-  // open shares measured again where a moving one reaches (at its start pose or its end).
-  void move_solids(double t);
+  // open shares measured again where a moving one reaches (at its start pose or its end);
+  // whether any were (the tank's shaking alone leaves them).
+  bool move_solids(double t);
   void hold_solids();  // every solid where it is and still, the tank unshaken, for a step
   // The distance from x to the nearest moving obstacle's own surface (infinity where none
   // moves), its outward normal and the velocity of the solid's point at x over the step.

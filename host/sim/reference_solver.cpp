@@ -353,7 +353,10 @@ void ReferenceSolver::relax() {
 void ReferenceSolver::run(const PlannedPass& p) {
   switch (p.pass) {
     case Pass::Move:
-      solids_held_ ? d_.hold_solids() : d_.move_solids(double(++steps_moved_) * d_.dt);
+      if (solids_held_)
+        d_.hold_solids();
+      else
+        d_.move_solids(double(++steps_moved_) * d_.dt);
       break;
     case Pass::Density: density_at_positions(); break;
     case Pass::CorrectionPredict: correction(), predict(); break;
