@@ -141,6 +141,13 @@ void Renderer::set_camera(const Camera& camera) {
   tank_drawn_ = false;  // the tank's image is the camera's
 }
 
+CameraAxes camera_axes(const Camera& c) {
+  const glm::dvec3 forward = glm::normalize(c.target - c.eye);
+  const glm::dvec3 hint = std::abs(forward.y) > 0.999 ? glm::dvec3(0, 0, -1) : glm::dvec3(0, 1, 0);
+  const glm::dvec3 right = glm::normalize(glm::cross(forward, hint));
+  return {right, glm::cross(right, forward), forward};
+}
+
 Renderer::FrameUniforms Renderer::uniforms(uint32_t count, int pass, glm::ivec2 viewport, uint32_t white) const {
   const Camera& c = view_.camera;
   glm::vec3 eye(c.eye), target(c.target);
@@ -150,10 +157,7 @@ Renderer::FrameUniforms Renderer::uniforms(uint32_t count, int pass, glm::ivec2 
   for (int k = 0; k < 8; ++k) far = std::max(far, glm::length(glm::vec3(view_.domain.corner(k)) - eye));
   far = 1.5f * far + 1.0f;
   FrameUniforms u{};
-  // Up is +y, unless the camera looks (nearly) along it: then the image's up is -z, as on a map.
-  glm::vec3 forward = glm::normalize(target - eye);
-  glm::vec3 up = std::abs(forward.y) > 0.999f ? glm::vec3(0, 0, -1) : glm::vec3(0, 1, 0);
-  u.view = glm::lookAt(eye, target, up);
+  u.view = glm::lookAt(eye, target, glm::vec3(camera_axes(c).up));
   u.model = glm::mat4(1.0f);
   u.proj = glm::perspective(glm::radians(float(c.fov_degrees)), float(view_.width) / float(view_.height),
                             std::max(far * 1e-4f, 1e-3f), far);

@@ -46,6 +46,13 @@ struct View {
   int surface_divisor = 2;
 };
 
+// The picture's axes in the world, seen from `c`: forward from the eye to the target, up +y
+// unless the camera looks (nearly) along it (then the image's up is -z, as on a map), right.
+struct CameraAxes {
+  glm::dvec3 right, up, forward;
+};
+CameraAxes camera_axes(const Camera& c);
+
 // RGB, 8 bits per channel, rows from the top.
 struct Image {
   int width = 0, height = 0;

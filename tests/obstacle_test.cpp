@@ -54,6 +54,32 @@ TEST(Motion, PosesFollowTheirKeys) {
   EXPECT_NEAR(swing.top_speed(0), 0.1 * std::numbers::pi, 1e-12);
 }
 
+// A shaking changed while it runs (pbflow serve) starts where the tank is, and its kicks take
+// away exactly the velocity the tank had: from rest to rest they sum to nothing.
+TEST(Motion, AChangedShakeStartsWhereTheTankIsAndStopsItExactly) {
+  const double dt = 1.0 / 120;
+  Motion swing;
+  swing.type = Motion::Type::Oscillate, swing.axis = {1, 0, 0}, swing.amplitude = 0.02, swing.period = 0.7;
+  TankMotion tank(swing);
+  glm::dvec3 sum(0.0);
+  long step = 0;
+  for (; step < 50; ++step) sum += tank.step_to(double(step + 1) * dt, dt);
+  const glm::dvec3 moving = -sum;  // the tank's velocity now, as the fluid has felt it
+  EXPECT_GT(std::abs(moving.x), 0.01);
+  Motion faster = swing;
+  faster.amplitude = 0.03, faster.axis = {0, 0, 1};
+  tank.change(faster, double(step) * dt);
+  const glm::dvec3 first = tank.step_to(double(++step) * dt, dt);
+  // The first kick takes the old velocity away and gives the new one's first step.
+  const glm::dvec3 started = faster.at(dt).translation / dt;
+  EXPECT_NEAR(glm::length(first - (moving - started)), 0.0, 1e-12);
+  sum += first;
+  for (; step < 130; ++step) sum += tank.step_to(double(step + 1) * dt, dt);
+  tank.change(Motion{}, double(step) * dt);
+  for (; step < 140; ++step) sum += tank.step_to(double(step + 1) * dt, dt);
+  EXPECT_NEAR(glm::length(sum), 0.0, 1e-12) << "the stopped tank's water kept a velocity";
+}
+
 // A turned box is a box in its own frame: a particle inside is projected onto its nearest
 // face, and the solid's displacement over a step is the turn's at that point.
 TEST(Motion, ATurnedBoxProjectsOntoItsFacesAndMovesAsItTurns) {
@@ -254,6 +280,46 @@ TEST_P(ObstacleMotionTest, MovingSolidsKeepTheFluidOutAndBringOnlyTheirWork) {
 
 INSTANTIATE_TEST_SUITE_P(RealStepSlow, ObstacleMotionTest, ::testing::Values(RestSetting{"pbf", 2}, RestSetting{"ldc", 1}),
                          [](const auto& info) { return std::string(info.param.method) + std::to_string(info.param.iterations); });
+
+class SteeredSolidsSlowTest : public test::GpuTest {};
+
+// A viewer's hand (pbflow serve): a box dragged 0.2 m through a settled tank and back, the tank
+// shaken and stopped, 2 s: the box follows the hand no faster than a step keeps sound, no
+// particle is ever inside it, and the fluid gains no energy beyond the work done on it.
+TEST_F(SteeredSolidsSlowTest, ADraggedBoxAndAShakenTankKeepTheFluidOutAndBringOnlyTheirWork) {
+  const Scene scene = load_scene(
+      "hydrostatic", {R"(domain={"min": [0, 0, 0], "max": [0.5, 0.4, 0.2]})",
+                      R"(fluid_blocks=[{"min": [0, 0, 0], "max": [0.5, 0.24, 0.2]}])",
+                      R"(obstacles=[{"type": "box", "min": [0.1, 0.06, 0.04], "max": [0.16, 0.3, 0.16]}])"});
+  Derived d = derive(scene);
+  d.make_steerable();
+  GpuSolver solver(test::gpu(), d, lattice_particles(scene));
+  ASSERT_TRUE(settle(solver, d).converged);
+  Motion shake;
+  shake.type = Motion::Type::Oscillate, shake.axis = {1, 0, 0}, shake.amplitude = 0.01, shake.period = 0.6;
+  const double most = kSolidStep * d.spacing * scene.solver.substeps;  // m a frame
+  int inside = 0;
+  double fastest = 0, reached = 0;
+  glm::dvec3 last = solver.obstacle_poses()[0].translation;
+  const Driven run = drive(solver, scene, d, 2.0, [&](int f, const FrameStats&) {
+    if (f == 1) solver.drag(0, {0.2, 0, 0});
+    if (f == 40) reached = solver.obstacle_poses()[0].translation.x, solver.drag(0, {0, 0, 0}), solver.shake(shake);
+    if (f == 90) solver.shake(Motion{});
+    const Pose now = solver.obstacle_poses()[0];
+    fastest = std::max(fastest, glm::length(now.translation - last));
+    last = now.translation;
+    d.obstacles[0].pose = now;
+    for (const glm::dvec3& x : solver.download().x) inside += d.obstacles[0].grown(-d.keep_out).contains(x);
+  });
+  std::printf("  the hand and the shaking did %.3f J; energy gain beyond it %+.5f; fastest %.4f m a frame (most "
+              "%.4f); %d inside the box\n", run.work, run.energy.largest(), fastest, most, inside);
+  EXPECT_NEAR(reached, 0.2, 1e-9) << "the box did not follow the hand";
+  EXPECT_NEAR(last.x, 0.0, 1e-9) << "the box did not come back";
+  EXPECT_LE(fastest, most * (1 + 1e-9));
+  EXPECT_GT(run.work, 0.01);
+  EXPECT_LE(run.energy.largest(), 0.01);
+  EXPECT_EQ(inside, 0);
+}
 
 class ShakenTankTest : public test::GpuTest, public ::testing::WithParamInterface<RestSetting> {};
 

@@ -345,13 +345,16 @@ INSTANTIATE_TEST_SUITE_P(Lists, PassTest,
                                            ListCase{"mesh", -1, kMeshInTheColumn.c_str()}),
                          [](const auto& info) { return std::string(info.param.name); });
 
+constexpr const char* kDamBreakDomain = R"({"min": [0, 0, 0], "max": [1.6, 1.0, 0.4]})";
+
 // Whole steps of both methods from the lattice: positions drift apart only by float
 // rounding, a few micrometres over 4 steps (spacing 40 mm).
 struct StepCase {
   const char* name;
   const char* method;
   const char* obstacles;  // JSON for the scene's obstacles
-  const char* domain = R"({"min": [0, 0, 0], "max": [1.6, 1.0, 0.4]})";  // the dam break's, or shaken
+  const char* domain = kDamBreakDomain;  // or shaken
+  bool steered = false;  // a viewer's hand (Derived::steerable): the box dragged, the tank shaken
 };
 void PrintTo(const StepCase& c, std::ostream* os) { *os << c.name; }
 
@@ -363,9 +366,14 @@ TEST_P(StepTest, SeveralStepsAgree) {
                                          "solver.iterations=2", "solver.vorticity=0.1",
                                          std::string("obstacles=") + c.obstacles, std::string("domain=") + c.domain});
   Derived d = derive(scene);
+  if (c.steered) d.make_steerable();
   auto x0 = initial_particles(scene);
   GpuSolver gpu(test::gpu(), d, x0);
   ReferenceSolver ref(d, x0);
+  Motion shake;
+  shake.type = Motion::Type::Oscillate, shake.axis = {0, 0, 1}, shake.amplitude = 0.01, shake.period = 0.1;
+  for (Solver* solver : std::initializer_list<Solver*>{&gpu, &ref})
+    if (c.steered) solver->drag(0, {-0.1, 0.05, 0}), solver->shake(shake);
   for (int frame = 0; frame < 2; ++frame) {
     FrameStats g = gpu.advance(2), r = ref.advance(2);
     EXPECT_NEAR(g.mean_compression, r.mean_compression, 1e-4 + 1e-2 * r.mean_compression);
@@ -414,7 +422,8 @@ INSTANTIATE_TEST_SUITE_P(Methods, StepTest,
                                            StepCase{"pbf_mesh", "pbf", kMeshInTheColumn.c_str()},
                                            StepCase{"pbf_moving", "pbf", kMovingInTheColumn},
                                            StepCase{"ldc_moving", "ldc", kMovingInTheColumn},
-                                           StepCase{"pbf_shaken", "pbf", "[]", kShakenTank}),
+                                           StepCase{"pbf_shaken", "pbf", "[]", kShakenTank},
+                                           StepCase{"ldc_steered", "ldc", kObstaclesInTheColumn, kDamBreakDomain, true}),
                          [](const auto& info) { return std::string(info.param.name); });
 
 class ProfileTest : public test::GpuTest {};

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <future>
 #include <iostream>
+#include <numbers>
+#include <sstream>
 
 #include "capture/frame_capture.hpp"
 #include "capture/stream/h264.hpp"
@@ -71,6 +73,49 @@ Camera moved(Camera c, const LiveCommand& m) {
   return c;
 }
 
+// The shift from where the scene places obstacle k that puts its middle nearest `position`
+// with its bounds inside the domain: a box may touch a wall (the projection keeps it sound
+// there, sim/obstacles.hpp), a sphere or a mesh keeps two spacings off it unless the scene
+// put it nearer.
+glm::dvec3 hand_shift(const Scene& scene, size_t k, const glm::dvec3& position) {
+  const Obstacle& o = scene.obstacles[k];
+  const bool sphere = o.kind == Obstacle::Kind::Sphere;
+  const glm::dvec3 lo = sphere ? o.centre - o.radius : o.min, hi = sphere ? o.centre + o.radius : o.max;
+  const double gap = o.kind == Obstacle::Kind::Box ? 0.0 : 2.0 * scene.particle_spacing;
+  const glm::dvec3 least = glm::min(scene.domain.min + gap - lo, glm::dvec3(0.0)),
+                   most = glm::max(scene.domain.max - gap - hi, glm::dvec3(0.0));
+  return glm::clamp(position - o.middle(), least, most);
+}
+
+// The period of the tank's first sloshing mode along `axis` (linear waves: w^2 = g k tanh(k d),
+// k = pi / L), d the fluid's mean depth: where a shake with no period is felt most.
+double sloshing_period(const Scene& scene, const glm::dvec3& axis) {
+  const glm::dvec3 size = scene.domain.max - scene.domain.min;
+  const double length = glm::dot(glm::abs(axis), size), g = glm::length(scene.gravity);
+  const double depth = std::min(fluid_volume(scene) / (size.x * size.z), size.y), k = std::numbers::pi / length;
+  return g > 0 ? 2 * std::numbers::pi / std::sqrt(g * k * std::tanh(k * depth)) : 1.0;
+}
+
+// The obstacles as the first panel's camera sees them, placed by `poses` (LiveSolid).
+std::vector<LiveSolid> seen_solids(const Scene& scene, const std::vector<Pose>& poses, const Camera& camera,
+                                   double aspect) {
+  const capture::CameraAxes axes = capture::camera_axes(camera);
+  std::vector<LiveSolid> seen;
+  for (size_t k = 0; k < scene.obstacles.size() && k < poses.size(); ++k) {
+    LiveSolid s;
+    s.centre = poses[k].world(scene.obstacles[k].middle());
+    const glm::dvec3 p = s.centre - camera.eye;
+    const double depth = glm::dot(p, axes.forward);
+    if (depth > 0) {
+      s.span = 2 * depth * std::tan(glm::radians(camera.fov_degrees) / 2);
+      s.screen = {0.5 + glm::dot(p, axes.right) / (s.span * aspect), 0.5 - glm::dot(p, axes.up) / s.span};
+      s.radius = scene.obstacles[k].extent() / s.span;
+    }
+    seen.push_back(s);
+  }
+  return seen;
+}
+
 }  // namespace
 
 // One solver of the run and its setting: a run has one, --compare one a setting.
@@ -88,6 +133,8 @@ struct LiveRun::Stage {
   int scene_substeps = 1;  // the scene's own, before any setting: the frame budget's base
   std::vector<Lane> lanes;
   ParticleState start;  // relaxed and, for a tank, settled: every lane starts and restarts here
+  SolidsState start_solids;  // the solids where the scene places them, still, at time 0
+  Motion shake;              // the tank's live shaking, as the viewers last asked
   std::unique_ptr<capture::FrameCapture> capture;
   std::function<void(const std::string&)> before_load;  // LiveOptions::before_load
 
@@ -114,8 +161,15 @@ struct LiveRun::Stage {
     relax_start(first);
     if (scene.settle) settle(first, derive(scene));
     start = first.download();
+    start_solids = first.solids();
+    shake = {};
     for (Lane& lane : lanes) lane.solver->upload(start);
     draw_anew(ctx, scene.camera);
+  }
+  // Every lane back at the start, the solids too.
+  void restart() {
+    for (Lane& lane : lanes) lane.solver->upload(start), lane.solver->carry(start_solids);
+    shake = {};
   }
   // What the run is, to go back to where a viewer's change fails half way.
   struct Saved {
@@ -124,31 +178,41 @@ struct LiveRun::Stage {
     int scene_substeps;
     std::vector<LiveSetting> settings;  // substeps resolved
     std::vector<ParticleState> now;     // each lane's
+    std::vector<SolidsState> solids;    // each lane's
     ParticleState start;
+    SolidsState start_solids;
+    Motion shake;
     Camera camera;
   };
   Saved save() const {
-    Saved s{options, base, scene, scene_substeps, {}, {}, start, capture->camera()};
-    for (const Lane& lane : lanes) s.settings.push_back(lane.setting), s.now.push_back(lane.solver->download());
+    Saved s{options, base, scene, scene_substeps, {}, {}, {}, start, start_solids, shake, capture->camera()};
+    for (const Lane& lane : lanes) {
+      s.settings.push_back(lane.setting), s.now.push_back(lane.solver->download());
+      s.solids.push_back(lane.solver->solids());
+    }
     return s;
   }
   void restore(const Saved& s, const vk::Context* ctx) {
     capture.reset();
     lanes.clear();  // before the old are made again: one run's memory at a time
     options = s.options, base = s.base, scene = s.scene, scene_substeps = s.scene_substeps, start = s.start;
+    start_solids = s.start_solids, shake = s.shake;
     for (size_t i = 0; i < s.settings.size(); ++i) {
       lanes.push_back(make_lane(with_setting(base, s.settings[i]), ctx));
       lanes.back().solver->upload(s.now[i]);
+      lanes.back().solver->carry(s.solids[i]);
     }
     draw_anew(ctx, s.camera);
   }
-  // The first lane under another setting, its particles carried over.
+  // The first lane under another setting, its particles and solids carried over.
   void change_setting(const LiveSetting& s, const vk::Context* ctx) {
     const Camera camera = capture->camera();
     const ParticleState now = lanes[0].solver->download();
+    const SolidsState solids = lanes[0].solver->solids();
     capture.reset();
     make_first(s, ctx);
     lanes[0].solver->upload(now);
+    lanes[0].solver->carry(solids);
     draw_anew(ctx, camera);
   }
   // The first lane's solver made anew under `s`, at the scene's start; the renderer, which
@@ -160,7 +224,9 @@ struct LiveRun::Stage {
   }
   // A lane of `lane`'s setting, its solver at the scene's start.
   static Lane make_lane(const Scene& lane, const vk::Context* ctx) {
-    return {setting_of(lane), make_solver(ctx, derive(lane), initial_particles(lane))};
+    Derived d = derive(lane);
+    d.make_steerable();  // a viewer may drag any obstacle and shake the tank
+    return {setting_of(lane), make_solver(ctx, d, initial_particles(lane))};
   }
   void draw_anew(const vk::Context* ctx, Camera camera) {  // by value: it may be the old renderer's
     capture.reset();
@@ -303,6 +369,7 @@ std::string LiveRun::failure() const {
 std::vector<FrontPoint> LiveRun::measure_front(Stage& stage, const vk::Context* ctx) {
   constexpr int kTrialFrames = 6;
   const ParticleState now = stage.lanes[0].solver->download();
+  const SolidsState solids = stage.lanes[0].solver->solids();
   const LiveSetting was = stage.lanes[0].setting;
   const Camera camera = stage.capture->camera();
   const FrameOutputs outputs = stage.capture->outputs();  // a live frame's cost includes them
@@ -314,6 +381,7 @@ std::vector<FrontPoint> LiveRun::measure_front(Stage& stage, const vk::Context* 
     Solver& solver = *stage.lanes[0].solver;
     solver.set_outputs(outputs);
     solver.upload(now);
+    solver.carry(solids);
     solver.advance(candidate.substeps);
     FrontPoint p{stage.lanes[0].setting};
     const Clock::time_point began = Clock::now();
@@ -324,6 +392,7 @@ std::vector<FrontPoint> LiveRun::measure_front(Stage& stage, const vk::Context* 
   }
   stage.make_first(was, ctx);
   stage.lanes[0].solver->upload(now);
+  stage.lanes[0].solver->carry(solids);
   stage.draw_anew(ctx, camera);
   return measured;
 }
@@ -332,8 +401,8 @@ std::vector<FrontPoint> LiveRun::measure_front(Stage& stage, const vk::Context* 
 struct LiveRun::Asked {
   bool step = false, redraw = false, restart = false;
   std::optional<bool> paused;
-  std::optional<LiveCommand> setting, style, scene, budget;
-  std::vector<LiveCommand> cameras;
+  std::optional<LiveCommand> setting, style, scene, budget, shake;
+  std::vector<LiveCommand> cameras, drags;
 };
 
 // The frames, at the scene's clock, and the viewers' commands between them. A frame is due a
@@ -352,7 +421,7 @@ void LiveRun::run_frames(Stage& stage, const vk::Context* ctx, double budget_ms)
     if (stopping_) break;
     if (asked.paused) pace.paused = *asked.paused;
     if (asked.restart) {
-      for (Lane& lane : stage.lanes) lane.solver->upload(stage.start);
+      stage.restart();
       pace.sim_time = 0, pace.first = true;
     }
     const bool changed = apply(stage, ctx, pace, asked);
@@ -387,6 +456,8 @@ LiveRun::Asked LiveRun::take_commands(Clock::time_point until) {
       case LiveCommand::Kind::Camera: asked.cameras.push_back(std::move(c)), asked.redraw = true; break;
       case LiveCommand::Kind::Scene: asked.scene = std::move(c); break;
       case LiveCommand::Kind::Budget: asked.budget = std::move(c); break;
+      case LiveCommand::Kind::Drag: asked.drags.push_back(std::move(c)); break;
+      case LiveCommand::Kind::Shake: asked.shake = std::move(c); break;
     }
   }
   return asked;
@@ -397,6 +468,7 @@ LiveRun::Asked LiveRun::take_commands(Clock::time_point until) {
 // whether the scene, setting or budget changed.
 bool LiveRun::apply(Stage& stage, const vk::Context* ctx, Pace& pace, Asked& asked) {
   for (const LiveCommand& c : asked.cameras) stage.capture->set_camera(moved(stage.capture->camera(), c));
+  steer(stage, asked);
   auto attempt = [&](const std::optional<LiveCommand>& c, const std::function<void()>& change) {
     if (!c) return false;
     const Stage::Saved saved = stage.save();
@@ -435,6 +507,36 @@ bool LiveRun::apply(Stage& stage, const vk::Context* ctx, Pace& pace, Asked& ask
   return scene || setting || budget;
 }
 
+// A viewer's hand on the solids, in every lane: drags (each obstacle's newest wins) and the
+// tank's shaking. One the scene cannot take is refused, naming why.
+void LiveRun::steer(Stage& stage, const Asked& asked) {
+  for (const LiveCommand& c : asked.drags) {
+    if (c.obstacle >= stage.scene.obstacles.size()) {
+      if (c.refused) c.refused("the scene has " + std::to_string(stage.scene.obstacles.size()) + " obstacle(s)");
+      continue;
+    }
+    const glm::dvec3 shift = hand_shift(stage.scene, c.obstacle, c.position);
+    for (Lane& lane : stage.lanes) lane.solver->drag(c.obstacle, shift);
+  }
+  if (!asked.shake) return;
+  const LiveCommand& c = *asked.shake;
+  Motion m;
+  if (c.amplitude > 0) {
+    m.type = Motion::Type::Oscillate, m.axis = c.axis, m.amplitude = c.amplitude;
+    m.period = c.period > 0 ? c.period : sloshing_period(stage.scene, c.axis);
+  }
+  const double most = kSolidStep * stage.scene.particle_spacing * stage.scene.fps * stage.scene_substeps;
+  if (m.moves() && m.top_speed(0) > most) {
+    std::ostringstream why;
+    why << "the tank would move at " << m.top_speed(0) << " m/s, faster than " << most
+        << " m/s (half a spacing a step): lower the amplitude or lengthen the period";
+    if (c.refused) c.refused(why.str());
+    return;
+  }
+  stage.shake = m;
+  for (Lane& lane : stage.lanes) lane.solver->shake(m);
+}
+
 // The budget held from here: the front measured where the run is, its first choice taken.
 void LiveRun::hold_budget(Stage& stage, const vk::Context* ctx, Pace& pace, double ms) {
   pace.budget.reset();
@@ -469,6 +571,12 @@ void LiveRun::draw_frame(Stage& stage, const vk::Context* ctx, Pace& pace, bool 
   frame->about = description();
   frame->budget_ms = pace.budget ? pace.budget->budget_ms() : 0;
   frame->front = pace.front;
+  const Camera& camera = stage.capture->camera();
+  frame->solids = seen_solids(stage.scene, stage.lanes[0].solver->obstacle_poses(), camera,
+                              double(stage.options.width) / double(stage.options.height));
+  const capture::CameraAxes axes = capture::camera_axes(camera);
+  frame->right = axes.right, frame->up = axes.up;
+  frame->shake = stage.shake;
   const Clock::time_point simulated = Clock::now();
   auto image = std::make_shared<const capture::Image>(stage.capture->draw(stage.solvers()));
   frame->draw_ms = ms_since(simulated);

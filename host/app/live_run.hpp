@@ -33,6 +33,16 @@ struct LiveOptions {
 // At most this many settings side by side.
 inline constexpr size_t kMaxPanels = 4;
 
+// An obstacle as the page sees it, for dragging it (docs/serve.md): its middle in the world,
+// where that lies in the picture (x right, y down, fractions of a panel), its bounding
+// sphere's radius there (a fraction of the panel's height) and the metres the panel's height
+// spans at its depth; none where it is behind the eye.
+struct LiveSolid {
+  glm::dvec3 centre{0.0};
+  glm::dvec2 screen{0.0};
+  double radius = 0, span = 0;
+};
+
 // One panel of a frame: its setting and the measures of its solver.
 struct LivePanel {
   LiveSetting setting;  // substeps resolved
@@ -49,6 +59,9 @@ struct LiveFrame {
   std::string scene;          // the scene's name
   std::string about;          // scene, particles, setting, device
   double budget_ms = 0;       // the frame budget held; 0: none
+  std::vector<LiveSolid> solids;  // the obstacles as the camera sees them (LiveSolid)
+  glm::dvec3 right{1, 0, 0}, up{0, 1, 0};  // the camera's axes in the world: a drag's directions
+  Motion shake;               // the tank's live shaking (Type::None: none)
   std::shared_ptr<const std::vector<FrontPoint>> front;  // the measured front it chooses from, where held
   std::string jpeg;
   // The H.264 stream's access unit for this frame, where some viewer takes H.264: `unit` counts
@@ -64,7 +77,7 @@ struct LiveFrame {
 
 // What a viewer can ask of the run (docs/serve.md, "Protocol"), checked by the server.
 struct LiveCommand {
-  enum class Kind { Pause, Resume, Step, Restart, Setting, Style, Camera, Scene, Budget } kind;
+  enum class Kind { Pause, Resume, Step, Restart, Setting, Style, Camera, Scene, Budget, Drag, Shake } kind;
   LiveSetting setting;     // Setting: method and iterations (the scene's substeps)
   std::string style;       // Style: a capture::Style's name
   double orbit_x = 0, orbit_y = 0;  // Camera: radians about the up axis and the camera's right
@@ -72,6 +85,11 @@ struct LiveCommand {
   double pan_x = 0, pan_y = 0;      // Camera: the target moved by these fractions of that distance
   std::string scene;       // Scene: a built-in scene's name, checked with check_scene()
   double budget_ms = 0;    // Budget: 0 turns it off
+  size_t obstacle = 0;     // Drag: the obstacle (scene order) ...
+  glm::dvec3 position{0.0};  // ... and where its middle should be, m (kept inside the domain)
+  glm::dvec3 axis{1, 0, 0};  // Shake: the direction, a unit vector ...
+  double amplitude = 0;      // ... m (0: the tank comes to rest) ...
+  double period = 0;         // ... s (0: the tank's first sloshing mode along the axis)
   // Called on the run's thread where the run could not take it (a scene that failed to load):
   // the run goes on as it was, and whoever asked is told why.
   std::function<void(const std::string& why)> refused;
@@ -112,6 +130,7 @@ class LiveRun {
   void run_frames(Stage& stage, const vk::Context* ctx, double budget_ms);
   Asked take_commands(std::chrono::steady_clock::time_point until);
   bool apply(Stage& stage, const vk::Context* ctx, Pace& pace, Asked& asked);
+  void steer(Stage& stage, const Asked& asked);
   void hold_budget(Stage& stage, const vk::Context* ctx, Pace& pace, double ms);
   void draw_frame(Stage& stage, const vk::Context* ctx, Pace& pace, bool advance);
   std::vector<FrontPoint> measure_front(Stage& stage, const vk::Context* ctx);

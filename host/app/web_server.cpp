@@ -63,7 +63,22 @@ std::string page_text() {
 json measures(const FrameStats& s) {
   return {{"mean_compression", s.mean_compression}, {"max_compression", s.max_compression},
           {"kinetic_energy", s.kinetic_energy},     {"potential_energy", s.potential_energy},
-          {"step_ms", s.step_ms}};
+          {"solid_work", s.solid_work},             {"step_ms", s.step_ms}};
+}
+
+json vector_json(const glm::dvec3& v) { return {v.x, v.y, v.z}; }
+
+// What the page needs to drag the obstacles (LiveSolid) and show the tank's shaking.
+void add_solids(json& m, const LiveFrame& f) {
+  m["solids"] = json::array();
+  for (const LiveSolid& s : f.solids)
+    m["solids"].push_back({{"centre", vector_json(s.centre)}, {"screen", {s.screen.x, s.screen.y}},
+                           {"radius", s.radius}, {"span", s.span}});
+  m["right"] = vector_json(f.right);
+  m["up"] = vector_json(f.up);
+  m["shake"] = f.shake.moves() ? json{{"axis", vector_json(f.shake.axis)}, {"amplitude", f.shake.amplitude},
+                                      {"period", f.shake.period}}
+                               : json();
 }
 
 // `bytes`: the viewer's payload of the frame (JPEG or H.264); `send_ms`: how long handing it
@@ -85,6 +100,7 @@ std::string stats_message(const LiveFrame& f, size_t bytes, double send_ms) {
             {"send_ms", send_ms},
             {"bytes", bytes},
             {"budget_ms", f.budget_ms}});
+  add_solids(m, f);
   if (f.panels.size() > 1) {
     m["panels"] = json::array();
     for (const LivePanel& p : f.panels) {
@@ -551,6 +567,22 @@ double number(const json& message, const char* key, double fallback, double lo, 
   return v.get<double>();
 }
 
+// A command's three numbers `key`, each finite and within [lo, hi].
+glm::dvec3 triple(const json& message, const char* key, double lo, double hi) {
+  const json& v = message.value(key, json());
+  glm::dvec3 out;
+  const bool ok = v.is_array() && v.size() == 3 && std::all_of(v.begin(), v.end(), [&](const json& x) {
+    return x.is_number() && x.get<double>() >= lo && x.get<double>() <= hi;
+  });
+  if (!ok) {
+    std::ostringstream m;
+    m << "'" << key << "' must be three numbers in [" << lo << ", " << hi << "]";
+    throw InputError(m.str());
+  }
+  for (int i = 0; i < 3; ++i) out[i] = v[size_t(i)].get<double>();
+  return out;
+}
+
 std::string text(const json& message, const char* key) {
   return message.value(key, json()).is_string() ? message[key].get<std::string>() : "";
 }
@@ -579,6 +611,18 @@ void read_arguments(const json& message, const LiveRun& run, LiveCommand& c) {
   } else if (c.kind == Kind::Style) {
     c.style = text(message, "style");
     capture::parse_style(c.style);  // InputError naming the styles
+  } else if (c.kind == Kind::Drag) {
+    if (!message.contains("obstacle")) throw InputError("'obstacle' must be an obstacle's index (0, 1, ...)");
+    const double k = number(message, "obstacle", 0, 0, 1e6);
+    if (k != std::floor(k)) throw InputError("'obstacle' must be an obstacle's index (0, 1, ...)");
+    c.obstacle = size_t(k);
+    c.position = triple(message, "position", -1e6, 1e6);
+  } else if (c.kind == Kind::Shake) {
+    c.axis = message.contains("axis") ? triple(message, "axis", -1e6, 1e6) : glm::dvec3(1, 0, 0);
+    if (glm::length(c.axis) < 1e-6) throw InputError("'axis' must be a direction, not zero");
+    c.axis = glm::normalize(c.axis);
+    c.amplitude = number(message, "amplitude", 0, 0, 1);
+    c.period = number(message, "period", 0, 0.05, 60);
   } else if (c.kind == Kind::Camera) {
     c.orbit_x = number(message, "orbit_x", 0, -7, 7), c.orbit_y = number(message, "orbit_y", 0, -7, 7);
     c.zoom = number(message, "zoom", 1, 0.1, 10);
@@ -612,11 +656,12 @@ std::string WebServer::Impl::answer(const std::string& text, const std::shared_p
                                                        {"step", Kind::Step},       {"restart", Kind::Restart},
                                                        {"setting", Kind::Setting}, {"style", Kind::Style},
                                                        {"camera", Kind::Camera},   {"scene", Kind::Scene},
-                                                       {"budget", Kind::Budget}};
+                                                       {"budget", Kind::Budget},   {"drag", Kind::Drag},
+                                                       {"shake", Kind::Shake}};
   const auto kind = std::find_if(std::begin(kinds), std::end(kinds), [&](const auto& k) { return cmd == k.first; });
   if (kind == std::end(kinds))
     return error_message("unknown command '" + clipped(cmd, 40) +
-                         "' (pause, resume, step, restart, setting, style, camera, scene, budget, stream)");
+                         "' (pause, resume, step, restart, setting, style, camera, scene, budget, drag, shake, stream)");
   LiveCommand c{kind->second};
   try {
     read_arguments(message, run, c);

@@ -140,6 +140,15 @@ void GpuSolver::build_coarse() {
 
 std::string GpuSolver::device_name() const { return ctx_.info().name; }
 
+void GpuSolver::carry(const SolidsState& s) {
+  steps_moved_ = s.steps;
+  d_.obstacles = s.obstacles;
+  d_.tank = s.tank;
+  d_.measure_open({});
+  obstacles_.upload(std::span<const glm::vec4>(pack_obstacles(d_.obstacles, d_.keep_out)));
+  if (!d_.coarse.open.empty()) coarse_open_.upload(std::span<const float>(d_.coarse.open));
+}
+
 void GpuSolver::upload(const ParticleState& s) {
   std::vector<float> rho(n_, 0.0f);
   for (uint32_t i = 0; i < n_ && i < s.rho.size(); ++i) rho[i] = float(s.rho[i]);

@@ -39,6 +39,10 @@ class GpuSolver : public Solver {
   size_t particle_count() const override { return n_; }
   void relax() override;
   std::vector<Pose> obstacle_poses() const override { return d_.obstacle_poses(); }
+  void drag(size_t k, const glm::dvec3& shift) override { d_.drag(k, shift); }
+  void shake(const Motion& m) override { d_.shake(m, double(steps_moved_) * d_.dt); }
+  SolidsState solids() const override { return {steps_moved_, d_.obstacles, d_.tank}; }
+  void carry(const SolidsState& s) override;
   std::string device_name() const override;
 
   // Pass-level access for the tests: begin(), record passes, finish() submits and waits.

@@ -71,11 +71,6 @@ double fall_speed(const Scene& scene);
 // The fastest any moving solid's surface, or the shaken tank, moves, m/s (Motion::top_speed): 0
 // where nothing moves.
 double solid_speed(const Scene& scene);
-// The most a solid's surface may move in one step, in particle spacings: the projection then
-// moves a particle it meets by less than the gap to its neighbours, and the mirrors' images by
-// less than a kernel's fall-off (scene/parse.cpp refuses a faster solid).
-constexpr double kSolidStep = 0.5;
-
 // The substeps a scene that leaves them out gets: the fewest that keep dt at most 1/120 s
 // (the real-time step at 60 fps), a particle falling through the domain within one kernel
 // radius a step (the time-step check of derive.hpp) and every moving solid within kSolidStep

@@ -6,6 +6,7 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <vector>
@@ -80,6 +81,40 @@ struct Motion {
     }
     return top;
   }
+};
+
+// The most a solid's surface may move in one step, in particle spacings: the projection then
+// moves a particle it meets by less than the gap to its neighbours, and the mirrors' images by
+// less than a kernel's fall-off (scene/parse.cpp refuses a faster solid; a viewer's drag is
+// held to it, Derived::drag).
+constexpr double kSolidStep = 0.5;
+
+// The tank's displacement X(t) under its motion, which a viewer may change while it runs
+// (pbflow serve): a new motion starts where the tank is. It keeps X at the last two steps'
+// ends, so that each step's kick, -(X(t) - 2 X(t - dt) + X(t - 2 dt)) / dt, takes away
+// exactly the velocity the tank had when its motion changes or stops.
+class TankMotion {
+ public:
+  explicit TankMotion(const Motion& m = {}) : motion_(m) { past_ = {at(0), at(0)}; }
+  const Motion& motion() const { return motion_; }
+  // The velocity every particle gains in the tank's frame over the step ending at t.
+  glm::dvec3 step_to(double t, double dt) {
+    const glm::dvec3 x = at(t), kick = -(x - 2.0 * past_[0] + past_[1]) / dt;
+    past_ = {x, past_[0]};
+    return kick;
+  }
+  // From the last step's end, `now`, on: m, from where the tank is.
+  void change(const Motion& m, double now) {
+    motion_ = m, since_ = now, from_ = glm::dvec3(0.0);
+    from_ = past_[0] - at(now);
+  }
+
+ private:
+  glm::dvec3 at(double t) const { return from_ + motion_.at(std::max(t - since_, 0.0)).translation; }
+  Motion motion_;
+  double since_ = 0;
+  glm::dvec3 from_{0.0};
+  std::array<glm::dvec3, 2> past_{};
 };
 
 }  // namespace pbflow

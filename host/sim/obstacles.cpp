@@ -199,7 +199,7 @@ std::vector<glm::vec4> pack_obstacle_header(const std::vector<Obstacle>& obstacl
       data.emplace_back(glm::vec3(o.max), 0.0f);
       data.emplace_back(0.0f);
     }
-    data.back().y = o.motion.moves() ? 1.0f : 0.0f;
+    data.back().y = o.moves() ? 1.0f : 0.0f;
     pack_pose(o.pose, data);
     pack_pose(o.previous, data);
   }

@@ -25,6 +25,12 @@ struct Obstacle {
   std::shared_ptr<const std::vector<glm::vec3>> corners;  // mesh: its triangles, three corners each, for drawing
   Motion motion;
   Pose pose, previous;  // where it is at the end of the current step, and was at its start
+  // A viewer's hand (pbflow serve, Derived::drag): the placement shifted by `shift`, which
+  // follows `shift_to` at the speed a step keeps sound. Only a draggable obstacle has one.
+  bool draggable = false;
+  glm::dvec3 shift{0.0}, shift_to{0.0};
+
+  bool moves() const { return draggable || motion.moves(); }
 
   bool contains(const glm::dvec3& x) const;   // strictly inside
   Obstacle grown(double margin) const;        // every surface moved out by margin

@@ -64,7 +64,17 @@ SimConstants Derived::to_gpu(uint32_t count) const {
 }
 
 bool Derived::moving() const {
-  return tank_motion.moves() || std::any_of(obstacles.begin(), obstacles.end(), [](const Obstacle& o) { return o.motion.moves(); });
+  return steerable || tank.motion().moves() ||
+         std::any_of(obstacles.begin(), obstacles.end(), [](const Obstacle& o) { return o.moves(); });
+}
+
+void Derived::make_steerable() {
+  steerable = true;
+  for (Obstacle& o : obstacles) o.draggable = true;
+}
+
+void Derived::drag(size_t k, const glm::dvec3& shift) {
+  if (steerable && k < obstacles.size()) obstacles[k].shift_to = shift;
 }
 
 std::vector<Pose> Derived::obstacle_poses() const {
@@ -73,15 +83,27 @@ std::vector<Pose> Derived::obstacle_poses() const {
   return poses;
 }
 
+namespace {
+// How far a viewer's hand may shift `o` in one step: what kSolidStep spacings leave beside its
+// own motion's fastest point (none where that takes them all).
+double hand_step(const Obstacle& o, double spacing, double dt) {
+  const double own = o.motion.top_speed(glm::length(o.middle() - o.motion.centre) + o.extent()) * dt;
+  return std::max(kSolidStep * spacing - own, 0.0);
+}
+}  // namespace
+
 bool Derived::move_solids(double t) {
-  if (tank_motion.moves()) {
-    auto at = [&](double s) { return tank_motion.at(std::max(s, 0.0)).translation; };
-    tank_kick = -(at(t) - 2.0 * at(t - dt) + at(t - 2.0 * dt)) / dt;
-  }
+  tank_kick = tank.step_to(t, dt);
   std::vector<Reach> near;
   for (Obstacle& o : obstacles) {
-    if (!o.motion.moves()) continue;
-    o.move_to(o.motion.at(t));
+    if (!o.moves()) continue;
+    const glm::dvec3 left = o.shift_to - o.shift;
+    const double most = hand_step(o, spacing, dt);
+    o.shift += glm::length(left) > most ? most * glm::normalize(left) : left;
+    Pose p = o.motion.at(t);
+    p.translation += o.shift;
+    o.move_to(p);
+    if (o.pose == o.previous) continue;  // a draggable obstacle left where it is
     for (const Pose* p : {&o.previous, &o.pose}) near.push_back({p->world(o.middle()), o.extent()});
   }
   if (near.empty() || coarse.open.empty()) return false;
@@ -94,7 +116,7 @@ double Derived::nearest_moving_solid(const glm::dvec3& x, glm::dvec3& normal, gl
   normal = velocity = glm::dvec3(0.0);
   for (const Obstacle& o : obstacles) {
     glm::dvec3 n;
-    if (!o.motion.moves()) continue;
+    if (!o.moves()) continue;
     if (const double d = o.grown(-keep_out).surface(x, n); d < nearest)
       nearest = d, normal = n, velocity = o.displacement(x) / dt;
   }

@@ -130,11 +130,19 @@ struct Derived {
   double keep_out = 0;  // m: how far particle centres stay from every solid's surface, half a spacing
   std::vector<Obstacle> obstacles;  // grown by keep_out: where particle centres may not be
   // The tank's shaking (translation only): the solvers work in the tank's frame, where the fluid
-  // feels g less the tank's acceleration, given each step as the velocity it changes by:
-  // -(X(t+dt) - 2 X(t) + X(t-dt)) / dt for the step ending at t+dt, X the tank's displacement.
-  Motion tank_motion;
+  // feels g less the tank's acceleration, given each step as the velocity it changes by
+  // (TankMotion::step_to).
+  TankMotion tank;
   glm::dvec3 tank_kick{0.0};
-  bool moving() const;  // whether any obstacle moves, or the tank
+  // A live run's (pbflow serve): a viewer may drag any obstacle and shake the tank, so the
+  // solvers are made for moving solids whether or not the scene moves any.
+  bool steerable = false;
+  void make_steerable();
+  bool moving() const;  // whether any obstacle moves, or the tank, or a viewer may move them
+  // Obstacle k's placement shifted by `shift` (m, from where the scene places it), reached at
+  // most kSolidStep spacings a step less what its own motion takes (steerable only).
+  void drag(size_t k, const glm::dvec3& shift);
+  void shake(const Motion& m, double now) { tank.change(m, now); }  // from the step's end `now`
   std::vector<Pose> obstacle_poses() const;  // where each stands now
   // The obstacles moved to their poses at time t, the end of a step, and the coarse nodes'
   // open shares measured again where a moving one reaches (at its start pose or its end);

@@ -37,6 +37,13 @@ void ReferenceSolver::upload(const ParticleState& s) {
   drawn = {};
 }
 
+void ReferenceSolver::carry(const SolidsState& s) {
+  steps_moved_ = s.steps;
+  d_.obstacles = s.obstacles;
+  d_.tank = s.tank;
+  d_.measure_open({});
+}
+
 glm::ivec3 ReferenceSolver::cell_of(const dvec3& x) const {
   dvec3 c = glm::floor((x - d_.domain_min) / d_.h);
   glm::ivec3 cell(0);  // a NaN coordinate (a diverged particle) goes to cell 0; the watch reports it

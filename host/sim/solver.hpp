@@ -4,6 +4,7 @@
 
 #include "shaders/white_water.h"
 #include "sim/motion.hpp"
+#include "sim/obstacles.hpp"
 
 #include <algorithm>
 #include <array>
@@ -153,6 +154,14 @@ inline glm::dmat3 decode_shape(const glm::vec4& a, const glm::vec4& b) {
   return glm::dmat3(a.x + 1, b.x, b.y, b.x, a.y + 1, b.z, b.y, b.z, a.z + 1);
 }
 
+// Where the solids stand, how they move and their clock (steps since time 0): what a live run
+// carries from a solver to the one made anew in its place (another setting, a restart).
+struct SolidsState {
+  long steps = 0;
+  std::vector<Obstacle> obstacles;  // as the solver holds them (Derived::obstacles)
+  TankMotion tank;
+};
+
 class Solver {
  public:
   virtual ~Solver() = default;
@@ -188,6 +197,14 @@ class Solver {
   // While held, moving solids stand where they are and their clock stands still (the settle
   // brings the fluid to rest around them at time 0).
   void hold_solids(bool held) { solids_held_ = held; }
+  // A viewer's hand, where the solver was made steerable (Derived::steerable, pbflow serve):
+  // obstacle k shifted from where the scene places it, reached at the speed a step keeps sound
+  // (Derived::drag); the tank's motion from the last step's end, starting where it is.
+  virtual void drag(size_t k, const glm::dvec3& shift) = 0;
+  virtual void shake(const Motion& m) = 0;
+  virtual SolidsState solids() const = 0;
+  // The solids (of this scene) placed as `s` has them, their clock and motions carried on.
+  virtual void carry(const SolidsState& s) = 0;
 
  protected:
   FrameOutputs outputs_;

@@ -1,7 +1,7 @@
 """`pbflow serve` in a real browser: Debian's Chromium, headless, driven by Selenium, against a
 real server on lavapipe (docs/serve.md). The page loads; the picture changes over time; pause
 holds the frame counter and resume goes on; a second viewer sees the same run; a drag turns the
-view; a method switch shows in the stats; the measured
+view, and one on an obstacle moves it; the shake control shakes the tank; a method switch shows in the stats; the measured
 latency (drawn to shown) and bit rate of the H.264 stream are reported; the live charts draw. With SCREENSHOT=PATH it leaves the page's
 screenshot there (the README's picture).
 
@@ -162,6 +162,49 @@ class BrowserTest(unittest.TestCase):
               f"{sorted(latency)[int(0.9 * (len(latency) - 1))]:.0f} ms; "
               f"{8 * self.live('bytes') / seconds / 1e6:.2f} Mbit/s")
         self.assertTrue(all(x >= -5 for x in latency), "a frame shown before it was drawn: clocks disagree")
+
+
+class SolidsBrowserTest(unittest.TestCase):
+    """A viewer moves the box of dam_obstacle by dragging it and shakes the tank from the page:
+    the server's stats show the box where the drag put it and the shaking doing work."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.server = Server("dam_obstacle", ("--param", "particle_spacing=0.05", "--style", "particles",
+                                             "--width", "480", "--height", "270"))
+        cls.browser = open_page(cls.server.port)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.browser.quit()
+        cls.server.stop()
+
+    def stats(self):
+        return self.browser.execute_script("return window.pbflowLive.stats;")
+
+    def test_a_drag_on_the_box_moves_it(self):
+        first = wait_for(lambda: (lambda m: m and m["solids"] and m)(self.stats()), what="the solids in the stats")
+        box = first["solids"][0]
+        view = self.browser.find_element("id", "view")
+        size = view.size
+        # From the box's middle in the picture (offsets from the element's centre), 60 px left.
+        at = ((box["screen"][0] - 0.5) * size["width"], (box["screen"][1] - 0.5) * size["height"])
+        ActionChains(self.browser).move_to_element_with_offset(view, int(at[0]), int(at[1])).click_and_hold() \
+            .move_by_offset(-30, 0).move_by_offset(-30, 0).release().perform()
+        expected = box["centre"][0] - 60 / size["width"] * size["width"] / size["height"] * box["span"]
+        moved = wait_for(lambda: (lambda m: abs(m["solids"][0]["centre"][0] - expected) < 0.02 and m)(self.stats()),
+                         what=f"the box's middle at x = {expected:.3f}")
+        self.assertAlmostEqual(moved["solids"][0]["centre"][1], box["centre"][1], delta=0.02, msg="moved off the drag's line")
+
+    def test_the_shake_control_shakes_the_tank(self):
+        Select(self.browser.find_element("id", "shake")).select_by_visible_text("1 cm")
+        shaking = wait_for(lambda: (lambda m: m and m["shake"] and m)(self.stats()), what="the shaking in the stats")
+        self.assertEqual(shaking["shake"]["amplitude"], 0.01)
+        self.assertEqual(shaking["shake"]["axis"], [1, 0, 0])
+        self.assertGreater(shaking["shake"]["period"], 0.5, "not the tank's first sloshing mode")
+        wait_for(lambda: abs(self.stats()["solid_work"]) > 0, what="the shaking's work in a frame's stats")
+        Select(self.browser.find_element("id", "shake")).select_by_visible_text("off")
+        wait_for(lambda: self.stats()["shake"] is None, what="the shaking off")
 
 
 class CompareBrowserTest(unittest.TestCase):

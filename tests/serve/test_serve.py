@@ -173,6 +173,33 @@ class ServeTest(OneServer, unittest.TestCase):
         self.frame_where(viewer, lambda f: f[2]["scene"] == "hydrostatic")
         viewer.sock.close()
 
+    def test_the_tank_shakes_and_stops_on_command_and_bad_steering_is_refused(self):
+        viewer = Client(self.server.port)
+        for command, expect in (({"cmd": "drag", "obstacle": 0, "position": [0.1, 0.1, 0.1]}, "the scene has 0 obstacle(s)"),
+                                ({"cmd": "drag", "position": [0.1, 0.1, 0.1]}, "'obstacle' must be an obstacle's index"),
+                                ({"cmd": "drag", "obstacle": 0.5, "position": [0, 0, 0]}, "'obstacle' must be"),
+                                ({"cmd": "drag", "obstacle": 0, "position": [0, 0]}, "'position' must be three numbers"),
+                                ({"cmd": "drag", "obstacle": 0, "position": [0, "up", 0]}, "'position'"),
+                                ({"cmd": "shake", "amplitude": 2}, "'amplitude' must be a number in [0, 1]"),
+                                ({"cmd": "shake", "amplitude": 0.01, "period": 0}, "'period' must be a number in [0.05, 60]"),
+                                ({"cmd": "shake", "amplitude": 0.01, "axis": [0, 0, 0]}, "'axis' must be a direction"),
+                                ({"cmd": "shake", "amplitude": 0.5, "period": 0.1}, "faster than")):
+            self.assertIn(expect, viewer.error_for(command))
+        viewer.send(json.dumps({"cmd": "shake", "amplitude": 0.01, "axis": [0, 0, 2]}))
+        shaking = self.frame_where(viewer, lambda f: f[2]["shake"] is not None)[2]["shake"]
+        self.assertEqual(shaking["axis"], [0, 0, 1])
+        self.assertGreater(shaking["period"], 0.2, "not the tank's first sloshing mode")
+        self.frame_where(viewer, lambda f: abs(f[2]["solid_work"]) > 0)
+        # Another setting carries the shaking on (and any dragged solid: Solver::carry).
+        viewer.send(json.dumps({"cmd": "setting", "method": "ldc", "iterations": 1}))
+        self.frame_where(viewer, lambda f: f[2]["setting"] == "ldc@1" and f[2]["shake"] is not None and
+                         abs(f[2]["solid_work"]) > 0)
+        viewer.send(json.dumps({"cmd": "shake", "amplitude": 0}))
+        self.frame_where(viewer, lambda f: f[2]["shake"] is None)
+        viewer.send(json.dumps({"cmd": "setting", "method": "pbf", "iterations": 2}))
+        self.frame_where(viewer, lambda f: f[2]["setting"] == "pbf@2")
+        viewer.sock.close()
+
     def test_a_frame_budget_chooses_from_the_front_it_measured(self):
         viewer = Client(self.server.port)
         for command, expect in (({"cmd": "budget", "ms": -1}, "'ms' must be a number in [0, 10000]"),
