@@ -14,9 +14,15 @@
 #include "contract.h"
 
 layout(std430, binding = OBSTACLES_BINDING) readonly buffer Obstacles { vec4 obstacle_data[]; };
-// Whether the scene has obstacles (gpu/key_constants.hpp): without, their mirrors compile out,
-// which a CPU device would otherwise run masked for every neighbour (3x the step on lavapipe).
-layout(constant_id = 90) const bool OBSTACLES = false;
+// The shapes the scene's obstacles have, a bit each (1 << the shape's code: box 0, sphere 1,
+// mesh 2; gpu/key_constants.cpp). A CPU device runs every branch masked for every neighbour, so
+// each shape the scene lacks is compiled out: without obstacles their mirrors (3x the step on
+// lavapipe), and a box alone skips the sphere's and the mesh's code (2.7x the dam break past a
+// box, docs/performance.md).
+layout(constant_id = 90) const uint SHAPES = 0u;
+const bool OBSTACLES = SHAPES != 0u;
+const int BOX = 0, SPHERE = 1, MESH = 2;
+bool has_shape(int shape) { return (SHAPES & (1u << shape)) != 0u; }
 // Whether any obstacle moves (Derived::moving): the work they do is counted only then.
 layout(constant_id = 91) const bool MOVING = false;
 #ifdef WORK_BINDING
@@ -86,18 +92,20 @@ float field_distance(int k, vec3 x, out vec3 gradient) {
 float body_surface(int k, vec3 x, out vec3 normal) {
   vec4 a = obstacle_data[obstacle_header(k)], b = obstacle_data[obstacle_header(k) + 1];
   float margin = obstacle_data[0].y;
-  if (a.w > 1.5) {  // mesh
+  if (has_shape(MESH) && a.w > 1.5) {
     vec3 gradient;
     float d = field_distance(k, x, gradient);
     normal = length(gradient) > 0.0 ? normalize(gradient) : vec3(0.0, 1.0, 0.0);
     return d;
   }
-  if (a.w > 0.5) {  // sphere
+  if (has_shape(SPHERE) && a.w > 0.5) {
     vec3 d = x - a.xyz;
     float r = length(d);
     normal = r > 0.0 ? d / r : vec3(0.0, 1.0, 0.0);
     return r - (b.x - margin);
   }
+  normal = vec3(0.0, 1.0, 0.0);
+  if (!has_shape(BOX)) return 3.4e38;
   vec3 lo = a.xyz + margin, hi = b.xyz - margin, out_of = x - clamp(x, lo, hi);
   float outside = length(out_of);
   if (outside > 0.0) {
@@ -236,8 +244,8 @@ float trace(int k, vec3 from, vec3 d, float contact) {
 float first_entry(int k, vec3 from, vec3 to, float contact) {
   vec4 a = obstacle_data[obstacle_header(k)], b = obstacle_data[obstacle_header(k) + 1];
   vec3 d = to - from;
-  if (a.w > 1.5) return trace(k, from, d, contact);
-  if (a.w > 0.5) {  // sphere: the smaller root of |from + t d - c|^2 = r^2
+  if (has_shape(MESH) && a.w > 1.5) return trace(k, from, d, contact);
+  if (has_shape(SPHERE) && a.w > 0.5) {  // the smaller root of |from + t d - c|^2 = r^2
     vec3 f = from - a.xyz;
     float qa = dot(d, d), qb = dot(f, d), qc = dot(f, f) - b.x * b.x;
     float disc = qb * qb - qa * qc;
@@ -245,6 +253,7 @@ float first_entry(int k, vec3 from, vec3 to, float contact) {
     float t = (-qb - sqrt(disc)) / qa;
     return t >= 0.0 && t <= 1.0 ? t : 1.0;
   }
+  if (!has_shape(BOX)) return 1.0;
   if (all(greaterThan(from, a.xyz - contact)) && all(lessThan(from, b.xyz + contact))) return 1.0;  // touching
   float t_enter = 0.0, t_exit = 1.0;
   for (int c = 0; c < 3; ++c) {  // slabs
@@ -283,7 +292,7 @@ vec3 project_out_of_solids(vec3 x, inout float work) {
   float margin = obstacle_data[0].y;
   for (int k = 0; k < count; ++k) {
     vec4 a = obstacle_data[obstacle_header(k)], b = obstacle_data[obstacle_header(k) + 1];
-    if (a.w > 0.5) {  // a sphere, a mesh: along the normal
+    if (!has_shape(BOX) || a.w > 0.5) {  // a sphere, a mesh: along the normal
       vec3 normal;
       float d = obstacle_surface(k, x, normal) - margin;
       if (d < 0.0) {

@@ -53,7 +53,7 @@ TEST(ShaderLayout, ANeighbourPassReadsItsSlotsTypesAndConstantsFromTheSpirv) {
   ASSERT_EQ(density.constants.size(), 4u);
   EXPECT_EQ(density.constants[0].name, "NEIGHBOUR_CAPACITY");
   EXPECT_EQ(density.constants[1].name, "WALK_CELLS");
-  EXPECT_EQ(density.constants[2].name, "OBSTACLES");
+  EXPECT_EQ(density.constants[2].name, "SHAPES");
   EXPECT_EQ(density.constants[3].name, "MOVING");  // the poses read through (solids.glsl)
   EXPECT_EQ(density.constants[1].id, density.constants[0].id + 1);
 }
@@ -141,7 +141,7 @@ TEST_F(ProgramContract, TheSolversKeysReachEveryPassThatDeclaresThem) {
   EXPECT_EQ(key("SOLVER_ITERATIONS").value, uint32_t(scene.solver.iterations));
   EXPECT_EQ(key("SOLVER_ITERATIONS").type, vk::ConstantType::Integer);
   EXPECT_EQ(key("SOLVER_LDC_CLAMP").type, vk::ConstantType::Bool);
-  EXPECT_EQ(key("OBSTACLES").value, 0u);  // the dam break has none
+  EXPECT_EQ(key("SHAPES").value, 0u);  // the dam break has no obstacles
   const std::array<vk::Constant, 3> own{{{"DAMPING_LIMIT", 0.3f}, {"NEIGHBOUR_CAPACITY", 64u}, {"WALK_CELLS", false}}};
   EXPECT_NO_THROW(vk::Program(test::gpu(), "viscosity_vorticity", sizeof(SimConstants), 0, own, keys.constants()));
   expect_refused([&] { vk::Program(test::gpu(), "viscosity_vorticity", sizeof(SimConstants), 0, own); },

@@ -334,7 +334,11 @@ void LiveRun::simulate(const LiveOptions& o, std::promise<void>& ready) {
     ctx = make_context(o.run.device, o.run.validate);
     if (ctx) device_ = ctx->info();
     stage.before_load = o.before_load;
-    stage.load(o.run, checked_scene(o.run), o.compare, ctx.get());
+    const Scene scene = checked_scene(o.run);
+    // The start's relaxation and settle can take a minute on a CPU device: say so before them.
+    std::cerr << "pbflow: setting up " << scene.name << ": relaxing" << (scene.settle ? " and settling" : "")
+              << " its start\n";
+    stage.load(o.run, scene, o.compare, ctx.get());
     fps_ = stage.scene.fps;  // before the encoder's thread starts, which reads it
     describe(stage.about());
     ready.set_value();

@@ -13,8 +13,10 @@ std::string KeyConstants::shader_name(std::string_view key) {
 }
 
 KeyConstants::KeyConstants(const Derived& d) {
-  // Whether the scene has obstacles: without, their mirrors compile out (shaders/solids.glsl).
-  constants_.emplace_back("OBSTACLES", !d.obstacles.empty());
+  // The obstacles' shapes, a bit each: those the scene lacks compile out (shaders/solids.glsl).
+  uint32_t shapes = 0;
+  for (const Obstacle& o : d.obstacles) shapes |= 1u << uint32_t(o.kind);
+  constants_.emplace_back("SHAPES", shapes);
   constants_.emplace_back("MOVING", d.moving());  // and whether any moves: their work is counted
   for (const ParamKey& k : d.shader_keys) {
     auto offer = [&](auto value) { constants_.emplace_back(names_.emplace_back(shader_name(k.name)), value); };
