@@ -114,6 +114,10 @@ Renderer::Renderer(const View& view)
     if (o.kind != Obstacle::Kind::Mesh || !o.corners) continue;
     std::vector<glm::vec4> corners;  // std430 pads a vec3 array to vec4s
     for (const glm::vec3& c : *o.corners) corners.emplace_back(c, 1.0f);
+    // A container is seen from inside, as the tank's walls are: its triangles turned to face
+    // the fluid, so that the walls nearer the eye than the fluid are left out (box.frag).
+    if (o.container)
+      for (size_t t = 0; t + 2 < corners.size(); t += 3) std::swap(corners[t + 1], corners[t + 2]);
     obstacle_meshes_.push_back(gl::make_buffer(GLsizeiptr(corners.size() * sizeof(glm::vec4))));
     glNamedBufferSubData(obstacle_meshes_.back(), 0, GLsizeiptr(corners.size() * sizeof(glm::vec4)), corners.data());
   }
@@ -252,7 +256,7 @@ void Renderer::draw_tank_and_obstacles() {
 
   size_t sphere = 0, mesh = 0;
   for (const Obstacle& o : view_.obstacles) {
-    FrameUniforms u = uniforms(1, kPassSolid, image_size_);
+    FrameUniforms u = uniforms(1, o.container ? kPassShaded : kPassSolid, image_size_);  // a container: as the tank
     u.model = glm::mat4(glm::mat3(o.pose.rotation));
     u.model[3] = glm::vec4(glm::vec3(o.pose.translation), 1.0f);
     if (o.kind == Obstacle::Kind::Mesh && o.corners) {

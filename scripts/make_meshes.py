@@ -6,6 +6,8 @@ Usage: scripts/make_meshes.py [OUT_DIR]
   by a fixed pseudo-random +-15 %.
 - ball.obj: the same icosphere unvaried (the analytic sphere's twin, for tests).
 - cup.obj: a cup turned about y: outer radius 0.1, wall 0.02 thick, 0.15 tall, floor 0.02.
+- bowl.obj: a bowl's inside, for a domain's mesh (the fluid inside it): a hemisphere of radius
+  0.22 whose lowest point is 0.02 above y = 0, walls straight up from its rim to y = 0.5, a lid.
 """
 import math
 import os
@@ -78,6 +80,12 @@ def main():
     # wall, up it, over the rim, down the inner wall to the floor's top.
     cup = [(0.0, 0.0), (0.1, 0.0), (0.1, 0.15), (0.08, 0.15), (0.08, 0.02), (0.0, 0.02)]
     write_obj(os.path.join(out, "cup.obj"), *lathe(cup, 48))
+    # The bowl's section, counter-clockwise in (r, y): from the bottom's middle round the
+    # hemisphere to its rim, up the wall, in along the lid.
+    rim = 0.24
+    bowl = [(0.22 * math.sin(a), rim - 0.22 * math.cos(a)) for a in (math.pi / 2 * k / 12 for k in range(13))]
+    bowl += [(0.22, 0.5), (0.0, 0.5)]
+    write_obj(os.path.join(out, "bowl.obj"), *lathe(bowl, 48))
 
 
 if __name__ == "__main__":

@@ -25,6 +25,8 @@ const int BOX = 0, SPHERE = 1, MESH = 2;
 bool has_shape(int shape) { return (SHAPES & (1u << shape)) != 0u; }
 // Whether any obstacle moves (Derived::moving): the work they do is counted only then.
 layout(constant_id = 91) const bool MOVING = false;
+// Whether the box's walls mirror the fluid: not where the domain is a mesh (Derived::walls_mirror).
+layout(constant_id = 92) const bool WALLS = true;
 #ifdef WORK_BINDING
 // The work moving solids did on each particle slot this frame, per unit mass (J/kg): slots are
 // re-sorted every step, but reduce_stats.comp only sums them.
@@ -166,7 +168,7 @@ Mirrors mirrors_near(vec3 x) {
   m.axes = 0;
   for (int a = 0; a < 3; ++a) {
     float lo = x[a] - sim.domain_min[a], hi = sim.domain_max[a] - x[a];
-    if (min(lo, hi) < sim.h) m.axes |= 1 << a;  // a box narrower than 2h: the nearer wall only
+    if (WALLS && min(lo, hi) < sim.h) m.axes |= 1 << a;  // a box narrower than 2h: the nearer wall only
     m.plane2[a] = 2.0 * (lo <= hi ? sim.domain_min[a] : sim.domain_max[a]);
   }
   m.obstacle = -1;
@@ -228,10 +230,13 @@ vec3 mirror_velocity(Mirrors m, int k, vec3 v) {
 float trace(int k, vec3 from, vec3 d, float contact) {
   vec3 normal;
   float margin = obstacle_data[0].y, len = length(d), t = 0.0;
-  if (body_surface(k, from, normal) - margin < contact) return 1.0;  // touching: the projection's
+  float start = body_surface(k, from, normal) - margin;
+  if (start < contact) return 1.0;  // touching: the projection's
+  float end = body_surface(k, from + d, normal) - margin;
+  if (end > 0.0 && len <= start + end) return 1.0;  // the free spheres about its ends cover the move
   for (int s = 0; len > 0.0 && s < TRACE_STEPS; ++s) {
     float gap = body_surface(k, from + t * d, normal) - margin;
-    if (gap <= TRACE_STOP * contact) break;
+    if (s > 0 && gap <= TRACE_STOP * contact) break;  // the first step always taken (obstacles.cpp)
     t += gap / len;
     if (t >= 1.0) return 1.0;
   }

@@ -189,13 +189,9 @@ struct RestSetting {
 void PrintTo(const RestSetting& s, std::ostream* os) { *os << s.method << "@" << s.iterations; }
 class ObstacleRestTest : public test::GpuTest, public ::testing::WithParamInterface<RestSetting> {};
 
-TEST_P(ObstacleRestTest, ATankWithSolidsStandsStill) {
-  const RestSetting& p = GetParam();
-  const Scene scene = load_scene(
-      "hydrostatic", {R"(domain={"min": [0, 0, 0], "max": [0.4, 0.6, 0.3]})", R"(fluid_blocks=[{"min": [0, 0, 0], "max": [0.4, 0.4, 0.3]}])",
-                      R"(obstacles=[{"type": "sphere", "centre": [0.25, 0.2, 0.15], "radius": 0.1},
-                                    {"type": "box", "min": [0.04, 0, 0.04], "max": [0.12, 0.1, 0.12]}])",
-                      std::string("solver.method=\"") + p.method + "\"", "solver.iterations=" + std::to_string(p.iterations)});
+// The scene settled, then 4 s: its largest speed after 1 s and 4 s under `bar` m/s, no energy
+// gained, no particle inside a solid.
+void expect_stands_still(const Scene& scene, const RestSetting& p, double bar = 0.05) {
   const Derived d = derive(scene);
   GpuSolver solver(test::gpu(), d, lattice_particles(scene));
   ASSERT_TRUE(settle(solver, d).converged);
@@ -211,12 +207,36 @@ TEST_P(ObstacleRestTest, ATankWithSolidsStandsStill) {
   int inside = 0;
   for (const glm::dvec3& x : solver.download().x)
     for (const Obstacle& o : d.obstacles) inside += o.grown(-d.keep_out).contains(x);
-  std::printf("  %s@%d: max speed %.3f m/s after 1 s, %.3f after 4 s; energy gain %+.5f; %d inside a solid\n", p.method,
-              p.iterations, max_speed[0], max_speed[1], energy.largest(), inside);
-  EXPECT_LT(max_speed[0], 0.05);
-  EXPECT_LT(max_speed[1], 0.05);
+  std::printf("  %s@%d: %zu particles, max speed %.3f m/s after 1 s, %.3f after 4 s; energy gain %+.5f; %d inside a "
+              "solid\n", p.method, p.iterations, solver.particle_count(), max_speed[0], max_speed[1], energy.largest(),
+              inside);
+  EXPECT_LT(max_speed[0], bar);
+  EXPECT_LT(max_speed[1], bar);
   EXPECT_LE(energy.largest(), 0.01);
   EXPECT_EQ(inside, 0);
+}
+
+std::vector<std::string> setting_keys(const RestSetting& p) {
+  return {std::string("solver.method=\"") + p.method + "\"", "solver.iterations=" + std::to_string(p.iterations)};
+}
+
+TEST_P(ObstacleRestTest, ATankWithSolidsStandsStill) {
+  std::vector<std::string> keys = setting_keys(GetParam());
+  keys.insert(keys.end(), {R"(domain={"min": [0, 0, 0], "max": [0.4, 0.6, 0.3]})",
+                           R"(fluid_blocks=[{"min": [0, 0, 0], "max": [0.4, 0.4, 0.3]}])",
+                           R"(obstacles=[{"type": "sphere", "centre": [0.25, 0.2, 0.15], "radius": 0.1},
+                                         {"type": "box", "min": [0.04, 0, 0.04], "max": [0.12, 0.1, 0.12]}])"});
+  expect_stands_still(load_scene("hydrostatic", keys), GetParam());
+}
+
+// The mixer's bowl (the domain's mesh, scenes/meshes/bowl.obj) without its paddle: water at rest
+// in a curved container stays at rest. Not yet to the tank's bar: a few particles on the bowl's
+// wall near the surface move at 0.04-0.06 m/s (2026-11-29, lavapipe; a finer mesh and field do
+// not change it), held here below 0.08 until that is found (README, known problems).
+TEST_P(ObstacleRestTest, WaterInAMeshBowlStandsStill) {
+  std::vector<std::string> keys = setting_keys(GetParam());
+  keys.push_back("obstacles=[]");
+  expect_stands_still(load_scene("mixer", keys), GetParam(), 0.08);
 }
 
 INSTANTIATE_TEST_SUITE_P(RealStepSlow, ObstacleRestTest, ::testing::Values(RestSetting{"pbf", 2}, RestSetting{"ldc", 1}),

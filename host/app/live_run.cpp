@@ -106,7 +106,7 @@ std::vector<LiveSolid> seen_solids(const Scene& scene, const std::vector<Pose>& 
     s.centre = poses[k].world(scene.obstacles[k].middle());
     const glm::dvec3 p = s.centre - camera.eye;
     const double depth = glm::dot(p, axes.forward);
-    if (depth > 0) {
+    if (depth > 0 && !scene.obstacles[k].container) {  // the domain's mesh is not for dragging
       s.span = 2 * depth * std::tan(glm::radians(camera.fov_degrees) / 2);
       s.screen = {0.5 + glm::dot(p, axes.right) / (s.span * aspect), 0.5 - glm::dot(p, axes.up) / s.span};
       s.radius = scene.obstacles[k].extent() / s.span;
@@ -517,6 +517,10 @@ void LiveRun::steer(Stage& stage, const Asked& asked) {
   for (const LiveCommand& c : asked.drags) {
     if (c.obstacle >= stage.scene.obstacles.size()) {
       if (c.refused) c.refused("the scene has " + std::to_string(stage.scene.obstacles.size()) + " obstacle(s)");
+      continue;
+    }
+    if (stage.scene.obstacles[c.obstacle].container) {
+      if (c.refused) c.refused("obstacle " + std::to_string(c.obstacle) + " is the domain's mesh: shake the tank instead");
       continue;
     }
     const glm::dvec3 shift = hand_shift(stage.scene, c.obstacle, c.position);

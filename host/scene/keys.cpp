@@ -24,6 +24,11 @@ const SceneKey kKeys[] = {
      "rotation. The fluid is simulated, drawn and exported in the tank's frame, where it feels g less the "
      "tank's acceleration; `solid_work` counts the shaking's work",
      "", {}},
+    {"domain.mesh", K::Mesh, "none", {}, {}, "m, degrees",
+     "the tank as a closed mesh (a glass, a bowl) `{file, scale, position, rotation}`, placed as a mesh "
+     "obstacle is: the fluid lies inside it and the box, the solid all around it; a built-in scene's mesh is "
+     "built in (scenes/meshes)",
+     "", {}},
     {"particle_spacing", K::Number, "required", {}, KeyRange{1e-6, 1e6}, "m",
      "lattice spacing of the fluid; halving it makes 8x the particles", "", &Scene::particle_spacing},
     {"fluid_blocks", K::Boxes, "[]", {}, {}, "m", "boxes `{min, max}` filled with particles (lattice from the box's corner)",

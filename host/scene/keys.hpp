@@ -25,6 +25,7 @@ enum class KeyKind {
   Balls,    // a list of {centre, radius}
   Shapes,   // a list of {"type": "box" | "sphere", ...}
   Motion,   // {"type": "oscillate" | "rotate" | "keyframes", ...}
+  Mesh,     // {"file", "scale", "position", "rotation"}
 };
 
 struct KeyRange {

@@ -30,12 +30,10 @@ bool closed(const aiMesh& m) {
   return true;
 }
 
-const aiScene* import(Assimp::Importer& importer, const std::string& path, const std::string& what) {
-  const std::string bytes = read_user_file(path, what, {kMaxMeshBytes});
-  std::string hint = std::filesystem::path(path).extension().string();
-  if (!hint.empty()) hint = hint.substr(1);
+const aiScene* import(Assimp::Importer& importer, const std::string& bytes, const std::string& extension,
+                      const std::string& what) {
   const aiScene* scene = importer.ReadFileFromMemory(bytes.data(), bytes.size(),
-                                                     aiProcess_Triangulate | aiProcess_JoinIdenticalVertices, hint.c_str());
+                                                     aiProcess_Triangulate | aiProcess_JoinIdenticalVertices, extension.c_str());
   if (!scene) throw InputError(what + " cannot be read as a mesh: " + importer.GetErrorString());
   return scene;
 }
@@ -43,8 +41,15 @@ const aiScene* import(Assimp::Importer& importer, const std::string& path, const
 }  // namespace
 
 TriangleMesh read_mesh(const std::string& path, const std::string& what, const Placement& placement) {
+  const std::string bytes = read_user_file(path, what, {kMaxMeshBytes});
+  std::string extension = std::filesystem::path(path).extension().string();
+  return parse_mesh(bytes, extension.empty() ? "" : extension.substr(1), what, placement);
+}
+
+TriangleMesh parse_mesh(const std::string& bytes, const std::string& extension, const std::string& what,
+                        const Placement& placement) {
   Assimp::Importer importer;
-  const aiScene* scene = import(importer, path, what);
+  const aiScene* scene = import(importer, bytes, extension, what);
   const glm::dmat3 turn = euler_rotation(placement.rotation);
   TriangleMesh out;
   for (unsigned k = 0; k < scene->mNumMeshes; ++k) {

@@ -32,6 +32,9 @@ struct TriangleMesh {
 // read, is empty, has a vertex that is not finite, too many triangles, or is not closed (an edge
 // not shared by exactly two triangles).
 TriangleMesh read_mesh(const std::string& path, const std::string& what, const Placement& placement);
+// The same from a file's bytes, `extension` its format (obj, stl, ply).
+TriangleMesh parse_mesh(const std::string& bytes, const std::string& extension, const std::string& what,
+                        const Placement& placement);
 
 // Its signed distance field (negative inside) on a grid `voxel` apart reaching `reach` past
 // the mesh on every side; an InputError where the grid would pass kMaxFieldValues.

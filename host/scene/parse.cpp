@@ -16,6 +16,7 @@
 namespace pbflow {
 
 const std::vector<std::pair<std::string_view, std::string_view>>& builtin_scenes_text();  // generated (cmake/embed.cmake)
+const std::vector<std::pair<std::string_view, std::string_view>>& builtin_meshes_text();  // scenes/meshes, likewise
 
 namespace {
 
@@ -209,13 +210,20 @@ void read_fluid(const json& j, Scene& s) {
   }
 }
 
-// A mesh obstacle: its file (relative to the scene's directory), placed, as a distance field
-// half a spacing fine reaching past every kernel.
-Obstacle mesh_obstacle(const json& o, const std::string& path, const Scene& s, const std::string& directory) {
+// Where a scene's files lie: beside it; a built-in scene's `meshes/NAME.obj` are built in
+// (scenes/meshes), its other files in the working directory.
+struct SceneFiles {
+  std::string directory;  // empty: the working directory
+  bool builtin = false;
+};
+
+// The mesh a scene key names (`file`, `scale`, `position`, `rotation`), read bounded and placed.
+TriangleMesh scene_mesh(const json& o, const std::string& path, const SceneFiles& files) {
+  require(o.is_object(), "scene key '" + path + "' must be an object {file, scale, position, rotation}");
   reject_unknown(o, json{{"file", 0}, {"scale", 0}, {"position", 0}, {"rotation", 0}}, path);
   require(o.contains("file") && o["file"].is_string(), "scene key '" + path + ".file' must name a mesh file");
   std::filesystem::path file = o["file"].get<std::string>();
-  if (file.is_relative() && !directory.empty()) file = std::filesystem::path(directory) / file;
+  if (file.is_relative() && !files.directory.empty()) file = std::filesystem::path(files.directory) / file;
   Placement place;
   if (o.contains("scale") && o["scale"].is_number())
     place.scale = glm::dvec3(number(o, "scale", 1));
@@ -225,7 +233,16 @@ Obstacle mesh_obstacle(const json& o, const std::string& path, const Scene& s, c
   place.position = vec3(o, "position", path + ".position", {});
   place.rotation = vec3(o, "rotation", path + ".rotation", {});
   const std::string what = path + "'s mesh '" + file.string() + "'";
-  const TriangleMesh mesh = read_mesh(file.string(), what, place);
+  if (files.builtin)
+    for (const auto& [name, text] : builtin_meshes_text())
+      if (file == std::filesystem::path("meshes") / std::string(name))
+        return parse_mesh(std::string(text), "obj", what, place);
+  return read_mesh(file.string(), what, place);
+}
+
+// A mesh's solid for the solvers: its distance field half a spacing fine, reaching past every
+// kernel, and its triangles for drawing.
+Obstacle mesh_solid(const TriangleMesh& mesh, const Scene& s, const std::string& what) {
   Obstacle ob;
   ob.kind = Obstacle::Kind::Mesh;
   ob.min = mesh.lo, ob.max = mesh.hi;
@@ -236,6 +253,23 @@ Obstacle mesh_obstacle(const json& o, const std::string& path, const Scene& s, c
     for (int c = 0; c < 3; ++c) corners->push_back(glm::vec3(mesh.vertices[size_t(t[c])]));
   ob.corners = std::move(corners);
   return ob;
+}
+
+// The domain's mesh (a glass, a bowl): the fluid inside it and the box, the solid all around
+// it: an obstacle whose field is the mesh's negated, over the whole box. Last of the obstacles.
+void read_container(const json& domain, Scene& s, const SceneFiles& files) {
+  if (!domain.is_object() || !domain.contains("mesh")) return;
+  TriangleMesh mesh = scene_mesh(domain["mesh"], "domain.mesh", files);
+  require(glm::all(glm::lessThan(mesh.lo, s.domain.max)) && glm::all(glm::greaterThan(mesh.hi, s.domain.min)),
+          "domain.mesh lies wholly outside the domain's box");
+  mesh.lo = glm::min(mesh.lo, s.domain.min), mesh.hi = glm::max(mesh.hi, s.domain.max);  // the field covers the box
+  Obstacle ob = mesh_solid(mesh, s, "domain.mesh");
+  auto inverted = std::make_shared<DistanceField>(*ob.field);
+  for (float& v : inverted->values) v = -v;
+  ob.field = std::move(inverted);
+  ob.min = s.domain.min, ob.max = s.domain.max;
+  ob.container = true;
+  s.obstacles.push_back(std::move(ob));
 }
 
 // A number at j[key] within [lo, hi] (a motion's keys), named by its path.
@@ -300,7 +334,7 @@ Motion motion(const json& j, const std::string& path, const glm::dvec3& middle) 
   return m;
 }
 
-Obstacle obstacle(const json& o, const std::string& path, const Scene& s, const std::string& directory) {
+Obstacle obstacle(const json& o, const std::string& path, const Scene& s, const SceneFiles& files) {
   require(o.is_object() && o.contains("type") && o["type"].is_string(),
           path + " needs a \"type\": \"box\", \"sphere\" or \"mesh\"");
   json shape = o;
@@ -308,7 +342,7 @@ Obstacle obstacle(const json& o, const std::string& path, const Scene& s, const 
   shape.erase("motion");
   Obstacle ob;
   if (o["type"] == "mesh") {
-    ob = mesh_obstacle(shape, path, s, directory);
+    ob = mesh_solid(scene_mesh(shape, path, files), s, path);
   } else if (o["type"] == "box") {
     Box b = box(shape, path);
     ob.min = b.min, ob.max = b.max;
@@ -332,7 +366,7 @@ Obstacle obstacle(const json& o, const std::string& path, const Scene& s, const 
 // The tank and how it shakes: by translation only, simulated in its own frame.
 void read_domain(const json& j, Scene& s) {
   json walls = j;
-  if (walls.is_object()) walls.erase("motion");
+  if (walls.is_object()) walls.erase("motion"), walls.erase("mesh");  // the mesh: read_container
   s.domain = box(walls, "domain");
   if (!j.contains("motion")) return;
   s.tank_motion = motion(j["motion"], "domain.motion", 0.5 * (s.domain.min + s.domain.max));
@@ -384,8 +418,10 @@ Scene parse_checked(const std::string& json_text, const std::string& origin, con
   reject_unknown(j, schema(), "");
   // Files a scene names lie beside it; a built-in scene's (or a scene given as text) in the
   // working directory.
-  const std::string directory =
-      std::filesystem::is_regular_file(origin) ? std::filesystem::path(origin).parent_path().string() : "";
+  SceneFiles files;
+  files.directory = std::filesystem::is_regular_file(origin) ? std::filesystem::path(origin).parent_path().string() : "";
+  files.builtin = std::any_of(builtin_scenes_text().begin(), builtin_scenes_text().end(),
+                              [&](const auto& b) { return b.first == origin; });
 
   Scene s = scene_defaults();
   s.name = origin;
@@ -400,7 +436,8 @@ Scene parse_checked(const std::string& json_text, const std::string& origin, con
   read_fluid(j, s);
   const json& obstacles = list(j, "obstacles");
   for (size_t i = 0; i < obstacles.size(); ++i)
-    s.obstacles.push_back(obstacle(obstacles[i], "obstacles[" + std::to_string(i) + "]", s, directory));
+    s.obstacles.push_back(obstacle(obstacles[i], "obstacles[" + std::to_string(i) + "]", s, files));
+  read_container(j["domain"], s, files);
   s.gravity = vec3(j, "gravity", "gravity", s.gravity);
   require(glm::length(s.gravity) <= 1e4, "gravity must not exceed 1e4 m/s^2 (a thousand g)");
   if (s.solver.substeps == SolverParams::kChosenSubsteps) s.solver.substeps = chosen_substeps(s);

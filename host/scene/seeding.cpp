@@ -55,7 +55,9 @@ std::vector<glm::dvec3> seed(const Scene& scene, double jitter) {
           if (glm::dvec3 m = moved(x); outside_obstacles(m)) points.push_back(m);
         }
   }
-  if (points.empty()) throw InputError("the fluid holds no particle at this particle_spacing");
+  if (points.empty())
+    throw InputError("the fluid holds no particle: its blocks and spheres hold no lattice point at this particle_spacing "
+                     "outside the obstacles and the domain's mesh");
   return points;
 }
 

@@ -18,7 +18,7 @@ Mirrors mirrors_near(const Derived& d, const glm::dvec3& x) {
   m.at = x;
   for (int a = 0; a < 3; ++a) {
     const double lo = x[a] - d.domain_min[a], hi = d.domain_max[a] - x[a];
-    if (std::min(lo, hi) < d.h) m.axes |= 1 << a;  // a box narrower than 2h: the nearer wall only
+    if (d.walls_mirror && std::min(lo, hi) < d.h) m.axes |= 1 << a;  // a box narrower than 2h: the nearer wall only
     m.plane2[a] = 2 * (lo <= hi ? d.domain_min[a] : d.domain_max[a]);
   }
   m.distance = d.h;

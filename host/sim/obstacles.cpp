@@ -112,14 +112,18 @@ glm::dvec3 project_out(const Obstacle& o, const glm::dvec3& x, const glm::dvec3&
 }
 
 namespace {
-// A mesh's move is sphere traced (shaders/contract.h, TRACE_STEPS).
+// A mesh's move is sphere traced (shaders/contract.h, TRACE_STEPS): each step as long as the
+// free sphere about where it is, the first always taken, so that a particle beside a face is
+// never stopped where it stands (it was: wall particles rose at 0.075 m/s beside a mesh box).
+// A move the free spheres about its two ends cover crosses no surface.
 glm::dvec3 trace(const Obstacle& o, const glm::dvec3& from, const glm::dvec3& d, double contact) {
   const double length = glm::length(d);
   glm::dvec3 normal;
+  if (const double end = o.surface(from + d, normal); end > 0 && length <= o.surface(from, normal) + end) return from + d;
   double t = 0;
   for (int k = 0; length > 0 && k < TRACE_STEPS; ++k) {
     const double s = o.surface(from + t * d, normal);
-    if (s <= TRACE_STOP * contact) break;
+    if (k > 0 && s <= TRACE_STOP * contact) break;
     t += s / length;
     if (t >= 1) return from + d;
   }

@@ -23,6 +23,9 @@ struct Obstacle {
   std::shared_ptr<const DistanceField> field;  // mesh: the surface is its zero ...
   double margin = 0;                           // ... moved out by this much (grown)
   std::shared_ptr<const std::vector<glm::vec3>> corners;  // mesh: its triangles, three corners each, for drawing
+  // The domain's mesh (scene key domain.mesh): the solid is all outside the mesh, its field the
+  // mesh's negated; it moves with the tank and is never dragged.
+  bool container = false;
   Motion motion;
   Pose pose, previous;  // where it is at the end of the current step, and was at its start
   // A viewer's hand (pbflow serve, Derived::drag): the placement shifted by `shift`, which

@@ -129,6 +129,9 @@ struct Derived {
   std::vector<ParamKey> shader_keys;  // the keys of `solver` and `white_water`, offered to every pass
   double keep_out = 0;  // m: how far particle centres stay from every solid's surface, half a spacing
   std::vector<Obstacle> obstacles;  // grown by keep_out: where particle centres may not be
+  // Whether the box's walls mirror the fluid: not where the domain is a mesh (Obstacle::container),
+  // which is then the tank; the walls still keep every particle inside the box.
+  bool walls_mirror = true;
   // The tank's shaking (translation only): the solvers work in the tank's frame, where the fluid
   // feels g less the tank's acceleration, given each step as the velocity it changes by
   // (TankMotion::step_to).
