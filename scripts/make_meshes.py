@@ -8,6 +8,10 @@ Usage: scripts/make_meshes.py [OUT_DIR]
 - cup.obj: a cup turned about y: outer radius 0.1, wall 0.02 thick, 0.15 tall, floor 0.02.
 - bowl.obj: a bowl's inside, for a domain's mesh (the fluid inside it): a hemisphere of radius
   0.22 whose lowest point is 0.02 above y = 0, walls straight up from its rim to y = 0.5, a lid.
+- paddle.obj: a paddle's outline (a blade 0.3 wide and 0.2 tall, a shaft 0.03 wide up to 0.45)
+  extruded 0.04 thick along z, centred on z = 0.
+- hull.obj: a boat's hull: the icosphere stretched to 0.6 long, 0.24 wide, its lower half 0.1
+  deep and its upper half flattened to a deck 0.02 above the waterline (y = 0).
 """
 import math
 import os
@@ -62,6 +66,21 @@ def lathe(profile, segments):
     return v, f
 
 
+def extrude(outline, centre, depth):
+    """A closed prism: a counter-clockwise outline in (x, y), star-shaped about `centre`,
+    extruded from z = -depth / 2 to depth / 2, its caps fanned from the centre."""
+    n = len(outline)
+    v = [(x, y, z) for z in (-depth / 2, depth / 2) for x, y in outline] + \
+        [(centre[0], centre[1], -depth / 2), (centre[0], centre[1], depth / 2)]
+    back, front = 2 * n, 2 * n + 1
+    f = []
+    for k in range(n):
+        k2 = (k + 1) % n
+        f += [(k, k2, n + k2), (k, n + k2, n + k)]  # the side, facing out
+        f += [(back, k2, k), (front, n + k, n + k2)]  # the caps: -z seen from behind, +z from the front
+    return v, f
+
+
 def write_obj(path, v, f):
     with open(path, "w") as out:
         out.write("# made by scripts/make_meshes.py\n")
@@ -86,6 +105,11 @@ def main():
     bowl = [(0.22 * math.sin(a), rim - 0.22 * math.cos(a)) for a in (math.pi / 2 * k / 12 for k in range(13))]
     bowl += [(0.22, 0.5), (0.0, 0.5)]
     write_obj(os.path.join(out, "bowl.obj"), *lathe(bowl, 48))
+    blade = [(-0.15, 0.0), (0.15, 0.0), (0.15, 0.2), (0.015, 0.2), (0.015, 0.45), (-0.015, 0.45),
+             (-0.015, 0.2), (-0.15, 0.2)]
+    write_obj(os.path.join(out, "paddle.obj"), *extrude(blade, (0.0, 0.15), 0.04))
+    write_obj(os.path.join(out, "hull.obj"),
+              [(0.3 * x, 0.1 * y if y < 0 else 0.02 * y, 0.12 * z) for x, y, z in v], f)
 
 
 if __name__ == "__main__":

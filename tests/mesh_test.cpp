@@ -41,6 +41,21 @@ TEST(MeshField, ABallsFieldIsItsDistance) {
   EXPECT_LT(worst, 1e-3);
 }
 
+// Every mesh the project ships (scripts/make_meshes.py) is closed and wound outward: its field
+// is negative at a point inside it and positive just beyond its bounds.
+TEST(MeshField, EveryShippedMeshIsASolidWoundOutward) {
+  const std::pair<const char*, glm::dvec3> inside[] = {{"ball.obj", {0, 0, 0}},     {"rock.obj", {0, 0, 0}},
+                                                       {"cup.obj", {0, 0.01, 0}},   {"bowl.obj", {0, 0.2, 0}},
+                                                       {"paddle.obj", {0, 0.1, 0}}, {"hull.obj", {0, -0.03, 0}}};
+  for (const auto& [name, point] : inside) {
+    const TriangleMesh mesh = read_mesh(kMeshes + name, name, {});
+    const auto field = mesh_field(mesh, 0.01, 0.04, name);
+    glm::dvec3 gradient;
+    EXPECT_LT(field->sample(point, gradient), 0.0) << name << ": not inside at its inner point";
+    EXPECT_GT(field->sample(mesh.hi + 0.02, gradient), 0.0) << name << ": inside beyond its bounds";
+  }
+}
+
 class MeshInput : public ::testing::Test {
  protected:
   std::filesystem::path dir = std::filesystem::temp_directory_path() / ("pbflow_mesh_" + std::to_string(getpid()));
