@@ -164,7 +164,7 @@ class ServeTest(OneServer, unittest.TestCase):
         dropped = self.frame_where(viewer, lambda f: f[2]["scene"] == "drop")
         self.assertIn("drop", dropped[2]["about"])
         self.assertLess(dropped[2]["time"], 0.5, "a new scene starts from its start")
-        for command, expect in (({"cmd": "scene", "name": "/etc/passwd"}, "'name' must be a built-in scene: dam_break"),
+        for command, expect in (({"cmd": "scene", "name": "/etc/passwd"}, "'name' must be a built-in scene: cup, dam_break"),
                                 ({"cmd": "scene", "name": "../scenes/dam_break.json"}, "built-in scene"),
                                 ({"cmd": "scene", "name": 5}, "built-in scene"),
                                 ({"cmd": "scene"}, "built-in scene")):
