@@ -60,16 +60,23 @@ def open_page(port, address=None):
     return browser
 
 
-class BrowserTest(unittest.TestCase):
+class PageTest(unittest.TestCase):
+    """A test class's server (its SCENE and OPTIONS) and the page open on it, for all its tests."""
+    SCENE, OPTIONS = "dam_break", ()
+
     @classmethod
     def setUpClass(cls):
-        cls.server = Server("dam_break", ("--param", "particle_spacing=0.04", "--width", "480", "--height", "270"))
+        cls.server = Server(cls.SCENE, cls.OPTIONS)
         cls.browser = open_page(cls.server.port)
 
     @classmethod
     def tearDownClass(cls):
         cls.browser.quit()
         cls.server.stop()
+
+
+class BrowserTest(PageTest):
+    OPTIONS = ("--param", "particle_spacing=0.04", "--width", "480", "--height", "270")
 
     def live(self, key):
         return self.browser.execute_script(f"return window.pbflowLive.{key};")
@@ -164,20 +171,11 @@ class BrowserTest(unittest.TestCase):
         self.assertTrue(all(x >= -5 for x in latency), "a frame shown before it was drawn: clocks disagree")
 
 
-class SolidsBrowserTest(unittest.TestCase):
+class SolidsBrowserTest(PageTest):
     """A viewer moves the box of dam_obstacle by dragging it and shakes the tank from the page:
     the server's stats show the box where the drag put it and the shaking doing work."""
-
-    @classmethod
-    def setUpClass(cls):
-        cls.server = Server("dam_obstacle", ("--param", "particle_spacing=0.05", "--style", "particles",
-                                             "--width", "480", "--height", "270"))
-        cls.browser = open_page(cls.server.port)
-
-    @classmethod
-    def tearDownClass(cls):
-        cls.browser.quit()
-        cls.server.stop()
+    SCENE = "dam_obstacle"
+    OPTIONS = ("--param", "particle_spacing=0.05", "--style", "particles", "--width", "480", "--height", "270")
 
     def stats(self):
         return self.browser.execute_script("return window.pbflowLive.stats;")
@@ -207,17 +205,9 @@ class SolidsBrowserTest(unittest.TestCase):
         wait_for(lambda: self.stats()["shake"] is None, what="the shaking off")
 
 
-class CompareBrowserTest(unittest.TestCase):
-    @classmethod
-    def setUpClass(cls):
-        cls.server = Server("dam_break", ("--param", "particle_spacing=0.05", "--style", "particles", "--width", "160",
-                                          "--height", "90", "--compare", "pbf@1,ldc@1,pbf@2"))
-        cls.browser = open_page(cls.server.port)
-
-    @classmethod
-    def tearDownClass(cls):
-        cls.browser.quit()
-        cls.server.stop()
+class CompareBrowserTest(PageTest):
+    OPTIONS = ("--param", "particle_spacing=0.05", "--style", "particles", "--width", "160", "--height", "90",
+               "--compare", "pbf@1,ldc@1,pbf@2")
 
     def test_each_panel_is_labelled_with_its_setting_and_compression(self):
         # Read in one call: the page replaces the labels with every frame.
