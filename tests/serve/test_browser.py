@@ -200,6 +200,7 @@ class SolidsBrowserTest(PageTest):
         self.assertEqual(shaking["shake"]["amplitude"], 0.01)
         self.assertEqual(shaking["shake"]["axis"], [1, 0, 0])
         self.assertGreater(shaking["shake"]["period"], 0.5, "not the tank's first sloshing mode")
+        wait_for(lambda: "shaken 10 mm" in self.browser.find_element("id", "stats").text, what="the shaking in the page's text")
         wait_for(lambda: abs(self.stats()["solid_work"]) > 0, what="the shaking's work in a frame's stats")
         Select(self.browser.find_element("id", "shake")).select_by_visible_text("off")
         wait_for(lambda: self.stats()["shake"] is None, what="the shaking off")
