@@ -135,6 +135,9 @@ struct LiveRun::Stage {
   ParticleState start;  // relaxed and, for a tank, settled: every lane starts and restarts here
   SolidsState start_solids;  // the solids where the scene places them, still, at time 0
   Motion shake;              // the tank's live shaking, as the viewers last asked
+  // Whether the lanes' solvers are made for a viewer's hand (Derived::steerable): not until a
+  // viewer first drags or shakes, since the poses compiled in cost a still box scene 1.36x on lavapipe.
+  bool steerable = false;
   std::unique_ptr<capture::FrameCapture> capture;
   std::function<void(const std::string&)> before_load;  // LiveOptions::before_load
 
@@ -151,11 +154,12 @@ struct LiveRun::Stage {
     options = o;
     base = loaded;
     scene_substeps = base.solver.substeps;
+    steerable = false;
     if (before_load) before_load(o.scene);
     for (const LiveSetting& s : settings.empty() ? std::vector<LiveSetting>{setting_of(base)} : settings) {
       const Scene lane = with_setting(base, s);
       if (lanes.empty()) scene = lane;
-      lanes.push_back(make_lane(lane, ctx));
+      lanes.push_back(make_lane(lane, ctx, false));
     }
     Solver& first = *lanes[0].solver;
     relax_start(first);
@@ -182,10 +186,11 @@ struct LiveRun::Stage {
     ParticleState start;
     SolidsState start_solids;
     Motion shake;
+    bool steerable;
     Camera camera;
   };
   Saved save() const {
-    Saved s{options, base, scene, scene_substeps, {}, {}, {}, start, start_solids, shake, capture->camera()};
+    Saved s{options, base, scene, scene_substeps, {}, {}, {}, start, start_solids, shake, steerable, capture->camera()};
     for (const Lane& lane : lanes) {
       s.settings.push_back(lane.setting), s.now.push_back(lane.solver->download());
       s.solids.push_back(lane.solver->solids());
@@ -196,9 +201,9 @@ struct LiveRun::Stage {
     capture.reset();
     lanes.clear();  // before the old are made again: one run's memory at a time
     options = s.options, base = s.base, scene = s.scene, scene_substeps = s.scene_substeps, start = s.start;
-    start_solids = s.start_solids, shake = s.shake;
+    start_solids = s.start_solids, shake = s.shake, steerable = s.steerable;
     for (size_t i = 0; i < s.settings.size(); ++i) {
-      lanes.push_back(make_lane(with_setting(base, s.settings[i]), ctx));
+      lanes.push_back(make_lane(with_setting(base, s.settings[i]), ctx, steerable));
       lanes.back().solver->upload(s.now[i]);
       lanes.back().solver->carry(s.solids[i]);
     }
@@ -220,13 +225,30 @@ struct LiveRun::Stage {
   void make_first(const LiveSetting& s, const vk::Context* ctx) {
     scene = with_setting(base, s);
     lanes[0].solver.reset();  // before the next is made: one solver's memory at a time
-    lanes[0] = make_lane(scene, ctx);
+    lanes[0] = make_lane(scene, ctx, steerable);
   }
-  // A lane of `lane`'s setting, its solver at the scene's start.
-  static Lane make_lane(const Scene& lane, const vk::Context* ctx) {
+  // A lane of `lane`'s setting, its solver at the scene's start; `steerable`: for a viewer's hand.
+  static Lane make_lane(const Scene& lane, const vk::Context* ctx, bool steerable) {
     Derived d = derive(lane);
-    d.make_steerable();  // a viewer may drag any obstacle and shake the tank
+    if (steerable) d.make_steerable();
     return {setting_of(lane), make_solver(ctx, d, initial_particles(lane))};
+  }
+  // Every lane's solver made anew for a viewer's hand, its particles and solids carried over.
+  void make_steerable(const vk::Context* ctx) {
+    if (steerable) return;
+    const Camera camera = capture->camera();
+    capture.reset();
+    steerable = true;
+    for (Lane& lane : lanes) {
+      const ParticleState now = lane.solver->download();
+      const SolidsState solids = lane.solver->solids();
+      const LiveSetting setting = lane.setting;
+      lane.solver.reset();  // before the next is made: one solver's memory at a time
+      lane = make_lane(with_setting(base, setting), ctx, true);
+      lane.solver->upload(now);
+      lane.solver->carry(solids);
+    }
+    draw_anew(ctx, camera);
   }
   void draw_anew(const vk::Context* ctx, Camera camera) {  // by value: it may be the old renderer's
     capture.reset();
@@ -472,7 +494,6 @@ LiveRun::Asked LiveRun::take_commands(Clock::time_point until) {
 // whether the scene, setting or budget changed.
 bool LiveRun::apply(Stage& stage, const vk::Context* ctx, Pace& pace, Asked& asked) {
   for (const LiveCommand& c : asked.cameras) stage.capture->set_camera(moved(stage.capture->camera(), c));
-  steer(stage, asked);
   auto attempt = [&](const std::optional<LiveCommand>& c, const std::function<void()>& change) {
     if (!c) return false;
     const Stage::Saved saved = stage.save();
@@ -485,6 +506,9 @@ bool LiveRun::apply(Stage& stage, const vk::Context* ctx, Pace& pace, Asked& ask
       return false;
     }
   };
+  // A viewer's first hand on the solids makes the lanes steerable (Stage::make_steerable), or is refused.
+  const std::optional<LiveCommand> hand = asked.drags.empty() ? asked.shake : std::optional(asked.drags.front());
+  if (hand && (stage.steerable || attempt(hand, [&] { stage.make_steerable(ctx); }))) steer(stage, asked);
   std::optional<double> new_budget = asked.budget ? std::optional<double>(asked.budget->budget_ms) : std::nullopt;
   const bool scene = attempt(asked.scene, [&] {  // the new scene's start, under the settings the run has
     std::vector<LiveSetting> settings;            // at the new scene's own substeps
