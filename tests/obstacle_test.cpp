@@ -341,6 +341,34 @@ TEST_F(SteeredSolidsSlowTest, ADraggedBoxAndAShakenTankKeepTheFluidOutAndBringOn
   EXPECT_EQ(inside, 0);
 }
 
+class CarryTest : public test::GpuTest {};
+
+// A solver made anew mid-run (a live run's setting change) takes the solids where they stand and
+// their clock (Solver::carry): the turning box goes on from its angle, not from the scene's start,
+// and the shaken tank's motion goes on with it.
+TEST_F(CarryTest, ASolverMadeAnewGoesOnWhereTheSolidsStand) {
+  const Scene scene = load_scene("mixer", {"particle_spacing=0.04", R"(domain={"min": [0, 0, 0], "max": [0.48, 0.48, 0.48]})"});
+  const Derived d = derive(scene);
+  GpuSolver before(test::gpu(), d, initial_particles(scene));
+  Motion shake;
+  shake.type = Motion::Type::Oscillate, shake.axis = {1, 0, 0}, shake.amplitude = 0.005, shake.period = 0.5;
+  before.shake(shake);
+  for (int f = 0; f < 10; ++f) before.advance(scene.solver.substeps);
+  Derived other = derive(load_scene("mixer", {"particle_spacing=0.04", R"(domain={"min": [0, 0, 0], "max": [0.48, 0.48, 0.48]})", "solver.method=\"ldc\"",
+                                              "solver.iterations=1"}));
+  GpuSolver after(test::gpu(), other, initial_particles(scene));
+  after.upload(before.download());
+  after.carry(before.solids());
+  EXPECT_EQ(after.obstacle_poses(), before.obstacle_poses());
+  before.advance(scene.solver.substeps);
+  const FrameStats s = after.advance(scene.solver.substeps);
+  const Pose a = after.obstacle_poses()[0], b = before.obstacle_poses()[0];
+  EXPECT_NEAR(glm::length(a.translation - b.translation), 0.0, 1e-9) << "the clock did not carry over";
+  EXPECT_NEAR(glm::length(a.rotation[0] - b.rotation[0]), 0.0, 1e-9);
+  EXPECT_NE(a, Pose{}) << "the box did not turn";
+  EXPECT_GT(std::abs(s.solid_work), 0.0) << "the shaking did not carry over";
+}
+
 class ShakenTankTest : public test::GpuTest, public ::testing::WithParamInterface<RestSetting> {};
 
 // The slosh scene, its tank shaken at its first mode for 2 s: the water sloshes, stays inside,
