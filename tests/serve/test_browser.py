@@ -182,6 +182,7 @@ class SolidsBrowserTest(PageTest):
 
     def test_a_drag_on_the_box_moves_it(self):
         first = wait_for(lambda: (lambda m: m and m["solids"] and m)(self.stats()), what="the solids in the stats")
+        self.assertIn("drag a solid", self.browser.find_element("id", "hint").text)
         box = first["solids"][0]
         view = self.browser.find_element("id", "view")
         size = view.size
