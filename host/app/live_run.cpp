@@ -79,8 +79,7 @@ Camera moved(Camera c, const LiveCommand& m) {
 // put it nearer.
 glm::dvec3 hand_shift(const Scene& scene, size_t k, const glm::dvec3& position) {
   const Obstacle& o = scene.obstacles[k];
-  const bool sphere = o.kind == Obstacle::Kind::Sphere;
-  const glm::dvec3 lo = sphere ? o.centre - o.radius : o.min, hi = sphere ? o.centre + o.radius : o.max;
+  const glm::dvec3 lo = o.low(), hi = o.high();
   const double gap = o.kind == Obstacle::Kind::Box ? 0.0 : 2.0 * scene.particle_spacing;
   const glm::dvec3 least = glm::min(scene.domain.min + gap - lo, glm::dvec3(0.0)),
                    most = glm::max(scene.domain.max - gap - hi, glm::dvec3(0.0));
@@ -212,13 +211,20 @@ struct LiveRun::Stage {
   // The first lane under another setting, its particles and solids carried over.
   void change_setting(const LiveSetting& s, const vk::Context* ctx) {
     const Camera camera = capture->camera();
-    const ParticleState now = lanes[0].solver->download();
-    const SolidsState solids = lanes[0].solver->solids();
     capture.reset();
-    make_first(s, ctx);
-    lanes[0].solver->upload(now);
-    lanes[0].solver->carry(solids);
+    scene = with_setting(base, s);
+    remake(lanes[0], s, ctx);
     draw_anew(ctx, camera);
+  }
+  // `lane`'s solver made anew under `s`, its particles and solids carried over; the renderer,
+  // which shares its buffers, must be gone.
+  void remake(Lane& lane, LiveSetting s, const vk::Context* ctx) {  // by value: it may be the lane's own
+    const ParticleState now = lane.solver->download();
+    const SolidsState solids = lane.solver->solids();
+    lane.solver.reset();  // before the next is made: one solver's memory at a time
+    lane = make_lane(with_setting(base, s), ctx, steerable);
+    lane.solver->upload(now);
+    lane.solver->carry(solids);
   }
   // The first lane's solver made anew under `s`, at the scene's start; the renderer, which
   // shares its buffers, must be gone.
@@ -239,15 +245,7 @@ struct LiveRun::Stage {
     const Camera camera = capture->camera();
     capture.reset();
     steerable = true;
-    for (Lane& lane : lanes) {
-      const ParticleState now = lane.solver->download();
-      const SolidsState solids = lane.solver->solids();
-      const LiveSetting setting = lane.setting;
-      lane.solver.reset();  // before the next is made: one solver's memory at a time
-      lane = make_lane(with_setting(base, setting), ctx, true);
-      lane.solver->upload(now);
-      lane.solver->carry(solids);
-    }
+    for (Lane& lane : lanes) remake(lane, lane.setting, ctx);
     draw_anew(ctx, camera);
   }
   void draw_anew(const vk::Context* ctx, Camera camera) {  // by value: it may be the old renderer's

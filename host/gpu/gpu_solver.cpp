@@ -142,10 +142,7 @@ std::string GpuSolver::device_name() const { return ctx_.info().name; }
 
 void GpuSolver::carry(const SolidsState& s) {
   steps_moved_ = s.steps;
-  d_.obstacles = s.obstacles;
-  if (d_.steerable) d_.make_steerable();  // carried from one that was not
-  d_.tank = s.tank;
-  d_.measure_open({});
+  d_.carry_solids(s.obstacles, s.tank);
   obstacles_.upload(std::span<const glm::vec4>(pack_obstacles(d_.obstacles, d_.keep_out)));
   if (!d_.coarse.open.empty()) coarse_open_.upload(std::span<const float>(d_.coarse.open));
 }

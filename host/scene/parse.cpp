@@ -352,9 +352,7 @@ Obstacle obstacle(const json& o, const std::string& path, const Scene& s, const 
   } else {
     throw InputError(path + ".type must be \"box\", \"sphere\" or \"mesh\"");
   }
-  glm::dvec3 lo = ob.kind == Obstacle::Kind::Sphere ? ob.centre - ob.radius : ob.min;
-  glm::dvec3 hi = ob.kind == Obstacle::Kind::Sphere ? ob.centre + ob.radius : ob.max;
-  require(glm::all(glm::lessThan(lo, s.domain.max)) && glm::all(glm::greaterThan(hi, s.domain.min)),
+  require(glm::all(glm::lessThan(ob.low(), s.domain.max)) && glm::all(glm::greaterThan(ob.high(), s.domain.min)),
           path + " lies wholly outside the domain");
   if (o.contains("motion")) {
     ob.motion = motion(o["motion"], path + ".motion", ob.middle());

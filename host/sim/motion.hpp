@@ -104,10 +104,7 @@ class TankMotion {
     return kick;
   }
   // From the last step's end, `now`, on: m, from where the tank is.
-  void change(const Motion& m, double now) {
-    motion_ = m, since_ = now, from_ = glm::dvec3(0.0);
-    from_ = past_[0] - at(now);
-  }
+  void change(const Motion& m, double now) { motion_ = m, since_ = now, from_ = past_[0] - m.at(0).translation; }
 
  private:
   glm::dvec3 at(double t) const { return from_ + motion_.at(std::max(t - since_, 0.0)).translation; }

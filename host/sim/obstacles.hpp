@@ -45,6 +45,9 @@ struct Obstacle {
   // The body-frame sphere holding the shape: its centre and radius (where motion may reach).
   glm::dvec3 middle() const { return kind == Kind::Sphere ? centre : 0.5 * (min + max); }
   double extent() const { return kind == Kind::Sphere ? radius : 0.5 * glm::length(max - min); }
+  // The body-frame box holding the shape: its lowest and highest corners.
+  glm::dvec3 low() const { return kind == Kind::Sphere ? centre - radius : min; }
+  glm::dvec3 high() const { return kind == Kind::Sphere ? centre + radius : max; }
   void move_to(const Pose& p) { previous = pose, pose = p; }
 
  private:

@@ -73,6 +73,13 @@ void Derived::make_steerable() {
   for (Obstacle& o : obstacles) o.draggable = true;
 }
 
+void Derived::carry_solids(const std::vector<Obstacle>& placed, const TankMotion& motion) {
+  obstacles = placed;
+  if (steerable) make_steerable();  // carried from one that was not
+  tank = motion;
+  measure_open({});
+}
+
 void Derived::drag(size_t k, const glm::dvec3& shift) {
   if (steerable && k < obstacles.size()) obstacles[k].shift_to = shift;
 }

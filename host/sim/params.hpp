@@ -146,6 +146,9 @@ struct Derived {
   // most kSolidStep spacings a step less what its own motion takes (steerable only).
   void drag(size_t k, const glm::dvec3& shift);
   void shake(const Motion& m, double now) { tank.change(m, now); }  // from the step's end `now`
+  // The solids of this scene as another solver holds them (Solver::carry), their open shares
+  // measured anew; kept steerable where this is.
+  void carry_solids(const std::vector<Obstacle>& placed, const TankMotion& motion);
   std::vector<Pose> obstacle_poses() const;  // where each stands now
   // The obstacles moved to their poses at time t, the end of a step, and the coarse nodes'
   // open shares measured again where a moving one reaches (at its start pose or its end);

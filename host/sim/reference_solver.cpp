@@ -39,10 +39,7 @@ void ReferenceSolver::upload(const ParticleState& s) {
 
 void ReferenceSolver::carry(const SolidsState& s) {
   steps_moved_ = s.steps;
-  d_.obstacles = s.obstacles;
-  if (d_.steerable) d_.make_steerable();  // carried from one that was not
-  d_.tank = s.tank;
-  d_.measure_open({});
+  d_.carry_solids(s.obstacles, s.tank);
 }
 
 glm::ivec3 ReferenceSolver::cell_of(const dvec3& x) const {
