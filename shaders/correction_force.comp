@@ -57,10 +57,11 @@ void main() {
   float squeeze = max(density_of(i), sim.rho0) / sim.rho0;
   float k_i = sim.ldc_k * min(1.0, LDC_ROOM / (squeeze * squeeze));
   vec3 vi = v[i].xyz + (-k_i / sim.rho0 * sim.dt) * f;
-  vi += sim.gravity * sim.dt + tank_kick();
+  vec3 kick = tank_kick(xi, vi);
+  vi += sim.gravity * sim.dt + kick;
   v[i].xyz = vi;
-  // The images' force does work at the solid's velocity over the step; the shaking at the fluid's.
-  float work = dot((-k_i / sim.rho0) * f_solid, mirrors.solid_velocity) * sim.dt + (MOVING ? dot(tank_kick(), vi) : 0.0);
+  // The images' force does work at the solid's velocity over the step; the tank's motion at the fluid's.
+  float work = dot((-k_i / sim.rho0) * f_solid, mirrors.solid_velocity) * sim.dt + (MOVING ? dot(kick, vi) : 0.0);
   x_pred[i] = vec4(predicted_position(xi, vi, work), 0.0);
   add_work(i, work);
 }

@@ -15,9 +15,10 @@ layout(std430, binding = 2) writeonly buffer XPred { vec4 x_pred[]; };
 void main() {
   uint i = thread_index();
   if (i >= sim.count) return;
-  vec3 vi = v[i].xyz + sim.gravity * sim.dt + tank_kick();
+  vec3 kick = tank_kick(x[i].xyz, v[i].xyz);
+  vec3 vi = v[i].xyz + sim.gravity * sim.dt + kick;
   v[i].xyz = vi;
-  float work = MOVING ? dot(tank_kick(), vi) : 0.0;  // the shaking's work, in the tank's frame
+  float work = MOVING ? dot(kick, vi) : 0.0;  // the tank's motion's work, in its frame
   x_pred[i] = vec4(predicted_position(x[i].xyz, vi, work), 0.0);
   add_work(i, work);
 }

@@ -2,8 +2,9 @@
 // keep-out margin, half a spacing). Particles are kept out of them (predicted_position,
 // project_out_of_solids), and every solid is a mirror for the neighbour passes (mirrors_near,
 // as host/sim/mirrors.cpp). The includer defines OBSTACLES_BINDING.
-// Layout (pack_obstacles): obstacle_data[0] = (count, margin, 0, 0), [1] = (the tank's kick this
-// step, 0) (Derived::tank_kick: the tank's frame's velocity change); then per obstacle nine
+// Layout (pack_obstacles): obstacle_data[0] = (count, margin, 0, 0), [1-7] the tank's kick this
+// step (Derived::tank_kick, the tank's frame's velocity change: linear, of_x's and of_v's
+// columns); then per obstacle nine
 // vec4: its shape in its body frame, box (min, 0) (max, 0) (0, moves), sphere (centre, 1) (radius,
 // 0, 0, 0) (0, moves), mesh (field origin, 2) (dims, voxel) (first value, moves, 0, 0), moves 1
 // where it has a motion; then its pose at the step's end and at its start, each three rows of
@@ -36,9 +37,13 @@ void add_work(uint i, float w) {
 }
 #endif
 
-int obstacle_header(int k) { return 2 + 9 * k; }
-// The velocity every particle gains this step from the tank's shaking, seen in its frame.
-vec3 tank_kick() { return obstacle_data[1].xyz; }
+int obstacle_header(int k) { return 8 + 9 * k; }
+// The velocity a particle at x moving at v gains this step from the tank's motion, in its frame.
+vec3 tank_kick(vec3 x, vec3 v) {
+  mat3 of_x = mat3(obstacle_data[2].xyz, obstacle_data[3].xyz, obstacle_data[4].xyz);
+  mat3 of_v = mat3(obstacle_data[5].xyz, obstacle_data[6].xyz, obstacle_data[7].xyz);
+  return MOVING ? obstacle_data[1].xyz + of_x * x + of_v * v : vec3(0.0);
+}
 const int POSE_NOW = 3, POSE_BEFORE = 6;  // the poses' first row in an obstacle's header
 // x in obstacle k's body frame, from the pose at `pose` (Pose::body). Where nothing moves every
 // pose is the identity (a scene places each solid in its own frame): that costs nothing.

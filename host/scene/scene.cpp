@@ -18,8 +18,14 @@ double fall_speed(const Scene& scene) {
   return std::sqrt(2.0 * glm::length(scene.gravity) * (scene.domain.max.y - scene.domain.min.y));
 }
 
+double tank_speed(const Scene& scene) {
+  double reach = 0;  // the tank's corner farthest from the centre it turns about
+  for (int k = 0; k < 8; ++k) reach = std::max(reach, glm::length(scene.domain.corner(k) - scene.tank_motion.centre));
+  return scene.tank_motion.moves() ? scene.tank_motion.top_speed(reach) : 0.0;
+}
+
 double solid_speed(const Scene& scene) {
-  double top = scene.tank_motion.moves() ? scene.tank_motion.top_speed(0) : 0.0;
+  double top = tank_speed(scene);
   for (const Obstacle& o : scene.obstacles)
     if (o.motion.moves()) top = std::max(top, o.motion.top_speed(glm::length(o.middle() - o.motion.centre) + o.extent()));
   return top;

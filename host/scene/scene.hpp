@@ -25,6 +25,7 @@ struct Box {
   glm::dvec3 corner(int k) const {
     return {k & 1 ? max.x : min.x, k & 2 ? max.y : min.y, k & 4 ? max.z : min.z};
   }
+  glm::dvec3 floor_centre() const { return {0.5 * (min.x + max.x), min.y, 0.5 * (min.z + max.z)}; }
 };
 
 struct Ball {
@@ -68,9 +69,10 @@ double particle_estimate(const Scene& scene);
 // scale of the scene's flows (time-step check, divergence watch, speed colours).
 double fall_speed(const Scene& scene);
 
-// The fastest any moving solid's surface, or the shaken tank, moves, m/s (Motion::top_speed): 0
+// The fastest any moving solid's surface, or the tank's walls, moves, m/s (Motion::top_speed): 0
 // where nothing moves.
 double solid_speed(const Scene& scene);
+double tank_speed(const Scene& scene);  // the tank's walls' alone
 // The substeps a scene that leaves them out gets: the fewest that keep dt at most 1/120 s
 // (the real-time step at 60 fps), a particle falling through the domain within one kernel
 // radius a step (the time-step check of derive.hpp) and every moving solid within kSolidStep

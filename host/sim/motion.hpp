@@ -89,29 +89,78 @@ struct Motion {
 // held to it, Derived::drag).
 constexpr double kSolidStep = 0.5;
 
-// The tank's displacement X(t) under its motion, which a viewer may change while it runs
-// (pbflow serve): a new motion starts where the tank is. It keeps X at the last two steps'
-// ends, so that each step's kick, -(X(t) - 2 X(t - dt) + X(t - 2 dt)) / dt, takes away
-// exactly the velocity the tank had when its motion changes or stops.
+// A pose after another: a point placed by `b`, then moved as `a` moves it.
+inline Pose compose(const Pose& a, const Pose& b) { return {a.rotation * b.rotation, a.rotation * b.translation + a.translation}; }
+inline Pose inverse(const Pose& p) { return {glm::transpose(p.rotation), -(glm::transpose(p.rotation) * p.translation)}; }
+
+// What the tank's frame does to the fluid over a step, beside g dt: every particle's velocity
+// (x, v in the tank's frame) changes by at(x, v). of_x and of_v are zero unless the tank turns.
+struct TankKick {
+  glm::dvec3 linear{0.0};
+  glm::dmat3 of_x{0.0}, of_v{0.0};
+  glm::dvec3 at(const glm::dvec3& x, const glm::dvec3& v) const { return linear + of_x * x + of_v * v; }
+};
+
+// The tank's pose P(t) under its motion and a viewer's tilt, either of which may change while it
+// runs (pbflow serve): a new motion starts where the tank is, a tilt turns the tank smoothly to an
+// angle about its floor's centre and holds it there. The solvers work in the tank's frame: it
+// keeps P at the last two steps' ends, so that each step's kick is what the world's step
+// (v += g dt, x += v dt) does to a particle the walls carry, seen from the tank. Its acceleration,
+// and where it turns the Coriolis, centrifugal and Euler terms and g turned into its frame, come
+// out of the three poses exactly, and a change or stop takes away exactly the velocity the tank had.
 class TankMotion {
  public:
-  explicit TankMotion(const Motion& m = {}) : motion_(m) { past_ = {at(0), at(0)}; }
-  const Motion& motion() const { return motion_; }
-  // The velocity every particle gains in the tank's frame over the step ending at t.
-  glm::dvec3 step_to(double t, double dt) {
-    const glm::dvec3 x = at(t), kick = -(x - 2.0 * past_[0] + past_[1]) / dt;
-    past_ = {x, past_[0]};
-    return kick;
+  explicit TankMotion(const Motion& m = {}, const glm::dvec3& pivot = glm::dvec3(0.0)) : motion_(m), pivot_(pivot) {
+    past_ = {at(0), at(0)};
   }
+  const Motion& motion() const { return motion_; }
+  bool moves() const { return motion_.moves() || tilt_.to != glm::dquat(1, 0, 0, 0) || tilt_.from != tilt_.to; }
+  const Pose& pose() const { return past_[0]; }  // at the last step's end
+  // The kick of the step ending at t, g the world's gravity.
+  TankKick step_to(double t, double dt, const glm::dvec3& g) {
+    const Pose next = at(t);
+    const glm::dmat3 to_next = glm::transpose(next.rotation), now = to_next * past_[0].rotation,
+                     before = to_next * past_[1].rotation, one(1.0);
+    TankKick k;
+    k.of_x = (2.0 * now - before - one) / dt;
+    k.of_v = before - one;
+    k.linear = to_next * (2.0 * past_[0].translation - past_[1].translation - next.translation) / dt +
+               dt * (to_next * g - g);
+    past_ = {next, past_[0]};
+    return k;
+  }
+  // A step that holds the tank where it is: g turned into its frame alone.
+  TankKick held(double dt, const glm::dvec3& g) const { return {dt * (glm::transpose(pose().rotation) * g - g)}; }
   // From the last step's end, `now`, on: m, from where the tank is.
-  void change(const Motion& m, double now) { motion_ = m, since_ = now, from_ = past_[0] - m.at(0).translation; }
+  void change(const Motion& m, double now) {
+    const Pose moved = compose(from_, motion_.at(std::max(now - since_, 0.0)));
+    motion_ = m, since_ = now, from_ = compose(moved, inverse(m.at(0)));
+  }
+  // From `now` on: turned smoothly to `to` (about the floor's centre) over `seconds`, then held.
+  void tilt(const glm::dquat& to, double now, double seconds) { tilt_ = {tilt_.at(now), to, now, seconds}; }
+  glm::dquat tilt(double t) const { return tilt_.at(t); }  // the tilt at t
+  glm::dquat tilt_target() const { return tilt_.to; }
 
  private:
-  glm::dvec3 at(double t) const { return from_ + motion_.at(std::max(t - since_, 0.0)).translation; }
+  // A turn from one orientation to another along smoothstep's ease, at rest at both ends.
+  struct Tilt {
+    glm::dquat from{1, 0, 0, 0}, to{1, 0, 0, 0};
+    double start = 0, seconds = 0;
+    glm::dquat at(double t) const {
+      const double s = seconds > 0 ? std::clamp((t - start) / seconds, 0.0, 1.0) : 1.0;
+      return glm::slerp(from, to, s * s * (3 - 2 * s));
+    }
+  };
+  Pose at(double t) const {
+    const glm::dmat3 turn = glm::mat3_cast(tilt_.at(t));
+    return compose({turn, pivot_ - turn * pivot_}, compose(from_, motion_.at(std::max(t - since_, 0.0))));
+  }
   Motion motion_;
+  glm::dvec3 pivot_;
   double since_ = 0;
-  glm::dvec3 from_{0.0};
-  std::array<glm::dvec3, 2> past_{};
+  Pose from_;
+  Tilt tilt_;
+  std::array<Pose, 2> past_{};
 };
 
 }  // namespace pbflow

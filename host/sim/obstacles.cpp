@@ -185,8 +185,10 @@ void pack_pose(const Pose& p, std::vector<glm::vec4>& data) {
 }  // namespace
 
 std::vector<glm::vec4> pack_obstacle_header(const std::vector<Obstacle>& obstacles, double margin,
-                                            const glm::dvec3& tank_kick) {
-  std::vector<glm::vec4> data{glm::vec4(float(obstacles.size()), float(margin), 0, 0), glm::vec4(glm::vec3(tank_kick), 0)};
+                                            const TankKick& tank_kick) {
+  std::vector<glm::vec4> data{glm::vec4(float(obstacles.size()), float(margin), 0, 0), glm::vec4(glm::vec3(tank_kick.linear), 0)};
+  for (const glm::dmat3* m : {&tank_kick.of_x, &tank_kick.of_v})
+    for (int c = 0; c < 3; ++c) data.emplace_back(glm::vec3((*m)[c]), 0.0f);
   size_t first = 0;  // the mesh's first field value
   for (const Obstacle& o : obstacles) {
     if (o.kind == Obstacle::Kind::Sphere) {
@@ -210,7 +212,7 @@ std::vector<glm::vec4> pack_obstacle_header(const std::vector<Obstacle>& obstacl
   return data;
 }
 
-std::vector<glm::vec4> pack_obstacles(const std::vector<Obstacle>& obstacles, double margin, const glm::dvec3& tank_kick) {
+std::vector<glm::vec4> pack_obstacles(const std::vector<Obstacle>& obstacles, double margin, const TankKick& tank_kick) {
   std::vector<glm::vec4> data = pack_obstacle_header(obstacles, margin, tank_kick);
   data.reserve(packed_obstacle_vec4s(obstacles));
   std::vector<float> values;  // the meshes' fields, after the header

@@ -73,20 +73,20 @@ glm::dvec3 stop_at(const Obstacle& o, const glm::dvec3& from, const glm::dvec3& 
 // against what it would with no solids (Derived::Coarse::open).
 double open_fraction(const std::vector<Obstacle>& solids, const glm::dvec3& centre, const glm::dvec3& reach, int samples);
 
-// The GPU layout: vec4 0 holds the count and the keep-out margin the shapes are grown by, vec4 1
-// the tank's kick this step (Derived::tank_kick);
+// The GPU layout: vec4 0 holds the count and the keep-out margin the shapes are grown by, vec4s
+// 1-7 the tank's kick this step (Derived::tank_kick: linear, then of_x's and of_v's columns);
 // then kObstacleVec4s per obstacle: its shape, box (min, 0) (max, 0) (0, moves); sphere (centre, 1)
 // (radius, 0, 0, 0) (0, moves); mesh (field origin, 2) (dims, voxel) (first value, moves, 0, 0),
 // `moves` 1 where it has a motion; then its pose and previous pose, each as the rows of the body
 // transform (world to body, rotation | shift); then the meshes' field values, four a vec4, value 0
 // at vec4 obstacle_header_vec4s(count). The header (all but the field values) is what a step's
 // move changes.
-constexpr size_t kObstacleVec4s = 9;
+constexpr size_t kObstacleVec4s = 9, kTankKickVec4s = 7;
 std::vector<glm::vec4> pack_obstacles(const std::vector<Obstacle>& obstacles, double margin,
-                                      const glm::dvec3& tank_kick = glm::dvec3(0.0));
+                                      const TankKick& tank_kick = {});
 std::vector<glm::vec4> pack_obstacle_header(const std::vector<Obstacle>& obstacles, double margin,
-                                            const glm::dvec3& tank_kick = glm::dvec3(0.0));
+                                            const TankKick& tank_kick = {});
 size_t packed_obstacle_vec4s(const std::vector<Obstacle>& obstacles);  // its length, without packing
-inline size_t obstacle_header_vec4s(size_t count) { return 2 + kObstacleVec4s * count; }
+inline size_t obstacle_header_vec4s(size_t count) { return kTankKickVec4s + 1 + kObstacleVec4s * count; }
 
 }  // namespace pbflow

@@ -64,7 +64,7 @@ SimConstants Derived::to_gpu(uint32_t count) const {
 }
 
 bool Derived::moving() const {
-  return steerable || tank.motion().moves() ||
+  return steerable || tank.moves() ||
          std::any_of(obstacles.begin(), obstacles.end(), [](const Obstacle& o) { return o.moves(); });
 }
 
@@ -78,6 +78,13 @@ void Derived::carry_solids(const std::vector<Obstacle>& placed, const TankMotion
   if (steerable) make_steerable();  // carried from one that was not
   tank = motion;
   measure_open({});
+}
+
+void Derived::tilt(const glm::dquat& to, double now) {
+  const glm::dvec3 half = 0.5 * (domain_max - domain_min);
+  const double reach = glm::length(glm::dvec3(half.x, 2 * half.y, half.z));  // the top corners from the floor's centre
+  const double turn = glm::angle(glm::inverse(tank.tilt(now)) * to), fastest = kSolidStep * spacing / dt;
+  tank.tilt(to, now, std::max(1.0, 1.5 * std::min(turn, 2 * std::numbers::pi - turn) * reach / fastest));
 }
 
 void Derived::drag(size_t k, const glm::dvec3& shift) {
@@ -100,7 +107,7 @@ double hand_step(const Obstacle& o, double spacing, double dt) {
 }  // namespace
 
 bool Derived::move_solids(double t) {
-  tank_kick = tank.step_to(t, dt);
+  tank_kick = tank.step_to(t, dt, gravity);
   std::vector<Reach> near;
   for (Obstacle& o : obstacles) {
     if (!o.moves()) continue;
@@ -131,7 +138,7 @@ double Derived::nearest_moving_solid(const glm::dvec3& x, glm::dvec3& normal, gl
 }
 
 void Derived::hold_solids() {
-  tank_kick = glm::dvec3(0.0);
+  tank_kick = tank.held(dt, gravity);
   for (Obstacle& o : obstacles) o.previous = o.pose;
 }
 

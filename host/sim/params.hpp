@@ -132,11 +132,11 @@ struct Derived {
   // Whether the box's walls mirror the fluid: not where the domain is a mesh (Obstacle::container),
   // which is then the tank; the walls still keep every particle inside the box.
   bool walls_mirror = true;
-  // The tank's shaking (translation only): the solvers work in the tank's frame, where the fluid
-  // feels g less the tank's acceleration, given each step as the velocity it changes by
-  // (TankMotion::step_to).
+  // The tank's motion (its shaking, turning, a viewer's tilt): the solvers work in the tank's
+  // frame, where the fluid feels g less the tank's acceleration and, where it turns, the
+  // rotating frame's terms, given each step as the velocity it changes by (TankMotion::step_to).
   TankMotion tank;
-  glm::dvec3 tank_kick{0.0};
+  TankKick tank_kick;
   // A live run's (pbflow serve): a viewer may drag any obstacle and shake the tank, so the
   // solvers are made for moving solids whether or not the scene moves any.
   bool steerable = false;
@@ -146,6 +146,9 @@ struct Derived {
   // most kSolidStep spacings a step less what its own motion takes (steerable only).
   void drag(size_t k, const glm::dvec3& shift);
   void shake(const Motion& m, double now) { tank.change(m, now); }  // from the step's end `now`
+  // The tank turned to `to` from the step's end `now`, eased over a second or what keeps its walls
+  // within kSolidStep spacings a step (smoothstep's peak rate is 1.5 times its mean).
+  void tilt(const glm::dquat& to, double now);
   // The solids of this scene as another solver holds them (Solver::carry), their open shares
   // measured anew; kept steerable where this is.
   void carry_solids(const std::vector<Obstacle>& placed, const TankMotion& motion);

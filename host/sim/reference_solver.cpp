@@ -130,8 +130,9 @@ constexpr double kContact = 1e-3;
 
 void ReferenceSolver::predict() {
   for (size_t i = 0; i < state.x.size(); ++i) {
-    state.v[i] += d_.gravity * d_.dt + d_.tank_kick;
-    solid_work_ += glm::dot(d_.tank_kick, state.v[i]);  // the shaking's work, in the tank's frame
+    const glm::dvec3 kick = d_.tank_kick.at(state.x[i], state.v[i]);
+    state.v[i] += d_.gravity * d_.dt + kick;
+    solid_work_ += glm::dot(kick, state.v[i]);  // the tank's motion's work, in its frame
     state.x_pred[i] = move_outside_solids(state.x[i], state.x[i] + state.v[i] * d_.dt, solid_work_);
   }
 }

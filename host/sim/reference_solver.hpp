@@ -24,8 +24,10 @@ class ReferenceSolver : public Solver {
   size_t particle_count() const override { return state.x.size(); }
   void relax() override;
   std::vector<Pose> obstacle_poses() const override { return d_.obstacle_poses(); }
+  Pose tank_pose() const override { return d_.tank.pose(); }
   void drag(size_t k, const glm::dvec3& shift) override { d_.drag(k, shift); }
   void shake(const Motion& m) override { d_.shake(m, double(steps_moved_) * d_.dt); }
+  void tilt(const glm::dquat& to) override { d_.tilt(to, double(steps_moved_) * d_.dt); }
   SolidsState solids() const override { return {steps_moved_, d_.obstacles, d_.tank}; }
   void carry(const SolidsState& s) override;
   std::string device_name() const override { return "cpu (C++ reference)"; }

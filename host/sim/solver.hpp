@@ -194,14 +194,18 @@ class Solver {
 
   // Where each obstacle stands after the last advance() (scene order): for drawing them.
   virtual std::vector<Pose> obstacle_poses() const = 0;
+  // Where the tank stands in the world after the last advance(): the solver works in its frame.
+  virtual Pose tank_pose() const = 0;
   // While held, moving solids stand where they are and their clock stands still (the settle
   // brings the fluid to rest around them at time 0).
   void hold_solids(bool held) { solids_held_ = held; }
   // A viewer's hand, where the solver was made steerable (Derived::steerable, pbflow serve):
   // obstacle k shifted from where the scene places it, reached at the speed a step keeps sound
-  // (Derived::drag); the tank's motion from the last step's end, starting where it is.
+  // (Derived::drag); the tank's motion from the last step's end, starting where it is; the tank
+  // turned to `to` about its floor's centre (Derived::tilt).
   virtual void drag(size_t k, const glm::dvec3& shift) = 0;
   virtual void shake(const Motion& m) = 0;
+  virtual void tilt(const glm::dquat& to) = 0;
   virtual SolidsState solids() const = 0;
   // The solids (of this scene) placed as `s` has them, their clock and motions carried on.
   virtual void carry(const SolidsState& s) = 0;
