@@ -37,7 +37,7 @@ const Image& FrameCapture::draw(const std::vector<const Solver*>& solvers) {
   const auto start = std::chrono::steady_clock::now();
   const Image* image = nullptr;
   for (size_t i = 0; i < solvers.size(); ++i) {
-    renderer_.set_obstacle_poses(solvers[i]->obstacle_poses());
+    renderer_.set_poses(solvers[i]->tank_pose(), solvers[i]->obstacle_poses());
     image = &renderer_.render(transfers_[i]->update(*solvers[i]), uint32_t(solvers[i]->particle_count()),
                               uint32_t(solvers[i]->white_water_capacity()));
     gpu_drawing_seconds_ += renderer_.last_gpu_seconds();

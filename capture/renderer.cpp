@@ -35,7 +35,7 @@ void along_axis(int axis) { glUniform2i(0, axis == 0, axis == 1); }
 // The Frame uniform block of render_common.glsl (std140).
 struct Renderer::FrameUniforms {
   glm::mat4 view, proj, model;
-  glm::vec4 light_view, domain_min, domain_max;
+  glm::vec4 light_view, domain_min, domain_max, world_up;
   glm::vec2 viewport;
   float radius;
   int32_t count, style, pass;
@@ -131,8 +131,9 @@ void Renderer::upload_spheres() {
       upload_frame(obstacle_spheres_[sphere++], {{glm::vec4(glm::vec3(o.pose.world(o.centre)), 0)}, {glm::vec4(0)}, {0.0f}, {0}});
 }
 
-void Renderer::set_obstacle_poses(const std::vector<Pose>& poses) {
-  bool moved = false;
+void Renderer::set_poses(const Pose& tank, const std::vector<Pose>& poses) {
+  bool moved = !(view_.tank == tank);
+  view_.tank = tank;
   for (size_t k = 0; k < std::min(poses.size(), view_.obstacles.size()); ++k)
     if (!(view_.obstacles[k].pose == poses[k])) view_.obstacles[k].pose = poses[k], moved = true;
   if (!moved) return;
@@ -158,14 +159,19 @@ Renderer::FrameUniforms Renderer::uniforms(uint32_t count, int pass, glm::ivec2 
   glm::vec3 lo(view_.domain.min), hi(view_.domain.max);
   // Near and far planes enclose the domain as seen from the eye.
   float far = 0;
-  for (int k = 0; k < 8; ++k) far = std::max(far, glm::length(glm::vec3(view_.domain.corner(k)) - eye));
+  for (int k = 0; k < 8; ++k) far = std::max(far, glm::length(glm::vec3(view_.tank.world(view_.domain.corner(k))) - eye));
   far = 1.5f * far + 1.0f;
   FrameUniforms u{};
-  u.view = glm::lookAt(eye, target, glm::vec3(camera_axes(c).up));
+  // Everything is drawn in the tank's frame (the solver's), seen from where the tank stands.
+  const glm::mat4 camera = glm::lookAt(eye, target, glm::vec3(camera_axes(c).up));
+  glm::mat4 tank(glm::mat3(view_.tank.rotation));
+  tank[3] = glm::vec4(glm::vec3(view_.tank.translation), 1.0f);
+  u.view = camera * tank;
   u.model = glm::mat4(1.0f);
   u.proj = glm::perspective(glm::radians(float(c.fov_degrees)), float(view_.width) / float(view_.height),
                             std::max(far * 1e-4f, 1e-3f), far);
-  u.light_view = glm::vec4(glm::normalize(glm::mat3(u.view) * glm::normalize(glm::vec3(0.3f, 1.0f, 0.5f))), 0.0f);
+  u.light_view = glm::vec4(glm::normalize(glm::mat3(camera) * glm::normalize(glm::vec3(0.3f, 1.0f, 0.5f))), 0.0f);
+  u.world_up = glm::vec4(glm::vec3(glm::transpose(view_.tank.rotation) * glm::dvec3(0, 1, 0)), 0.0f);
   u.domain_min = glm::vec4(lo, 0.0f);
   u.domain_max = glm::vec4(hi, 0.0f);
   u.viewport = glm::vec2(viewport);

@@ -12,7 +12,7 @@
 
 namespace pbflow::capture {
 
-// Normals: the fluid style's surface as world-space unit normals, RGB = 0.5 n + 0.5, black
+// Normals: the fluid style's surface as unit normals in the tank's frame, RGB = 0.5 n + 0.5, black
 // where there is no fluid (the debug view of the surface; the rendering tests read it).
 enum class Style { Fluid, Particles, Density, Speed, Normals };
 inline constexpr Style kStyles[] = {Style::Fluid, Style::Particles, Style::Density, Style::Speed, Style::Normals};
@@ -36,7 +36,8 @@ struct View {
   Style style = Style::Fluid;
   Camera camera;
   Box domain;
-  std::vector<Obstacle> obstacles;  // drawn as solids
+  std::vector<Obstacle> obstacles;  // drawn as solids, in the tank's frame
+  Pose tank;  // where the tank stands in the world (Solver::tank_pose): all is drawn from its frame
   double particle_radius = 0.01;  // m
   double rest_density = 1000;     // kg/m^3, for the density style
   double speed_scale = 1;         // m/s drawn red in the speed style
@@ -70,8 +71,9 @@ class Renderer {
   const Image& render(GLuint buffer, uint32_t count, uint32_t white_capacity = 0);
   const View& view() const { return view_; }
   void set_camera(const Camera& camera);  // the next render() draws from here
-  // Where the obstacles stand now (Solver::obstacle_poses): the next render() draws them there.
-  void set_obstacle_poses(const std::vector<Pose>& poses);
+  // Where the tank and the obstacles in it stand now (Solver::tank_pose, obstacle_poses): the
+  // next render() draws them there.
+  void set_poses(const Pose& tank, const std::vector<Pose>& obstacles);
   // The GPU time of the last render() (a GL timer query), the read-back excluded: what a
   // frame costs the GPU, where the wall clock also counts the driver and the copy out.
   double last_gpu_seconds() const { return last_gpu_seconds_; }

@@ -82,7 +82,8 @@ TEST(Motion, AChangedShakeStartsWhereTheTankIsAndStopsItExactly) {
 
 // A particle falling freely in the world, followed in the frame of a tank that shakes, turns and
 // is tilted by a viewer: its step there (v += g dt + kick, x += v dt) lands it exactly where
-// the world's step does, so the rotating frame's terms are the world's, to rounding.
+// the world's step does, so the rotating frame's terms are the world's, to rounding; and its
+// velocity in the world (what an export writes) is the world's.
 TEST(Motion, TheTankFramesStepIsTheWorldsStep) {
   const double dt = 1.0 / 120;
   const glm::dvec3 g(0, -9.81, 0);
@@ -102,7 +103,8 @@ TEST(Motion, TheTankFramesStepIsTheWorldsStep) {
     u += g * dt;
     y += u * dt;
     farthest = std::max(farthest, glm::length(tank.pose().world(x) - x));
-    ASSERT_NEAR(glm::length(tank.pose().world(x) - y), 0.0, 1e-9) << "step " << step;
+    ASSERT_NEAR(glm::length(tank.world(x) - y), 0.0, 1e-9) << "step " << step;
+    ASSERT_NEAR(glm::length(tank.world_velocity(x, v, dt) - u), 0.0, 1e-9) << "step " << step;  // as exported
   }
   EXPECT_GT(farthest, 0.05) << "the tank should have moved the frame";
 }
@@ -122,6 +124,28 @@ TEST(Motion, ATiltTurnsTheTankAndHoldsIt) {
   const glm::dvec3 felt = g * dt + tank.step_to(151 * dt, dt, g).at(glm::dvec3(0.1, 0.2, 0.3), glm::dvec3(0.0));
   EXPECT_NEAR(glm::length(felt - dt * (glm::transpose(glm::mat3_cast(to)) * g)), 0.0, 1e-12);
   EXPECT_NEAR(glm::length(tank.held(dt, g).linear - tank.step_to(152 * dt, dt, g).linear), 0.0, 1e-12);
+}
+
+// An exported frame is in the world: a tilted tank's particles where the tank holds them, a
+// white water particle's tag kept; an upright tank's frame is left bit for bit.
+TEST(Motion, AnExportedFrameIsInTheWorld) {
+  const double dt = 1.0 / 120;
+  ParticleFrame f;
+  f.x = {glm::vec4(0.1f, 0.2f, 0.3f, 0.0f)}, f.v = {glm::vec4(0.5f, 0.0f, 0.0f, 0.0f)};
+  f.white_x = f.x, f.white_v = {glm::vec4(0.0f, 0.0f, 0.0f, std::bit_cast<float>(7u))};
+  ParticleFrame upright = f;
+  TankMotion tank(Motion{}, {0.4, 0, 0.2});
+  to_world(upright, tank, dt);
+  EXPECT_EQ(upright.x, f.x);
+  EXPECT_EQ(upright.v, f.v);
+  tank.tilt(glm::angleAxis(glm::radians(30.0), glm::dvec3(0, 0, 1)), 0.0, 0.5);
+  for (int step = 1; step <= 120; ++step) tank.step_to(step * dt, dt, glm::dvec3(0.0));
+  to_world(f, tank, dt);
+  const glm::dvec3 expected = glm::dvec3(0.4, 0, 0.2) + glm::dmat3(glm::mat3_cast(glm::angleAxis(glm::radians(30.0),
+                                                                    glm::dvec3(0, 0, 1)))) * glm::dvec3(-0.3, 0.2, 0.1);
+  EXPECT_NEAR(glm::length(glm::dvec3(f.x[0]) - expected), 0.0, 1e-6);
+  EXPECT_NEAR(glm::length(glm::dvec3(f.v[0])) , 0.5, 1e-5) << "a held tank turns the velocity, adds nothing";
+  EXPECT_EQ(std::bit_cast<uint32_t>(f.white_v[0].w), 7u);
 }
 
 // A turned box is a box in its own frame: a particle inside is projected onto its nearest

@@ -135,7 +135,7 @@ TEST_F(RenderTest, AMeshObstacleCoversItsProjectedDiscWhereItsPosePutsIt) {
   gl::Object buffer = gl::make_buffer(GLsizeiptr(frame_bytes(1)));
   capture::upload_frame(buffer, {{glm::vec4(0)}, {glm::vec4(0)}, {0.0f}, {0}});
   capture::Renderer renderer(v);
-  renderer.set_obstacle_poses({moved});
+  renderer.set_poses({}, {moved});
   const Image drawn = renderer.render(buffer, 0);
   Coverage c = coverage(empty, drawn, projected_discs(v, {{0.8f, 0.5f, 0.0f}}, 0.2), 3);
   std::printf("[ render   ] %d pixels inside the mesh's disc (%d missed), %d outside (%d drawn)\n", c.inside,

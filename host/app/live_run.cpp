@@ -95,14 +95,15 @@ double sloshing_period(const Scene& scene, const glm::dvec3& axis) {
   return g > 0 ? 2 * std::numbers::pi / std::sqrt(g * k * std::tanh(k * depth)) : 1.0;
 }
 
-// The obstacles as the first panel's camera sees them, placed by `poses` (LiveSolid).
-std::vector<LiveSolid> seen_solids(const Scene& scene, const std::vector<Pose>& poses, const Camera& camera,
-                                   double aspect) {
+// The obstacles as the first panel's camera sees them, placed by `poses` in the tank placed by
+// `tank` (LiveSolid).
+std::vector<LiveSolid> seen_solids(const Scene& scene, const Pose& tank, const std::vector<Pose>& poses,
+                                   const Camera& camera, double aspect) {
   const capture::CameraAxes axes = capture::camera_axes(camera);
   std::vector<LiveSolid> seen;
   for (size_t k = 0; k < scene.obstacles.size() && k < poses.size(); ++k) {
     LiveSolid s;
-    s.centre = poses[k].world(scene.obstacles[k].middle());
+    s.centre = tank.world(poses[k].world(scene.obstacles[k].middle()));
     const glm::dvec3 p = s.centre - camera.eye;
     const double depth = glm::dot(p, axes.forward);
     if (depth > 0 && !scene.obstacles[k].container) {  // the domain's mesh is not for dragging
@@ -134,6 +135,7 @@ struct LiveRun::Stage {
   ParticleState start;  // relaxed and, for a tank, settled: every lane starts and restarts here
   SolidsState start_solids;  // the solids where the scene places them, still, at time 0
   Motion shake;              // the tank's live shaking, as the viewers last asked
+  LiveTilt tilt;             // and its tilt
   // Whether the lanes' solvers are made for a viewer's hand (Derived::steerable): not until a
   // viewer first drags or shakes, since the poses compiled in cost a still box scene 1.36x on lavapipe.
   bool steerable = false;
@@ -165,14 +167,14 @@ struct LiveRun::Stage {
     if (scene.settle) settle(first, derive(scene));
     start = first.download();
     start_solids = first.solids();
-    shake = {};
+    shake = {}, tilt = {};
     for (Lane& lane : lanes) lane.solver->upload(start);
     draw_anew(ctx, scene.camera);
   }
   // Every lane back at the start, the solids too.
   void restart() {
     for (Lane& lane : lanes) lane.solver->upload(start), lane.solver->carry(start_solids);
-    shake = {};
+    shake = {}, tilt = {};
   }
   // What the run is, to go back to where a viewer's change fails half way.
   struct Saved {
@@ -185,11 +187,12 @@ struct LiveRun::Stage {
     ParticleState start;
     SolidsState start_solids;
     Motion shake;
+    LiveTilt tilt;
     bool steerable;
     Camera camera;
   };
   Saved save() const {
-    Saved s{options, base, scene, scene_substeps, {}, {}, {}, start, start_solids, shake, steerable, capture->camera()};
+    Saved s{options, base, scene, scene_substeps, {}, {}, {}, start, start_solids, shake, tilt, steerable, capture->camera()};
     for (const Lane& lane : lanes) {
       s.settings.push_back(lane.setting), s.now.push_back(lane.solver->download());
       s.solids.push_back(lane.solver->solids());
@@ -200,7 +203,7 @@ struct LiveRun::Stage {
     capture.reset();
     lanes.clear();  // before the old are made again: one run's memory at a time
     options = s.options, base = s.base, scene = s.scene, scene_substeps = s.scene_substeps, start = s.start;
-    start_solids = s.start_solids, shake = s.shake, steerable = s.steerable;
+    start_solids = s.start_solids, shake = s.shake, tilt = s.tilt, steerable = s.steerable;
     for (size_t i = 0; i < s.settings.size(); ++i) {
       lanes.push_back(make_lane(with_setting(base, s.settings[i]), ctx, steerable));
       lanes.back().solver->upload(s.now[i]);
@@ -425,7 +428,7 @@ std::vector<FrontPoint> LiveRun::measure_front(Stage& stage, const vk::Context* 
 struct LiveRun::Asked {
   bool step = false, redraw = false, restart = false;
   std::optional<bool> paused;
-  std::optional<LiveCommand> setting, style, scene, budget, shake;
+  std::optional<LiveCommand> setting, style, scene, budget, shake, tilt;
   std::vector<LiveCommand> cameras, drags;
 };
 
@@ -482,6 +485,7 @@ LiveRun::Asked LiveRun::take_commands(Clock::time_point until) {
       case LiveCommand::Kind::Budget: asked.budget = std::move(c); break;
       case LiveCommand::Kind::Drag: asked.drags.push_back(std::move(c)); break;
       case LiveCommand::Kind::Shake: asked.shake = std::move(c); break;
+      case LiveCommand::Kind::Tilt: asked.tilt = std::move(c); break;
     }
   }
   return asked;
@@ -505,7 +509,8 @@ bool LiveRun::apply(Stage& stage, const vk::Context* ctx, Pace& pace, Asked& ask
     }
   };
   // A viewer's first hand on the solids makes the lanes steerable (Stage::make_steerable), or is refused.
-  const std::optional<LiveCommand> hand = asked.drags.empty() ? asked.shake : std::optional(asked.drags.front());
+  const std::optional<LiveCommand> hand =
+      !asked.drags.empty() ? std::optional(asked.drags.front()) : asked.shake ? asked.shake : asked.tilt;
   if (hand && (stage.steerable || attempt(hand, [&] { stage.make_steerable(ctx); }))) steer(stage, asked);
   std::optional<double> new_budget = asked.budget ? std::optional<double>(asked.budget->budget_ms) : std::nullopt;
   const bool scene = attempt(asked.scene, [&] {  // the new scene's start, under the settings the run has
@@ -545,8 +550,13 @@ void LiveRun::steer(Stage& stage, const Asked& asked) {
       if (c.refused) c.refused("obstacle " + std::to_string(c.obstacle) + " is the domain's mesh: shake the tank instead");
       continue;
     }
-    const glm::dvec3 shift = hand_shift(stage.scene, c.obstacle, c.position);
+    // The page's point is in the world, the solids in the tank's frame.
+    const glm::dvec3 shift = hand_shift(stage.scene, c.obstacle, stage.lanes[0].solver->tank_pose().body(c.position));
     for (Lane& lane : stage.lanes) lane.solver->drag(c.obstacle, shift);
+  }
+  if (asked.tilt) {
+    stage.tilt = asked.tilt->tilt;
+    for (Lane& lane : stage.lanes) lane.solver->tilt(glm::angleAxis(glm::radians(stage.tilt.degrees), stage.tilt.axis));
   }
   if (!asked.shake) return;
   const LiveCommand& c = *asked.shake;
@@ -602,11 +612,12 @@ void LiveRun::draw_frame(Stage& stage, const vk::Context* ctx, Pace& pace, bool 
   frame->budget_ms = pace.budget ? pace.budget->budget_ms() : 0;
   frame->front = pace.front;
   const Camera& camera = stage.capture->camera();
-  frame->solids = seen_solids(stage.scene, stage.lanes[0].solver->obstacle_poses(), camera,
+  frame->solids = seen_solids(stage.scene, stage.lanes[0].solver->tank_pose(), stage.lanes[0].solver->obstacle_poses(), camera,
                               double(stage.options.width) / double(stage.options.height));
   const capture::CameraAxes axes = capture::camera_axes(camera);
   frame->right = axes.right, frame->up = axes.up;
   frame->shake = stage.shake;
+  frame->tilt = stage.tilt;
   const Clock::time_point simulated = Clock::now();
   auto image = std::make_shared<const capture::Image>(stage.capture->draw(stage.solvers()));
   frame->draw_ms = ms_since(simulated);

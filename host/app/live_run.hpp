@@ -32,6 +32,9 @@ struct LiveOptions {
 };
 // At most this many settings side by side.
 inline constexpr size_t kMaxPanels = 4;
+// The most a viewer may tilt the tank, degrees: enough to run the water of a built-in tank to
+// one end, the tank still in the view framed for it upright.
+inline constexpr double kMaxTiltDegrees = 30;
 
 // An obstacle as the page sees it, for dragging it (docs/serve.md): its middle in the world,
 // where that lies in the picture (x right, y down, fractions of a panel), its bounding
@@ -50,6 +53,13 @@ struct LivePanel {
 };
 
 // A frame as viewers get it: the JPEG and the measures it was drawn with.
+// The tank turned `degrees` about `axis` (a unit vector) through its floor's centre, from upright.
+struct LiveTilt {
+  double degrees = 0;
+  glm::dvec3 axis{1, 0, 0};
+  bool operator==(const LiveTilt&) const = default;
+};
+
 struct LiveFrame {
   uint64_t number = 0;        // frames drawn since the start (a restart goes on counting)
   double sim_time = 0;        // s of simulated time since the last (re)start
@@ -62,6 +72,7 @@ struct LiveFrame {
   std::vector<LiveSolid> solids;  // the obstacles as the camera sees them (LiveSolid)
   glm::dvec3 right{1, 0, 0}, up{0, 1, 0};  // the camera's axes in the world: a drag's directions
   Motion shake;               // the tank's live shaking (Type::None: none)
+  LiveTilt tilt;              // the tank's live tilt, as the viewers last asked
   std::shared_ptr<const std::vector<FrontPoint>> front;  // the measured front it chooses from, where held
   std::string jpeg;
   // The H.264 stream's access unit for this frame, where some viewer takes H.264: `unit` counts
@@ -77,7 +88,7 @@ struct LiveFrame {
 
 // What a viewer can ask of the run (docs/serve.md, "Protocol"), checked by the server.
 struct LiveCommand {
-  enum class Kind { Pause, Resume, Step, Restart, Setting, Style, Camera, Scene, Budget, Drag, Shake } kind;
+  enum class Kind { Pause, Resume, Step, Restart, Setting, Style, Camera, Scene, Budget, Drag, Shake, Tilt } kind;
   LiveSetting setting;     // Setting: method and iterations (the scene's substeps)
   std::string style;       // Style: a capture::Style's name
   double orbit_x = 0, orbit_y = 0;  // Camera: radians about the up axis and the camera's right
@@ -90,6 +101,7 @@ struct LiveCommand {
   glm::dvec3 axis{1, 0, 0};  // Shake: the direction, a unit vector ...
   double amplitude = 0;      // ... m (0: the tank comes to rest) ...
   double period = 0;         // ... s (0: the tank's first sloshing mode along the axis)
+  LiveTilt tilt;             // Tilt: where the tank turns to
   // Called on the run's thread where the run could not take it (a scene that failed to load):
   // the run goes on as it was, and whoever asked is told why.
   std::function<void(const std::string& why)> refused;

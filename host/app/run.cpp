@@ -260,7 +260,8 @@ RunTotals simulate_frames(const Scene& scene, const Derived& d, Solver& solver, 
     }
     // The PNG is written on the capture's threads: its row follows when the file is whole.
     if (export_format != capture::ExportFormat::None) {
-      const ParticleFrame f = solver.read_frame();
+      ParticleFrame f = solver.read_frame();
+      to_world(f, solver.tank(), d.dt);
       capture::write_particles(dir.particle_path(frame), export_format, f);
       if (solver.white_water_capacity() > 0) capture::write_white_water(dir.white_water_path(frame), export_format, f);
     }

@@ -79,6 +79,7 @@ void add_solids(json& m, const LiveFrame& f) {
   m["shake"] = f.shake.moves() ? json{{"axis", vector_json(f.shake.axis)}, {"amplitude", f.shake.amplitude},
                                       {"period", f.shake.period}}
                                : json();
+  m["tilt"] = f.tilt.degrees != 0 ? json{{"axis", vector_json(f.tilt.axis)}, {"angle", f.tilt.degrees}} : json();
 }
 
 // `bytes`: the viewer's payload of the frame (JPEG or H.264); `send_ms`: how long handing it
@@ -617,10 +618,14 @@ void read_arguments(const json& message, const LiveRun& run, LiveCommand& c) {
     if (k != std::floor(k)) throw InputError("'obstacle' must be an obstacle's index (0, 1, ...)");
     c.obstacle = size_t(k);
     c.position = triple(message, "position", -1e6, 1e6);
-  } else if (c.kind == Kind::Shake) {
+  } else if (c.kind == Kind::Shake || c.kind == Kind::Tilt) {
     c.axis = message.contains("axis") ? triple(message, "axis", -1e6, 1e6) : glm::dvec3(1, 0, 0);
     if (glm::length(c.axis) < 1e-6) throw InputError("'axis' must be a direction, not zero");
     c.axis = glm::normalize(c.axis);
+    if (c.kind == Kind::Tilt) {
+      c.tilt = {number(message, "angle", 0, -kMaxTiltDegrees, kMaxTiltDegrees), c.axis};
+      return;
+    }
     c.amplitude = number(message, "amplitude", 0, 0, 1);
     c.period = number(message, "period", 0, 0.05, 60);
   } else if (c.kind == Kind::Camera) {
@@ -657,11 +662,11 @@ std::string WebServer::Impl::answer(const std::string& text, const std::shared_p
                                                        {"setting", Kind::Setting}, {"style", Kind::Style},
                                                        {"camera", Kind::Camera},   {"scene", Kind::Scene},
                                                        {"budget", Kind::Budget},   {"drag", Kind::Drag},
-                                                       {"shake", Kind::Shake}};
+                                                       {"shake", Kind::Shake},     {"tilt", Kind::Tilt}};
   const auto kind = std::find_if(std::begin(kinds), std::end(kinds), [&](const auto& k) { return cmd == k.first; });
   if (kind == std::end(kinds))
     return error_message("unknown command '" + clipped(cmd, 40) +
-                         "' (pause, resume, step, restart, setting, style, camera, scene, budget, drag, shake, stream)");
+                         "' (pause, resume, step, restart, setting, style, camera, scene, budget, drag, shake, tilt, stream)");
   LiveCommand c{kind->second};
   try {
     read_arguments(message, run, c);

@@ -39,7 +39,7 @@ class GpuSolver : public Solver {
   size_t particle_count() const override { return n_; }
   void relax() override;
   std::vector<Pose> obstacle_poses() const override { return d_.obstacle_poses(); }
-  Pose tank_pose() const override { return d_.tank.pose(); }
+  const TankMotion& tank() const override { return d_.tank; }
   void drag(size_t k, const glm::dvec3& shift) override { d_.drag(k, shift); }
   void shake(const Motion& m) override { d_.shake(m, double(steps_moved_) * d_.dt); }
   void tilt(const glm::dquat& to) override { d_.tilt(to, double(steps_moved_) * d_.dt); }

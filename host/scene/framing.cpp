@@ -11,6 +11,18 @@ namespace {
 constexpr double kAspect = 16.0 / 9.0;
 constexpr double kElevation = glm::radians(30.0);
 constexpr double kMargin = 0.95;  // the corners stay this far inside the image's edges
+
+// The poses the scene's motion takes the tank through: at its keys, or 16 along a period or turn.
+std::vector<Pose> tank_poses(const Motion& m) {
+  std::vector<double> times{0.0};
+  if (m.type == Motion::Type::Keyframes)
+    for (const Motion::Key& k : m.keys) times.push_back(k.t);
+  const double span = m.type == Motion::Type::Oscillate ? m.period : m.type == Motion::Type::Rotate ? 360 / std::abs(m.rate) : 0;
+  for (int k = 1; span > 0 && k < 16; ++k) times.push_back(span * k / 16);
+  std::vector<Pose> poses;
+  for (double t : times) poses.push_back(m.at(t));
+  return poses;
+}
 }  // namespace
 
 Camera framing_camera(const Scene& scene) {
@@ -23,11 +35,12 @@ Camera framing_camera(const Scene& scene) {
   // A corner at offset o from the target lies at depth d - o.towards_eye; it fits where
   // |o.right| <= depth tan_h and |o.up| <= depth tan_v.
   double distance = 0;
-  for (int k = 0; k < 8; ++k) {
-    const glm::dvec3 o = box.corner(k) - c.target;
-    const double along = glm::dot(o, towards_eye);
-    distance = std::max({distance, std::abs(glm::dot(o, right)) / tan_h + along, std::abs(glm::dot(o, up)) / tan_v + along});
-  }
+  for (const Pose& pose : tank_poses(scene.tank_motion))
+    for (int k = 0; k < 8; ++k) {
+      const glm::dvec3 o = pose.world(box.corner(k)) - c.target;
+      const double along = glm::dot(o, towards_eye);
+      distance = std::max({distance, std::abs(glm::dot(o, right)) / tan_h + along, std::abs(glm::dot(o, up)) / tan_v + along});
+    }
   c.eye = c.target + distance * towards_eye;
   return c;
 }

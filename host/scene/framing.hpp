@@ -7,7 +7,8 @@
 namespace pbflow {
 
 // Looks at the domain's centre from the front (+z) and 30 degrees above, as close as fits
-// its corners in a 16:9 image (the default 1280x720) at the scene's vertical field of view.
+// its corners, wherever the tank's motion takes them, in a 16:9 image (the default 1280x720) at
+// the scene's vertical field of view.
 Camera framing_camera(const Scene& scene);
 
 }  // namespace pbflow

@@ -116,6 +116,13 @@ class TankMotion {
   const Motion& motion() const { return motion_; }
   bool moves() const { return motion_.moves() || tilt_.to != glm::dquat(1, 0, 0, 0) || tilt_.from != tilt_.to; }
   const Pose& pose() const { return past_[0]; }  // at the last step's end
+  bool upright() const { return past_[0] == Pose{} && past_[1] == Pose{}; }  // the world's frame, still
+  // A particle at x moving at v in the tank's frame, in the world at the last step's end: its
+  // position and the velocity the world's step gave it (TankMotion::step_to).
+  glm::dvec3 world(const glm::dvec3& x) const { return past_[0].world(x); }
+  glm::dvec3 world_velocity(const glm::dvec3& x, const glm::dvec3& v, double dt) const {
+    return (past_[0].world(x) - past_[1].world(x - dt * v)) / dt;
+  }
   // The kick of the step ending at t, g the world's gravity.
   TankKick step_to(double t, double dt, const glm::dvec3& g) {
     const Pose next = at(t);

@@ -24,7 +24,7 @@ class ReferenceSolver : public Solver {
   size_t particle_count() const override { return state.x.size(); }
   void relax() override;
   std::vector<Pose> obstacle_poses() const override { return d_.obstacle_poses(); }
-  Pose tank_pose() const override { return d_.tank.pose(); }
+  const TankMotion& tank() const override { return d_.tank; }
   void drag(size_t k, const glm::dvec3& shift) override { d_.drag(k, shift); }
   void shake(const Motion& m) override { d_.shake(m, double(steps_moved_) * d_.dt); }
   void tilt(const glm::dquat& to) override { d_.tilt(to, double(steps_moved_) * d_.dt); }

@@ -124,6 +124,20 @@ struct ParticleFrame {
   std::vector<glm::vec4> shape;
   std::vector<glm::vec4> white_x, white_v;
 };
+// The frame's particles and white water in the world (positions, velocities), from the tank's
+// frame the solvers work in: what the exports hold. A tank that never moved leaves them as they are.
+inline void to_world(ParticleFrame& f, const TankMotion& tank, double dt) {
+  if (tank.upright()) return;
+  auto place = [&](std::vector<glm::vec4>& x, std::vector<glm::vec4>& v) {
+    for (size_t i = 0; i < x.size() && i < v.size(); ++i) {
+      const glm::dvec3 p(x[i]), u(v[i]);
+      x[i] = glm::vec4(glm::vec3(tank.world(p)), x[i].w);
+      v[i] = glm::vec4(glm::vec3(tank.world_velocity(p, u, dt)), v[i].w);
+    }
+  };
+  place(f.x, f.v);
+  place(f.white_x, f.white_v);
+}
 // Where each array of the frame buffer starts, in bytes, for n particles and room for `white`
 // white water particles (render_common.glsl reads the same layout in floats).
 struct FrameOffsets {
@@ -194,8 +208,10 @@ class Solver {
 
   // Where each obstacle stands after the last advance() (scene order): for drawing them.
   virtual std::vector<Pose> obstacle_poses() const = 0;
-  // Where the tank stands in the world after the last advance(): the solver works in its frame.
-  virtual Pose tank_pose() const = 0;
+  // The tank's motion: where it stands in the world after the last advance() (the solver works in
+  // its frame) and where it stood a step before.
+  virtual const TankMotion& tank() const = 0;
+  Pose tank_pose() const { return tank().pose(); }
   // While held, moving solids stand where they are and their clock stands still (the settle
   // brings the fluid to rest around them at time 0).
   void hold_solids(bool held) { solids_held_ = held; }

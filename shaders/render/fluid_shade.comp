@@ -84,7 +84,7 @@ vec3 shade(ivec2 p) {
   vec3 n = surface_normal(uv);
   vec3 eye_dir = normalize(-pos);
   if (dot(n, eye_dir) < 0.0) n = -n;
-  if (style == STYLE_NORMALS)  // in world space
+  if (style == STYLE_NORMALS)  // in the tank's frame
     return 0.5 * normalize(world_direction(n)) + 0.5;
 
   float thickness = texture(thickness_texture, uv).r;

@@ -17,8 +17,9 @@ layout(std140, binding = 0) uniform Frame {
   mat4 proj;
   mat4 model;       // box.vert: where an obstacle's pose puts its box (the identity for the tank)
   vec4 light_view;  // unit vector towards the light, view space
-  vec4 domain_min;  // world space; w unused (box.vert: the box drawn, the domain or an obstacle)
+  vec4 domain_min;  // the tank's frame; w unused (box.vert: the box drawn, the domain or an obstacle)
   vec4 domain_max;
+  vec4 world_up;    // the world's up in the tank's frame: the sky's horizon
   vec2 viewport;    // pixels
   float radius;     // particle radius, m
   int count;        // particles
@@ -66,14 +67,15 @@ float sphere_disc(vec3 ray, vec3 centre, float r) {
   return b * b - dot(ray, ray) * (dot(centre, centre) - r * r);
 }
 
-// World space from view space: the view matrix is a rotation and a shift.
+// The tank's frame (the solver's, where the tank stands in the world: Renderer::uniforms), "world"
+// below, from view space: the view matrix is a rotation and a shift.
 vec3 world_direction(vec3 dir_view) { return transpose(mat3(view)) * dir_view; }
 vec3 world_position(vec3 p_view) { return transpose(mat3(view)) * (p_view - view[3].xyz); }
 
 // The sky seen along a world direction: a pale horizon, deeper blue above, a sun towards the
 // light and, below the horizon, the dull ground the open tank stands on.
 vec3 sky(vec3 dir) {
-  float h = dir.y;
+  float h = dot(dir, world_up.xyz);
   vec3 above = mix(vec3(0.82, 0.87, 0.92), vec3(0.30, 0.50, 0.82), clamp(h * 1.6, 0.0, 1.0));
   vec3 below = mix(vec3(0.55, 0.55, 0.52), vec3(0.35, 0.34, 0.32), clamp(-h * 3.0, 0.0, 1.0));
   float towards_sun = max(dot(dir, world_direction(light_view.xyz)), 0.0);

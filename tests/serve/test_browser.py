@@ -1,7 +1,7 @@
 """`pbflow serve` in a real browser: Debian's Chromium, headless, driven by Selenium, against a
 real server on lavapipe (docs/serve.md). The page loads; the picture changes over time; pause
 holds the frame counter and resume goes on; a second viewer sees the same run; a drag turns the
-view, and one on an obstacle moves it; the shake control shakes the tank; a method switch shows in the stats; the measured
+view, and one on an obstacle moves it; the shake and tilt controls move the tank; a method switch shows in the stats; the measured
 latency (drawn to shown) and bit rate of the H.264 stream are reported; the live charts draw. With SCREENSHOT=PATH it leaves the page's
 screenshot there (the README's picture).
 
@@ -172,8 +172,8 @@ class BrowserTest(PageTest):
 
 
 class SolidsBrowserTest(PageTest):
-    """A viewer moves the box of dam_obstacle by dragging it and shakes the tank from the page:
-    the server's stats show the box where the drag put it and the shaking doing work."""
+    """A viewer moves the box of dam_obstacle by dragging it, and shakes and tilts the tank from the
+    page: the server's stats show the box where the drag put it and the shaking and tilt doing work."""
     SCENE = "dam_obstacle"
     OPTIONS = ("--param", "particle_spacing=0.05", "--style", "particles", "--width", "480", "--height", "270")
 
@@ -205,6 +205,15 @@ class SolidsBrowserTest(PageTest):
         wait_for(lambda: abs(self.stats()["solid_work"]) > 0, what="the shaking's work in a frame's stats")
         Select(self.browser.find_element("id", "shake")).select_by_visible_text("off")
         wait_for(lambda: self.stats()["shake"] is None, what="the shaking off")
+
+    def test_the_tilt_control_tilts_the_tank(self):
+        Select(self.browser.find_element("id", "tilt")).select_by_visible_text("10°")
+        tilted = wait_for(lambda: (lambda m: m and m["tilt"] and m)(self.stats()), what="the tilt in the stats")
+        self.assertEqual(tilted["tilt"], {"angle": 10, "axis": [0, 0, 1]})
+        wait_for(lambda: "tilted 10°" in self.browser.find_element("id", "stats").text, what="the tilt in the page's text")
+        wait_for(lambda: abs(self.stats()["solid_work"]) > 0, what="the turn's work in a frame's stats")
+        Select(self.browser.find_element("id", "tilt")).select_by_visible_text("level")
+        wait_for(lambda: self.stats()["tilt"] is None, what="the tank level again")
 
 
 class CompareBrowserTest(PageTest):

@@ -183,7 +183,10 @@ class ServeTest(OneServer, unittest.TestCase):
                                 ({"cmd": "shake", "amplitude": 2}, "'amplitude' must be a number in [0, 1]"),
                                 ({"cmd": "shake", "amplitude": 0.01, "period": 0}, "'period' must be a number in [0.05, 60]"),
                                 ({"cmd": "shake", "amplitude": 0.01, "axis": [0, 0, 0]}, "'axis' must be a direction"),
-                                ({"cmd": "shake", "amplitude": 0.5, "period": 0.1}, "faster than")):
+                                ({"cmd": "shake", "amplitude": 0.5, "period": 0.1}, "faster than"),
+                                ({"cmd": "tilt", "angle": 45}, "'angle' must be a number in [-30, 30]"),
+                                ({"cmd": "tilt", "angle": 10, "axis": [0, 0, 0]}, "'axis' must be a direction"),
+                                ({"cmd": "tilt", "angle": "steep"}, "'angle'")):
             self.assertIn(expect, viewer.error_for(command))
         viewer.send(json.dumps({"cmd": "shake", "amplitude": 0.01, "axis": [0, 0, 2]}))
         shaking = self.frame_where(viewer, lambda f: f[2]["shake"] is not None)[2]["shake"]
@@ -196,6 +199,12 @@ class ServeTest(OneServer, unittest.TestCase):
                          abs(f[2]["solid_work"]) > 0)
         viewer.send(json.dumps({"cmd": "shake", "amplitude": 0}))
         self.frame_where(viewer, lambda f: f[2]["shake"] is None)
+        # A tilt turns the tank and holds it; the turn does work on the water, carried by a setting change.
+        viewer.send(json.dumps({"cmd": "tilt", "angle": -10, "axis": [0, 0, 3]}))
+        tilted = self.frame_where(viewer, lambda f: f[2]["tilt"] is not None and abs(f[2]["solid_work"]) > 0)[2]["tilt"]
+        self.assertEqual(tilted, {"angle": -10, "axis": [0, 0, 1]})
+        viewer.send(json.dumps({"cmd": "tilt", "angle": 0}))
+        self.frame_where(viewer, lambda f: f[2]["tilt"] is None)
         viewer.send(json.dumps({"cmd": "setting", "method": "pbf", "iterations": 2}))
         self.frame_where(viewer, lambda f: f[2]["setting"] == "pbf@2")
         viewer.sock.close()
