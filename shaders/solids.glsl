@@ -44,6 +44,9 @@ vec3 tank_kick(vec3 x, vec3 v) {
   mat3 of_v = mat3(obstacle_data[5].xyz, obstacle_data[6].xyz, obstacle_data[7].xyz);
   return MOVING ? obstacle_data[1].xyz + of_x * x + of_v * v : vec3(0.0);
 }
+// g as the tank's frame feels it over the last step: turned into the frame, less the tank's
+// acceleration; its rotation's terms left out (white water, Derived::tank_gravity).
+vec3 tank_gravity() { return sim.gravity + (MOVING ? obstacle_data[1].xyz / sim.dt : vec3(0.0)); }
 const int POSE_NOW = 3, POSE_BEFORE = 6;  // the poses' first row in an obstacle's header
 // x in obstacle k's body frame, from the pose at `pose` (Pose::body). Where nothing moves every
 // pose is the identity (a scene places each solid in its own frame): that costs nothing.

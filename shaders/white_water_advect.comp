@@ -44,12 +44,13 @@ void main() {
   uint kind = white_water_kind(sim.mass * density / sim.rho0);
   if (density > 0.0) carried /= density;
   float dt = sim.elapsed;
+  vec3 g = tank_gravity();
   if (kind == WHITE_SPRAY)
-    u += dt * sim.gravity;
+    u += dt * g;
   else if (kind == WHITE_FOAM)
     u = carried;
   else
-    u += -WHITE_BUOYANCY * dt * sim.gravity + WHITE_DRAG * (carried - u);
+    u += -WHITE_BUOYANCY * dt * g + WHITE_DRAG * (carried - u);
   float unused = 0.0;  // white water does no work
   vec3 to = p + dt * u, inside = project_out_of_solids(stop_at_solids(p, to, unused), unused);
   u = mix(u, vec3(0.0), notEqual(inside, to));  // stopped by a wall or an obstacle

@@ -148,6 +148,18 @@ TEST(Motion, AnExportedFrameIsInTheWorld) {
   EXPECT_EQ(std::bit_cast<uint32_t>(f.white_v[0].w), 7u);
 }
 
+// White water falls by g as the tilted tank's frame feels it (Derived::tank_gravity): turned
+// into the frame once the tilt holds; the world's g in a tank that never moves.
+TEST(Motion, WhiteWaterFallsByTheTanksGravity) {
+  Derived d = derive(load_scene("slosh", {R"(domain={"min": [0, 0, 0], "max": [0.8, 0.48, 0.32]})"}));
+  EXPECT_EQ(d.tank_gravity(), d.gravity);
+  d.make_steerable();
+  const glm::dquat to = glm::angleAxis(glm::radians(20.0), glm::dvec3(1, 0, 0));
+  d.tilt(to, 0.0);
+  for (int step = 1; step <= int(3 / d.dt); ++step) d.move_solids(step * d.dt);
+  EXPECT_NEAR(glm::length(d.tank_gravity() - glm::transpose(glm::dmat3(glm::mat3_cast(to))) * d.gravity), 0.0, 1e-9);
+}
+
 // A turned box is a box in its own frame: a particle inside is projected onto its nearest
 // face, and the solid's displacement over a step is the turn's at that point.
 TEST(Motion, ATurnedBoxProjectsOntoItsFacesAndMovesAsItTurns) {

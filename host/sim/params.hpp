@@ -137,6 +137,9 @@ struct Derived {
   // rotating frame's terms, given each step as the velocity it changes by (TankMotion::step_to).
   TankMotion tank;
   TankKick tank_kick;
+  // g as the tank's frame feels it over the last step, turned and less the tank's acceleration,
+  // its rotation's terms left out: what white water falls by (shaders/solids.glsl).
+  glm::dvec3 tank_gravity() const { return gravity + (moving() ? tank_kick.linear / dt : glm::dvec3(0.0)); }
   // A live run's (pbflow serve): a viewer may drag any obstacle and shake the tank, so the
   // solvers are made for moving solids whether or not the scene moves any.
   bool steerable = false;

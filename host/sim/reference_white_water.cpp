@@ -38,12 +38,13 @@ void ReferenceSolver::white_water_advect(double elapsed) {
     });
     const uint32_t kind = white_water_kind(d_.mass * density / d_.rho0);
     if (density > 0) carried /= density;
+    const dvec3 g = d_.tank_gravity();
     if (kind == WHITE_SPRAY)
-      p.v += elapsed * d_.gravity;
+      p.v += elapsed * g;
     else if (kind == WHITE_FOAM)
       p.v = carried;
     else
-      p.v += -WHITE_BUOYANCY * elapsed * d_.gravity + WHITE_DRAG * (carried - p.v);
+      p.v += -WHITE_BUOYANCY * elapsed * g + WHITE_DRAG * (carried - p.v);
     double unused = 0;  // white water does no work
     const dvec3 to = p.x + elapsed * p.v, moved = move_outside_solids(p.x, to, unused);
     for (int a = 0; a < 3; ++a)
