@@ -8,6 +8,8 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
+#include <glm/glm.hpp>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
@@ -353,6 +355,37 @@ TEST(RunDirectorySlow, ListsPastTheBufferRangeAreLeftOutAndTheRunFits) {
   Result r = run_pbflow("run --no-render --frames 2 --validate --param particle_spacing=0.0058 "
                         "--param solver.substeps=1 --out " + dir.string());
   EXPECT_EQ(r.status, 0) << r.output;
+}
+
+// Where solids move, solids.csv gives each frame's pose of the tank and of every obstacle in the
+// world (a unit quaternion w, x, y, z), listed in the manifest; a run whose solids stand still
+// writes none, and takes the previous run's away.
+TEST(RunDirectory, MovingSolidsPosesAreWrittenForARendererElsewhere) {
+  const fs::path dir = fresh_dir("solids");
+  const std::vector<std::string> base = {"run", "hydrostatic", "--no-render", "--quiet", "--frames", "3", "--param",
+                                         "particle_spacing=0.05", "--param", "settle=false", "--out", dir.string()};
+  std::vector<std::string> turning = base;
+  turning.insert(turning.end(), {"--param", R"(obstacles=[{"type": "box", "min": [0.2, 0, 0.2], "max": [0.4, 0.1, 0.4],
+                                                           "motion": {"type": "rotate", "axis": [0, 1, 0], "rate": 90}}])"});
+  Result r = run_pbflow(turning);
+  ASSERT_EQ(r.status, 0) << r.output;
+  const std::vector<std::string> lines = rows(dir / "solids.csv");
+  ASSERT_EQ(lines.size(), 7u) << "a header and the tank and the box each frame";
+  EXPECT_EQ(lines[0], "frame,time,solid,x,y,z,qw,qx,qy,qz");
+  double frame, time, x, y, z, qw, qx, qy, qz;
+  char solid[16];
+  ASSERT_EQ(std::sscanf(lines[6].c_str(), "%lf,%lf,%15[^,],%lf,%lf,%lf,%lf,%lf,%lf,%lf", &frame, &time, solid, &x, &y,
+                        &z, &qw, &qx, &qy, &qz), 10);
+  EXPECT_EQ(std::string(solid), "0");
+  const double half = glm::radians(90.0 * 2 / 60) / 2;  // 90 degrees a second, 2 frames at 60 fps
+  EXPECT_NEAR(qw, std::cos(half), 1e-6);
+  EXPECT_NEAR(qy, std::sin(half), 1e-6);
+  EXPECT_EQ(lines[5], "2,0.033333,tank,0,0,0,1,0,0,0") << "the tank stands still";
+  EXPECT_NE(manifest(dir)["files"].dump().find("solids.csv"), std::string::npos);
+
+  r = run_pbflow(base);
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_FALSE(fs::exists(dir / "solids.csv")) << "the still run left the previous run's poses";
 }
 
 TEST(RunDirectory, ACameraLookingStraightDownSeesTheFluid) {

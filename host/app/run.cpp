@@ -239,10 +239,16 @@ struct RunTotals {
   std::string diverged;  // the message, where the watch stopped the run
 };
 
-// The frames: each simulated, its files written, then its stats row (a row stands for a frame
+// A frame's rows: stats.csv's and, where the scene's solids move, solids.csv's.
+struct FrameRows {
+  StatsCsv stats;
+  std::unique_ptr<SolidsCsv> solids;
+};
+
+// The frames: each simulated, its files written, then its rows (a row stands for a frame
 // whole on disk). Stops at a divergence (nothing of that frame written) or an interrupt.
 RunTotals simulate_frames(const Scene& scene, const Derived& d, Solver& solver, capture::FrameCapture* capture,
-                          capture::ExportFormat export_format, RunDirectory& dir, StatsCsv& csv, Progress& progress,
+                          capture::ExportFormat export_format, RunDirectory& dir, FrameRows& rows, Progress& progress,
                           const InterruptGuard& interrupt, const std::function<double()>& wall) {
   RunTotals totals;
   int& frame = totals.frames;
@@ -265,8 +271,9 @@ RunTotals simulate_frames(const Scene& scene, const Derived& d, Solver& solver, 
       capture::write_particles(dir.particle_path(frame), export_format, f);
       if (solver.white_water_capacity() > 0) capture::write_white_water(dir.white_water_path(frame), export_format, f);
     }
-    auto row = [&csv, &dir, frame, t, s] {
-      csv.write(frame, t, s);
+    auto row = [&rows, &dir, frame, t, s, tank = solver.tank_pose(), poses = solver.obstacle_poses()] {
+      rows.stats.write(frame, t, s);
+      if (rows.solids) rows.solids->write(frame, t, tank, poses);
       dir.frames_done(frame + 1);
     };
     if (capture)
@@ -371,7 +378,7 @@ int run(const RunOptions& o) {
   // Everything is checked: from here the run owns DIR and replaces the previous run's files.
   RunDirectory dir(out, RunFiles{scene.frames, bool(capture),
                                  export_format == capture::ExportFormat::None ? "" : capture::export_extension(export_format),
-                                 white_water && export_format != capture::ExportFormat::None});
+                                 white_water && export_format != capture::ExportFormat::None, d.moving()});
   nlohmann::json about = describe_run(o, scene, d, *solver);
   const nlohmann::json chosen = about["chosen"];
   describe_machine(about, need, device, *solver);
@@ -386,13 +393,13 @@ int run(const RunOptions& o) {
   };
   RunTotals totals;
   try {
-    StatsCsv csv(dir.stats_path());
+    FrameRows rows{StatsCsv(dir.stats_path()), d.moving() ? std::make_unique<SolidsCsv>(dir.solids_path()) : nullptr};
     if (std::string w = time_step_warning(scene, d); !w.empty()) std::cerr << "pbflow: " << w << "\n";
     if (!o.quiet) announce(o, scene, d, chosen, *solver, capture.get(), white_water);
     Progress progress(scene.frames, !o.quiet);
     prepare_start(*solver, scene, d, o.quiet, progress, interrupt);
     solver->set_outputs(outputs);  // from the start on: none is made while it settles
-    totals = simulate_frames(scene, d, *solver, capture.get(), export_format, dir, csv, progress, interrupt, wall);
+    totals = simulate_frames(scene, d, *solver, capture.get(), export_format, dir, rows, progress, interrupt, wall);
     if (const int status = stopped_early(totals, interrupt, dir, wall()); status != 0) return status;
     warn_of_energy(totals.energy);
     if (!o.quiet) print_summary(o, scene, totals, solver->particle_count(), capture.get(), wall(), dir);

@@ -21,6 +21,7 @@ struct RunFiles {
   bool images = false;             // frames/frame_N.png
   std::string particle_extension;  // particles/frame_N.EXT; empty: none
   bool white_water = false;        // white_water/frame_N.EXT too (the particles' extension)
+  bool solids = false;             // solids.csv: the moving solids' poses
 };
 
 class RunDirectory {
@@ -50,6 +51,7 @@ class RunDirectory {
   void end(const std::string& status, const std::string& message, double wall_seconds);
 
   std::filesystem::path stats_path() const { return dir_ / "stats.csv"; }
+  std::filesystem::path solids_path() const { return dir_ / "solids.csv"; }
   std::filesystem::path frame_path(int frame) const;  // frames/frame_N.png
   std::filesystem::path particle_path(int frame) const;
   std::filesystem::path white_water_path(int frame) const;

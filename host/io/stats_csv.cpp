@@ -1,48 +1,38 @@
 #include "io/stats_csv.hpp"
 
-#include <fcntl.h>
-#include <unistd.h>
+#include <glm/gtc/quaternion.hpp>
 
-#include <cerrno>
-#include <cstring>
-#include <stdexcept>
+#include <string>
 
 namespace pbflow {
 
-namespace {
-// A new file: the previous run's was set aside, and a stats.csv that appeared since (or a link
-// under its name) is not opened through, let alone truncated.
-std::FILE* create_new(const std::filesystem::path& path) {
-  const int fd = open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
-  return fd < 0 ? nullptr : fdopen(fd, "w");
-}
-}  // namespace
-
-StatsCsv::StatsCsv(const std::filesystem::path& path) : path_(path), file_(create_new(path)) {
-  if (!file_) throw std::runtime_error("cannot write " + path.string() + ": " + std::strerror(errno));
-  append("frame,time,mean_compression,max_compression,kinetic_energy,potential_energy,solid_work,max_speed,iterations,step_ms\n");
-}
-
-StatsCsv::~StatsCsv() { std::fclose(file_); }
+StatsCsv::StatsCsv(const std::filesystem::path& path)
+    : file_(path,
+            "frame,time,mean_compression,max_compression,kinetic_energy,potential_energy,solid_work,max_speed,"
+            "iterations,step_ms\n") {}
 
 void StatsCsv::write(int frame, double time, const FrameStats& s) {
   char row[512];
   std::snprintf(row, sizeof row, "%d,%.6f,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.4g,%.6f\n", frame, time, s.mean_compression,
                 s.max_compression, s.kinetic_energy, s.potential_energy, s.solid_work, s.max_speed, s.iterations,
                 s.step_ms);
-  append(row);
+  file_.append(row);
 }
 
-void StatsCsv::append(const char* text) {
-  // Written and flushed whole: a run stopped at any point leaves whole rows. A row the disk
-  // took only in part (no space, quota, file size limit) is cut off again before the error.
-  long whole = std::ftell(file_);
-  if (std::fputs(text, file_) < 0 || std::fflush(file_) != 0) {
-    std::string why = std::strerror(errno);
-    std::clearerr(file_);
-    if (whole >= 0 && ftruncate(fileno(file_), whole) == 0) std::fseek(file_, whole, SEEK_SET);
-    throw std::runtime_error("cannot write " + path_.string() + ": " + why);
-  }
+SolidsCsv::SolidsCsv(const std::filesystem::path& path) : file_(path, "frame,time,solid,x,y,z,qw,qx,qy,qz\n") {}
+
+void SolidsCsv::write(int frame, double time, const Pose& tank, const std::vector<Pose>& obstacles) {
+  row(frame, time, "tank", tank);
+  for (size_t k = 0; k < obstacles.size(); ++k) row(frame, time, std::to_string(k), compose(tank, obstacles[k]));
+}
+
+void SolidsCsv::row(int frame, double time, const std::string& solid, const Pose& pose) {
+  glm::dquat q = glm::normalize(glm::quat_cast(pose.rotation));
+  if (q.w < 0) q = -q;  // one of the two that turn alike
+  char text[512];
+  std::snprintf(text, sizeof text, "%d,%.6f,%s,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", frame, time, solid.c_str(),
+                pose.translation.x, pose.translation.y, pose.translation.z, q.w, q.x, q.y, q.z);
+  file_.append(text);
 }
 
 }  // namespace pbflow

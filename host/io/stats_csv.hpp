@@ -1,8 +1,8 @@
 #pragma once
 // DIR/stats.csv as docs/design.md defines it: one complete, flushed row per frame.
-#include <cstdio>
 #include <filesystem>
 
+#include "io/csv_file.hpp"
 #include "sim/solver.hpp"
 
 namespace pbflow {
@@ -10,17 +10,24 @@ namespace pbflow {
 class StatsCsv {
  public:
   explicit StatsCsv(const std::filesystem::path& path);
-  ~StatsCsv();
-  StatsCsv(const StatsCsv&) = delete;
-  StatsCsv& operator=(const StatsCsv&) = delete;
   // Throws std::runtime_error naming the file and the cause when the row cannot be written.
   void write(int frame, double time, const FrameStats& s);
 
  private:
-  void append(const char* text);
+  CsvFile file_;
+};
 
-  std::filesystem::path path_;
-  std::FILE* file_;
+// DIR/solids.csv, where the scene's solids move: per frame a row for the tank and one for each
+// obstacle (scene order), its pose in the world as a position and a unit quaternion
+// (w, x, y, z), so that a renderer elsewhere can place them beside the exported particles.
+class SolidsCsv {
+ public:
+  explicit SolidsCsv(const std::filesystem::path& path);
+  void write(int frame, double time, const Pose& tank, const std::vector<Pose>& obstacles);
+
+ private:
+  void row(int frame, double time, const std::string& solid, const Pose& pose);
+  CsvFile file_;
 };
 
 }  // namespace pbflow
