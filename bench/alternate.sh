@@ -10,7 +10,7 @@ trap 'rm -rf "$dir"' EXIT
 for _ in $(seq "$rounds"); do
   for which in old new; do
     bin=$([[ $which == old ]] && echo "$old" || echo "$new")
-    log=$("$bin" run "$scene" --no-render --frames "$frames" --out "$dir/run" "$@" 2>&1)
+    log=$("$bin" run "$scene" --no-render --frames "$frames" --out "$dir/$which" "$@" 2>&1)  # a directory each: builds may write different files
     echo "$which $(sed -n 's/.*(solver time \([0-9.e+-]*\) s).*/\1/p' <<<"$log")"
   done
 done | tee "$dir/times" >&2
