@@ -146,7 +146,6 @@ class TankMotion {
   // From `now` on: turned smoothly to `to` (about the floor's centre) over `seconds`, then held.
   void tilt(const glm::dquat& to, double now, double seconds) { tilt_ = {tilt_.at(now), to, now, seconds}; }
   glm::dquat tilt(double t) const { return tilt_.at(t); }  // the tilt at t
-  glm::dquat tilt_target() const { return tilt_.to; }
 
  private:
   // A turn from one orientation to another along smoothstep's ease, at rest at both ends.
