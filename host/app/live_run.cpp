@@ -137,7 +137,7 @@ struct LiveRun::Stage {
   Motion shake;              // the tank's live shaking, as the viewers last asked
   LiveTilt tilt;             // and its tilt
   // Whether the lanes' solvers are made for a viewer's hand (Derived::steerable): not until a
-  // viewer first drags or shakes, since the poses compiled in cost a still box scene 1.36x on lavapipe.
+  // viewer first drags, shakes or tilts, since the poses compiled in cost a still box scene 1.36x on lavapipe.
   bool steerable = false;
   std::unique_ptr<capture::FrameCapture> capture;
   std::function<void(const std::string&)> before_load;  // LiveOptions::before_load
@@ -538,8 +538,8 @@ bool LiveRun::apply(Stage& stage, const vk::Context* ctx, Pace& pace, Asked& ask
   return scene || setting || budget;
 }
 
-// A viewer's hand on the solids, in every lane: drags (each obstacle's newest wins) and the
-// tank's shaking. One the scene cannot take is refused, naming why.
+// A viewer's hand on the solids, in every lane: drags (each obstacle's newest wins), the tank's
+// tilt and its shaking. One the scene cannot take is refused, naming why.
 void LiveRun::steer(Stage& stage, const Asked& asked) {
   for (const LiveCommand& c : asked.drags) {
     if (c.obstacle >= stage.scene.obstacles.size()) {
