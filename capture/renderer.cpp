@@ -159,7 +159,8 @@ Renderer::FrameUniforms Renderer::uniforms(uint32_t count, int pass, glm::ivec2 
   glm::vec3 lo(view_.domain.min), hi(view_.domain.max);
   // Near and far planes enclose the domain as seen from the eye.
   float far = 0;
-  for (int k = 0; k < 8; ++k) far = std::max(far, glm::length(glm::vec3(view_.tank.world(view_.domain.corner(k))) - eye));
+  for (int k = 0; k < 8; ++k)
+    far = std::max(far, glm::length(glm::vec3(view_.tank.world(view_.domain.corner(k))) - eye));
   far = 1.5f * far + 1.0f;
   FrameUniforms u{};
   // Everything is drawn in the tank's frame (the solver's), seen from where the tank stands.

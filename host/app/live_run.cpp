@@ -192,7 +192,8 @@ struct LiveRun::Stage {
     Camera camera;
   };
   Saved save() const {
-    Saved s{options, base, scene, scene_substeps, {}, {}, {}, start, start_solids, shake, tilt, steerable, capture->camera()};
+    Saved s{options, base, scene, scene_substeps, {}, {}, {}, start, start_solids, shake, tilt, steerable,
+            capture->camera()};
     for (const Lane& lane : lanes) {
       s.settings.push_back(lane.setting), s.now.push_back(lane.solver->download());
       s.solids.push_back(lane.solver->solids());
@@ -612,7 +613,8 @@ void LiveRun::draw_frame(Stage& stage, const vk::Context* ctx, Pace& pace, bool 
   frame->budget_ms = pace.budget ? pace.budget->budget_ms() : 0;
   frame->front = pace.front;
   const Camera& camera = stage.capture->camera();
-  frame->solids = seen_solids(stage.scene, stage.lanes[0].solver->tank_pose(), stage.lanes[0].solver->obstacle_poses(), camera,
+  const Solver& first = *stage.lanes[0].solver;
+  frame->solids = seen_solids(stage.scene, first.tank_pose(), first.obstacle_poses(), camera,
                               double(stage.options.width) / double(stage.options.height));
   const capture::CameraAxes axes = capture::camera_axes(camera);
   frame->right = axes.right, frame->up = axes.up;
