@@ -20,9 +20,9 @@ const SceneKey kKeys[] = {
     {"description", K::Text, "\"\"", {}, {}, "", "a line for `pbflow scenes`", "", {}},
     {"domain", K::Box, "required", {}, {}, "m", "the tank `{min, max}`: closed walls", "", {}},
     {"domain.motion", K::Motion, "none", {}, {}, "m, s",
-     "the tank shaken, as an obstacle's `motion` but without turning: `oscillate` or `keyframes` without "
-     "rotation. The fluid is simulated, drawn and exported in the tank's frame, where it feels g less the "
-     "tank's acceleration; `solid_work` counts the shaking's work",
+     "the tank moved rigidly, as an obstacle's `motion` (turning about the box's centre unless it names one): "
+     "the fluid is simulated in the tank's frame, where it feels g and the frame's acceleration, Coriolis, "
+     "centrifugal and Euler terms; drawn and exported in the world; `solid_work` counts the motion's work",
      "", {}},
     {"domain.mesh", K::Mesh, "none", {}, {}, "m, degrees",
      "the tank as a closed mesh (a glass, a bowl) `{file, scale, position, rotation}`, placed as a mesh "
