@@ -103,7 +103,7 @@ TEST(Motion, TheTankFramesStepIsTheWorldsStep) {
     u += g * dt;
     y += u * dt;
     farthest = std::max(farthest, glm::length(tank.pose().world(x) - x));
-    ASSERT_NEAR(glm::length(tank.world(x) - y), 0.0, 1e-9) << "step " << step;
+    ASSERT_NEAR(glm::length(tank.pose().world(x) - y), 0.0, 1e-9) << "step " << step;
     ASSERT_NEAR(glm::length(tank.world_velocity(x, v, dt) - u), 0.0, 1e-9) << "step " << step;  // as exported
   }
   EXPECT_GT(farthest, 0.05) << "the tank should have moved the frame";

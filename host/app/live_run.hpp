@@ -52,7 +52,6 @@ struct LivePanel {
   FrameStats stats;
 };
 
-// A frame as viewers get it: the JPEG and the measures it was drawn with.
 // The tank turned `degrees` about `axis` (a unit vector) through its floor's centre, from upright.
 struct LiveTilt {
   double degrees = 0;
@@ -60,6 +59,7 @@ struct LiveTilt {
   bool operator==(const LiveTilt&) const = default;
 };
 
+// A frame as viewers get it: the JPEG and the measures it was drawn with.
 struct LiveFrame {
   uint64_t number = 0;        // frames drawn since the start (a restart goes on counting)
   double sim_time = 0;        // s of simulated time since the last (re)start

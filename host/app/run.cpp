@@ -271,7 +271,8 @@ RunTotals simulate_frames(const Scene& scene, const Derived& d, Solver& solver, 
       capture::write_particles(dir.particle_path(frame), export_format, f);
       if (solver.white_water_capacity() > 0) capture::write_white_water(dir.white_water_path(frame), export_format, f);
     }
-    auto row = [&rows, &dir, frame, t, s, tank = solver.tank_pose(), poses = solver.obstacle_poses()] {
+    auto row = [&rows, &dir, frame, t, s, tank = solver.tank_pose(),
+                poses = rows.solids ? solver.obstacle_poses() : std::vector<Pose>{}] {
       rows.stats.write(frame, t, s);
       if (rows.solids) rows.solids->write(frame, t, tank, poses);
       dir.frames_done(frame + 1);

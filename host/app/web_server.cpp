@@ -588,6 +588,13 @@ std::string text(const json& message, const char* key) {
   return message.value(key, json()).is_string() ? message[key].get<std::string>() : "";
 }
 
+// A command's unit "axis" ([1, 0, 0] where left out): InputError where it is no direction.
+glm::dvec3 direction(const json& message) {
+  const glm::dvec3 axis = message.contains("axis") ? triple(message, "axis", -1e6, 1e6) : glm::dvec3(1, 0, 0);
+  if (glm::length(axis) < 1e-6) throw InputError("'axis' must be a direction, not zero");
+  return glm::normalize(axis);
+}
+
 // The arguments of a command of c.kind into c, each checked: InputError names the first wrong.
 void read_arguments(const json& message, const LiveRun& run, LiveCommand& c) {
   using Kind = LiveCommand::Kind;
@@ -618,16 +625,12 @@ void read_arguments(const json& message, const LiveRun& run, LiveCommand& c) {
     if (k != std::floor(k)) throw InputError("'obstacle' must be an obstacle's index (0, 1, ...)");
     c.obstacle = size_t(k);
     c.position = triple(message, "position", -1e6, 1e6);
-  } else if (c.kind == Kind::Shake || c.kind == Kind::Tilt) {
-    c.axis = message.contains("axis") ? triple(message, "axis", -1e6, 1e6) : glm::dvec3(1, 0, 0);
-    if (glm::length(c.axis) < 1e-6) throw InputError("'axis' must be a direction, not zero");
-    c.axis = glm::normalize(c.axis);
-    if (c.kind == Kind::Tilt) {
-      c.tilt = {number(message, "angle", 0, -kMaxTiltDegrees, kMaxTiltDegrees), c.axis};
-      return;
-    }
+  } else if (c.kind == Kind::Shake) {
+    c.axis = direction(message);
     c.amplitude = number(message, "amplitude", 0, 0, 1);
     c.period = number(message, "period", 0, 0.05, 60);
+  } else if (c.kind == Kind::Tilt) {
+    c.tilt = {number(message, "angle", 0, -kMaxTiltDegrees, kMaxTiltDegrees), direction(message)};
   } else if (c.kind == Kind::Camera) {
     c.orbit_x = number(message, "orbit_x", 0, -7, 7), c.orbit_y = number(message, "orbit_y", 0, -7, 7);
     c.zoom = number(message, "zoom", 1, 0.1, 10);

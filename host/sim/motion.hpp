@@ -117,9 +117,8 @@ class TankMotion {
   bool moves() const { return motion_.moves() || tilt_.to != glm::dquat(1, 0, 0, 0) || tilt_.from != tilt_.to; }
   const Pose& pose() const { return past_[0]; }  // at the last step's end
   bool upright() const { return past_[0] == Pose{} && past_[1] == Pose{}; }  // the world's frame, still
-  // A particle at x moving at v in the tank's frame, in the world at the last step's end: its
-  // position and the velocity the world's step gave it (TankMotion::step_to).
-  glm::dvec3 world(const glm::dvec3& x) const { return past_[0].world(x); }
+  // The velocity in the world, at the last step's end, of a particle at x moving at v in the
+  // tank's frame: what the world's step gave it (step_to).
   glm::dvec3 world_velocity(const glm::dvec3& x, const glm::dvec3& v, double dt) const {
     return (past_[0].world(x) - past_[1].world(x - dt * v)) / dt;
   }
@@ -145,7 +144,7 @@ class TankMotion {
   }
   // From `now` on: turned smoothly to `to` (about the floor's centre) over `seconds`, then held.
   void tilt(const glm::dquat& to, double now, double seconds) { tilt_ = {tilt_.at(now), to, now, seconds}; }
-  glm::dquat tilt(double t) const { return tilt_.at(t); }  // the tilt at t
+  glm::dquat tilt_at(double t) const { return tilt_.at(t); }
 
  private:
   // A turn from one orientation to another along smoothstep's ease, at rest at both ends.

@@ -83,7 +83,7 @@ void Derived::carry_solids(const std::vector<Obstacle>& placed, const TankMotion
 void Derived::tilt(const glm::dquat& to, double now) {
   const glm::dvec3 half = 0.5 * (domain_max - domain_min);
   const double reach = glm::length(glm::dvec3(half.x, 2 * half.y, half.z));  // the top corners from the floor's centre
-  const double turn = glm::angle(glm::inverse(tank.tilt(now)) * to), fastest = kSolidStep * spacing / dt;
+  const double turn = glm::angle(glm::inverse(tank.tilt_at(now)) * to), fastest = kSolidStep * spacing / dt;
   tank.tilt(to, now, std::max(1.0, 1.5 * std::min(turn, 2 * std::numbers::pi - turn) * reach / fastest));
 }
 

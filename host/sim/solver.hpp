@@ -131,7 +131,7 @@ inline void to_world(ParticleFrame& f, const TankMotion& tank, double dt) {
   auto place = [&](std::vector<glm::vec4>& x, std::vector<glm::vec4>& v) {
     for (size_t i = 0; i < x.size() && i < v.size(); ++i) {
       const glm::dvec3 p(x[i]), u(v[i]);
-      x[i] = glm::vec4(glm::vec3(tank.world(p)), x[i].w);
+      x[i] = glm::vec4(glm::vec3(tank.pose().world(p)), x[i].w);
       v[i] = glm::vec4(glm::vec3(tank.world_velocity(p, u, dt)), v[i].w);
     }
   };
