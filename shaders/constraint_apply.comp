@@ -24,7 +24,7 @@ void main() {
   if (!neighbour_pass_particle(i)) return;
   vec4 own = imageLoad(x_lambda, int(i));
   vec3 xi = own.xyz;
-  Mirrors mirrors = mirrors_near(xi);
+  Mirrors mirrors = neighbour_mirrors(xi);
   float lambda_i = own.w;
   vec3 dp = vec3(0.0), dp_solid = vec3(0.0);  // and the obstacle's images' share
   int image;

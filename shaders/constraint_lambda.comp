@@ -21,7 +21,7 @@ void main() {
   uint i;
   if (!neighbour_pass_particle(i)) return;
   vec3 xi = imageLoad(x_pred, int(i)).xyz;
-  Mirrors mirrors = mirrors_near(xi);
+  Mirrors mirrors = neighbour_mirrors(xi);
   // m/rho0 goes into every gradient term before it is squared: the squares alone, ~1/h^8,
   // leave float's range at the ends of particle_spacing's (tests/scale_test.cpp).
   const float s = sim.mass / sim.rho0;

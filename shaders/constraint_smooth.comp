@@ -27,7 +27,7 @@ void main() {
   uint i;
   if (!neighbour_pass_particle(i)) return;
   vec3 xi = imageLoad(x_lambda_in, int(i)).xyz;
-  Mirrors mirrors = mirrors_near(xi);
+  Mirrors mirrors = neighbour_mirrors(xi);
   float sum = 0.0, total = 0.0;
   int image;
   FOR_EACH_NEIGHBOUR(i, xi, mirrors, j, image) {  // an image carries its particle's lambda

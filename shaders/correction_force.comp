@@ -40,7 +40,8 @@ void main() {
   uint i;
   if (!neighbour_pass_particle(i)) return;
   vec3 xi = imageLoad(x, int(i)).xyz;
-  Mirrors mirrors = mirrors_near(xi);
+  Mirrors mirrors = neighbour_mirrors(xi);
+  mirrors.listed = mirrors.listed && !MOVING;  // the last step's lists, and Move came since
   // Differences keep the float sum exact at uniform density.
   float rho_i = ldc_density(i);
   vec3 f = vec3(0.0), f_solid = vec3(0.0);  // and the obstacle's images' share

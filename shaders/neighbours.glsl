@@ -22,6 +22,13 @@ layout(constant_id = NEIGHBOUR_CAPACITY_ID + 1) const bool WALK_CELLS = false;
 layout(binding = NEIGHBOUR_BINDING, r32ui) uniform readonly uimageBuffer neighbour_count;
 layout(binding = NEIGHBOUR_BINDING + 1, rgba32ui) uniform readonly uimageBuffer neighbour_list;
 
+// i's mirrors for a reader: a list's obstacle images were tested when it was built.
+Mirrors neighbour_mirrors(vec3 xi) {
+  Mirrors m = mirrors_near(xi);
+  m.listed = !WALK_CELLS && NEIGHBOUR_CAPACITY > 0u;
+  return m;
+}
+
 // The particle this invocation serves, if any: its own for the list readers (skipping
 // overflowed lists, which the cell walkers redo: some passes add to their output), its
 // entry in the overflow list for the cell walkers, its own again where there are no lists.

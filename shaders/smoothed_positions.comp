@@ -77,7 +77,7 @@ void main() {
   uint i;
   if (!neighbour_pass_particle(i)) return;
   vec3 xi = imageLoad(x, int(i)).xyz;
-  Mirrors mirrors = mirrors_near(xi);
+  Mirrors mirrors = neighbour_mirrors(xi);
   // The position's mean weighs the nearest most (position_weight); the covariance weighs the
   // neighbourhood nearly flat to h (smoothing_weight), so that it sees a sheet's rows pulled
   // 1.75 spacings apart. Offsets in units of h keep the second moments near 1 in float. No

@@ -170,6 +170,7 @@ struct Mirrors {
   float distance;  // its distance to that obstacle
   vec3 normal;     // and the obstacle's outward normal at the point nearest it
   vec3 solid_velocity;  // the velocity of that point over the step (0: it stands still)
+  bool listed;     // the images come from a neighbour list, tested when it was built
 };
 Mirrors mirrors_near(vec3 x) {
   Mirrors m;
@@ -193,10 +194,11 @@ Mirrors mirrors_near(vec3 x) {
     m.axes |= OBSTACLE_MIRROR;
     m.solid_velocity = obstacle_displacement(m.obstacle, x - m.distance * m.normal) / sim.dt;
   }
+  m.listed = false;
   return m;
 }
 // For a pass that sees the fluid only: the cell walk then yields no images.
-Mirrors no_mirrors() { return Mirrors(0, vec3(0.0), -1, vec3(0.0), 0.0, vec3(0.0), vec3(0.0)); }
+Mirrors no_mirrors() { return Mirrors(0, vec3(0.0), -1, vec3(0.0), 0.0, vec3(0.0), vec3(0.0), false); }
 // Every image of a neighbour: for (int k = m.axes; k != 0; k = next_image(m.axes, k)) ...
 int next_image(int axes, int k) { return (k - 1) & axes; }
 bvec3 reflected(int k) { return bvec3((k & 1) != 0, (k & 2) != 0, (k & 4) != 0); }
@@ -210,15 +212,18 @@ vec3 pair_image(vec3 a, float phi_a, vec3 n_a, vec3 b, float phi_b) {
 }
 
 // The obstacle's image of neighbour x, seen from the particle (Mirrors::obstacle_image says
-// why); far away where the pair's images do not both lie inside the obstacle.
+// why); far away where the pair's images do not both lie inside the obstacle, which a listed
+// image was tested for when the list was built.
 vec3 obstacle_image(Mirrors m, vec3 x) {
   int o = max(m.obstacle, 0);
   vec3 normal, unused;
   float distance = obstacle_surface(o, x, normal);
   vec3 image = pair_image(m.at, m.distance, m.normal, x, distance);
   // An entry listed beside an obstacle that is no longer within h does not count.
-  bool inside = (m.axes & OBSTACLE_MIRROR) != 0 && obstacle_surface(o, image, unused) < 0.0 &&
-                obstacle_surface(o, pair_image(x, distance, normal, m.at, m.distance), unused) < 0.0;
+  bool inside = (m.axes & OBSTACLE_MIRROR) != 0;
+  if (!m.listed)
+    inside = inside && obstacle_surface(o, image, unused) < 0.0 &&
+             obstacle_surface(o, pair_image(x, distance, normal, m.at, m.distance), unused) < 0.0;
   return inside ? image : vec3(FAR_AWAY);
 }
 

@@ -61,7 +61,7 @@ void main() {
   vec3 damp = vec3(0.0), damp_solid = vec3(0.0);  // and the obstacle's images' share
   float density = 0.0;
   float rho_i = max(own.w, sim.rho0);
-  Mirrors mirrors = mirrors_near(xi);
+  Mirrors mirrors = neighbour_mirrors(xi);
   int image;
   FOR_EACH_NEIGHBOUR(i, xi, mirrors, j, image) {
     vec3 xj = imageLoad(x, int(j)).xyz, d = xi - mirror(mirrors, image, xj);

@@ -27,7 +27,7 @@ void main() {
   vec3 xi = imageLoad(x, int(i)).xyz, vi = imageLoad(v, int(i)).xyz;
   float unit = FLOW_SPEED;
   if (length(vi) / unit <= WHITE_SPEED_MIN) return;  // too slow to make any: most of a calm fluid skips the walk
-  Mirrors mirrors = mirrors_near(xi);
+  Mirrors mirrors = neighbour_mirrors(xi);
   float trapped = 0.0, weights = 0.0;
   vec3 towards = vec3(0.0);
   int image;

@@ -36,17 +36,19 @@ Mirrors mirrors_near(const Derived& d, const glm::dvec3& x) {
   return m;
 }
 
-glm::dvec3 Mirrors::obstacle_image(const glm::dvec3& x) const {
+glm::dvec3 Mirrors::obstacle_image(const glm::dvec3& x, bool listed) const {
   glm::dvec3 n, unused;
   const double phi = obstacle.surface(x, n);
   const glm::dvec3 image = pair_image(at, distance, normal, x, phi);
-  const bool inside = (axes & kObstacleMirror) && obstacle.surface(image, unused) < 0 &&
-                      obstacle.surface(pair_image(x, phi, n, at, distance), unused) < 0;
+  // An entry listed beside an obstacle that is no longer within h does not count.
+  const bool inside = (axes & kObstacleMirror) &&
+                      (listed || (obstacle.surface(image, unused) < 0 &&
+                                  obstacle.surface(pair_image(x, phi, n, at, distance), unused) < 0));
   return inside ? image : glm::dvec3(kFarAway);
 }
 
-glm::dvec3 Mirrors::of(int k, const glm::dvec3& x) const {
-  glm::dvec3 y = k & kObstacleMirror ? obstacle_image(x) : x;
+glm::dvec3 Mirrors::of(int k, const glm::dvec3& x, bool listed) const {
+  glm::dvec3 y = k & kObstacleMirror ? obstacle_image(x, listed) : x;
   for (int a = 0; a < 3; ++a)
     if (k >> a & 1) y[a] = plane2[a] - y[a];
   return y;

@@ -79,6 +79,7 @@ void ReferenceSolver::build_neighbours(const std::vector<dvec3>& at) {
     neighbour_count_[i] = count;
   }
   neighbours_current_ = neighbours_built_ = true;
+  moved_since_lists_ = false;
 }
 
 void ReferenceSolver::build_grid(const std::vector<dvec3>& at) {
@@ -363,6 +364,7 @@ void ReferenceSolver::run(const PlannedPass& p) {
         d_.hold_solids();
       else
         d_.move_solids(double(++steps_moved_) * d_.dt);
+      moved_since_lists_ = true;
       break;
     case Pass::Density: density_at_positions(); break;
     case Pass::CorrectionPredict: correction(), predict(); break;

@@ -125,6 +125,9 @@ class ReferenceSolver : public Solver {
   std::vector<uint32_t> neighbour_count_;
   bool neighbours_current_ = false;              // built since the last build_grid
   bool neighbours_built_ = false;                // built since the particles were set (GpuSolver::lists_built_)
+  // The solids moved since the lists were built (LDC's correction comes after Move): their
+  // obstacle images are tested again (Mirrors::of).
+  bool moved_since_lists_ = false;
 };
 
 // Visits j for every particle binned in the 27 cells around xi (distance not tested).
@@ -147,11 +150,11 @@ void ReferenceSolver::for_each_neighbour(size_t i, const glm::dvec3& xi, F&& vis
   if (count > d_.neighbour_capacity) {
     for_each_candidate(xi, [&](size_t j) {
       for (int k = 0; k < kImages; ++k)
-        if ((k & mirrors.axes) == k) visit(j, Image{&mirrors, k});
+        if ((k & mirrors.axes) == k) visit(j, Image{&mirrors, k, false});
     });
   } else {
     const Neighbour* list = neighbour_list_.data() + i * d_.neighbour_capacity;
-    for (uint32_t k = 0; k < count; ++k) visit(list[k].j, Image{&mirrors, int(list[k].image)});
+    for (uint32_t k = 0; k < count; ++k) visit(list[k].j, Image{&mirrors, int(list[k].image), !moved_since_lists_});
   }
 }
 
