@@ -92,8 +92,11 @@ void main() {
       for (uint q = 0u; q < 2u; ++q) {
         bool listed_neighbour = k + pair + q < neighbours;  // the group's last slots may lie past them
         vec3 xj = imageLoad(x, int(listed_neighbour ? group[pair + q] : i)).xyz;
+        // The obstacle's image once, not once per subset of the walls with it: a CPU device
+        // ran it masked in every turn of the loop (docs/performance.md).
+        vec3 behind = OBSTACLES ? obstacle_image(mirrors, xj) : xj;
         for (int image = mirrors.axes; image != 0; image = next_image(mirrors.axes, image)) {
-          vec3 d = xi - mirror(mirrors, image, xj);
+          vec3 d = xi - across_walls(mirrors, image, (image & OBSTACLE_MIRROR) != 0 ? behind : xj);
           hits |= uint(listed_neighbour && dot(d, d) < sim.h * sim.h) << (16u * q + 15u - uint(image));
         }
       }

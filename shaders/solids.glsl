@@ -15,6 +15,9 @@
 #include "contract.h"
 
 layout(std430, binding = OBSTACLES_BINDING) readonly buffer Obstacles { vec4 obstacle_data[]; };
+// The same buffer as words, for the fields' values: a component picked from a vec4 at a computed
+// index cost a CPU device four loads for one (docs/performance.md).
+layout(std430, binding = OBSTACLES_BINDING) readonly buffer ObstacleWords { float obstacle_words[]; };
 // The shapes the scene's obstacles have, a bit each (1 << the shape's code: box 0, sphere 1,
 // mesh 2; gpu/key_constants.cpp). A CPU device runs every branch masked for every neighbour, so
 // each shape the scene lacks is compiled out: without obstacles their mirrors (3x the step on
@@ -75,7 +78,7 @@ vec3 obstacle_displacement(int k, vec3 x) { return MOVING ? x - to_world(k, POSE
 float push_work(vec3 dx, vec3 moved) { return MOVING ? dot(dx, moved) / (sim.dt * sim.dt) : 0.0; }
 float field_value(int first, ivec3 dims, ivec3 p) {
   int k = first + (p.z * dims.y + p.y) * dims.x + p.x;
-  return obstacle_data[obstacle_header(int(obstacle_data[0].x)) + k / 4][k % 4];
+  return obstacle_words[4 * obstacle_header(int(obstacle_data[0].x)) + k];
 }
 // A mesh's distance at x, trilinear, and its gradient (DistanceField::sample).
 float field_distance(int k, vec3 x, out vec3 gradient) {
@@ -227,9 +230,11 @@ vec3 obstacle_image(Mirrors m, vec3 x) {
   return inside ? image : vec3(FAR_AWAY);
 }
 
+// x reflected across the walls of image k.
+vec3 across_walls(Mirrors m, int k, vec3 x) { return mix(x, m.plane2 - x, reflected(k)); }
 vec3 mirror(Mirrors m, int k, vec3 x) {
   if (OBSTACLES && (k & OBSTACLE_MIRROR) != 0) x = obstacle_image(m, x);
-  return mix(x, m.plane2 - x, reflected(k));
+  return across_walls(m, k, x);
 }
 // An image moves as its particle, mirrored; across an obstacle, relative to its surface
 // (Mirrors::velocity).

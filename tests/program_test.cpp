@@ -32,7 +32,7 @@ const ShaderLayout::Binding* find(const ShaderLayout& layout, const std::string&
 
 TEST(ShaderLayout, ANeighbourPassReadsItsSlotsTypesAndConstantsFromTheSpirv) {
   const ShaderLayout density = vk::reflect_layout(shaders::spirv("density"));
-  ASSERT_EQ(density.bindings.size(), 6u);
+  ASSERT_EQ(density.bindings.size(), 6u);  // the obstacles' two views (solids.glsl) are one slot
   const struct {
     const char* name;
     uint32_t slot;

@@ -143,6 +143,17 @@ Module::Module(std::span<const uint32_t> spirv) {
   }
 }
 
+// Two variables at one slot are two views of one buffer (solids.glsl reads the obstacles as
+// vec4s and their fields as floats): the slot is bound once, by the name declared first.
+void merge_views(std::vector<ShaderLayout::Binding>& bindings) {
+  std::ranges::stable_sort(bindings, {}, &ShaderLayout::Binding::slot);
+  for (size_t k = 1; k < bindings.size(); ++k)
+    if (bindings[k].slot == bindings[k - 1].slot && bindings[k].type != bindings[k - 1].type)
+      throw Error("shader layout: binding " + std::to_string(bindings[k].slot) + " is declared as two kinds of buffer");
+  const auto views = std::ranges::unique(bindings, {}, &ShaderLayout::Binding::slot);
+  bindings.erase(views.begin(), views.end());
+}
+
 ShaderLayout Module::layout() {
   ShaderLayout layout;
   for (const auto [pointer_type, id, storage] : variables) {
@@ -169,7 +180,7 @@ ShaderLayout Module::layout() {
   }
   for (const auto& [id, type] : spec_constants)
     if (spec_id.count(id) && spec_id[id] != 0) layout.constants.push_back({spec_id[id], names[id], type});
-  std::ranges::sort(layout.bindings, {}, &ShaderLayout::Binding::slot);
+  merge_views(layout.bindings);
   std::ranges::sort(layout.constants, {}, &ShaderLayout::Constant::id);
   return layout;
 }
