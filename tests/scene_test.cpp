@@ -2,7 +2,9 @@
 // the fluid out even when it is thrown at them.
 #include <cmath>
 
+#include "app/live_run.hpp"
 #include "gpu/gpu_solver.hpp"
+#include "scene/framing.hpp"
 #include "sim/obstacles.hpp"
 #include "sim/reference_solver.hpp"
 #include "support.hpp"
@@ -122,6 +124,35 @@ TEST_F(SceneTest, FastParticlesDoNotTunnelThroughAThinPlate) {
   test::compare(g.x, ref.state.x, "positions after a step into obstacles");
   EXPECT_NEAR(g.x[0].x, ref.state.x[0].x, 1e-5);
   EXPECT_NEAR(g.x[1].z, ref.state.x[1].z, 1e-5);
+}
+
+// A view left to framing keeps the tank's corners in the picture at every tilt a viewer of
+// pbflow serve may ask; the view framed for the upright tank loses one of some built-in tank.
+TEST(Framing, AViewLeftToFramingHoldsTheTankAtEveryLiveTilt) {
+  auto in_view = [](const Scene& s, const Camera& c, const Pose& pose) {
+    const glm::dvec3 back = glm::normalize(c.eye - c.target), right = glm::normalize(glm::cross(glm::dvec3(0, 1, 0), back));
+    const glm::dvec3 up = glm::cross(back, right);
+    const double tan_v = std::tan(glm::radians(c.fov_degrees) / 2), tan_h = 16.0 / 9.0 * tan_v;  // 1280x720
+    for (int k = 0; k < 8; ++k) {
+      const glm::dvec3 o = pose.world(Box{s.domain.min, s.domain.max}.corner(k)) - c.eye;
+      const double depth = -glm::dot(o, back);
+      if (std::abs(glm::dot(o, right)) > depth * tan_h || std::abs(glm::dot(o, up)) > depth * tan_v) return false;
+    }
+    return true;
+  };
+  bool upright_view_loses_one = false;
+  for (const BuiltinScene& b : builtin_scenes()) {
+    const Scene scene = load_scene(b.name);
+    if (!scene.camera_framed) continue;
+    const Camera live = framing_camera(scene, kMaxTiltDegrees);
+    for (const glm::dvec3 axis : {glm::dvec3(1, 0, 0), glm::dvec3(0, 0, 1)})
+      for (double degrees = -kMaxTiltDegrees; degrees <= kMaxTiltDegrees; degrees += 5) {
+        const Pose tilt = turn_about(glm::angleAxis(glm::radians(degrees), axis), scene.domain.floor_centre());
+        EXPECT_TRUE(in_view(scene, live, tilt)) << b.name << " tilted " << degrees << " degrees";
+        upright_view_loses_one |= !in_view(scene, scene.camera, tilt);
+      }
+  }
+  EXPECT_TRUE(upright_view_loses_one) << "no tilt takes a corner out of the upright view: this test shows nothing";
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 #include "capture/stream/jpeg.hpp"
 #include "gpu/make_solver.hpp"
 #include "scene/derive.hpp"
+#include "scene/framing.hpp"
 #include "scene/parse.hpp"
 #include "scene/seeding.hpp"
 #include "sim/settle.hpp"
@@ -169,7 +170,8 @@ struct LiveRun::Stage {
     start_solids = first.solids();
     shake = {}, tilt = {};
     for (Lane& lane : lanes) lane.solver->upload(start);
-    draw_anew(ctx, scene.camera);
+    // A view the scene left to framing fits every tilt a viewer may ask.
+    draw_anew(ctx, scene.camera_framed ? framing_camera(scene, kMaxTiltDegrees) : scene.camera);
   }
   // Every lane back at the start, the solids too.
   void restart() {

@@ -33,7 +33,7 @@ struct LiveOptions {
 // At most this many settings side by side.
 inline constexpr size_t kMaxPanels = 4;
 // The most a viewer may tilt the tank, degrees: enough to run the water of a built-in tank to
-// one end, the tank still in the view framed for it upright.
+// one end; a view the scene leaves to framing fits it (framing_camera).
 inline constexpr double kMaxTiltDegrees = 30;
 
 // An obstacle as the page sees it, for dragging it (docs/serve.md): its middle in the world,

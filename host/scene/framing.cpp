@@ -23,9 +23,20 @@ std::vector<Pose> tank_poses(const Motion& m) {
   for (double t : times) poses.push_back(m.at(t));
   return poses;
 }
+
+// The poses turned by +-degrees about x and about z through `pivot`, and as they are.
+std::vector<Pose> tilted(const std::vector<Pose>& poses, double degrees, const glm::dvec3& pivot) {
+  std::vector<Pose> all = poses;
+  for (const glm::dvec3 axis : {glm::dvec3(1, 0, 0), glm::dvec3(0, 0, 1)})
+    for (const double sign : {-1.0, 1.0}) {
+      const Pose turn = turn_about(glm::angleAxis(sign * glm::radians(degrees), axis), pivot);
+      for (const Pose& p : poses) all.push_back(compose(turn, p));
+    }
+  return all;
+}
 }  // namespace
 
-Camera framing_camera(const Scene& scene) {
+Camera framing_camera(const Scene& scene, double tilt_degrees) {
   const Box box{scene.domain.min, scene.domain.max};
   Camera c = scene.camera;
   c.target = 0.5 * (box.min + box.max);
@@ -35,7 +46,9 @@ Camera framing_camera(const Scene& scene) {
   // A corner at offset o from the target lies at depth d - o.towards_eye; it fits where
   // |o.right| <= depth tan_h and |o.up| <= depth tan_v.
   double distance = 0;
-  for (const Pose& pose : tank_poses(scene.tank_motion))
+  std::vector<Pose> poses = tank_poses(scene.tank_motion);
+  if (tilt_degrees > 0) poses = tilted(poses, tilt_degrees, scene.domain.floor_centre());
+  for (const Pose& pose : poses)
     for (int k = 0; k < 8; ++k) {
       const glm::dvec3 o = pose.world(box.corner(k)) - c.target;
       const double along = glm::dot(o, towards_eye);

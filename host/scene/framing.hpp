@@ -8,7 +8,8 @@ namespace pbflow {
 
 // Looks at the domain's centre from the front (+z) and 30 degrees above, as close as fits
 // its corners, wherever the tank's motion takes them, in a 16:9 image (the default 1280x720) at
-// the scene's vertical field of view.
-Camera framing_camera(const Scene& scene);
+// the scene's vertical field of view; with `tilt_degrees`, also with the tank turned by that
+// about x or z through its floor's centre, either way (a viewer's tilt in pbflow serve).
+Camera framing_camera(const Scene& scene, double tilt_degrees = 0);
 
 }  // namespace pbflow

@@ -399,6 +399,7 @@ void read_camera(const json& j, Scene& s) {
   const Camera framed = framing_camera(s);
   s.camera.target = vec3(camera, "target", "camera.target", framed.target);
   s.camera.eye = vec3(camera, "eye", "camera.eye", framed.eye);
+  s.camera_framed = !camera.contains("eye");
   // At the renderer's float precision, and by more than its rounding at that distance from the
   // origin: eye and target that differ only in double give a view matrix of NaN, a blank frame.
   const glm::vec3 eye(s.camera.eye), target(s.camera.target);

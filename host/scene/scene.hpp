@@ -58,6 +58,7 @@ struct Scene {
   SolverParams solver;
   WhiteWaterParams white_water;
   Camera camera;
+  bool camera_framed = false;  // the scene named no eye: framing_camera chose it
 };
 
 // The fluid's volume as the scene states it (blocks and spheres, overlaps counted twice),

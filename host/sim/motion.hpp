@@ -92,6 +92,11 @@ constexpr double kSolidStep = 0.5;
 // A pose after another: a point placed by `b`, then moved as `a` moves it.
 inline Pose compose(const Pose& a, const Pose& b) { return {a.rotation * b.rotation, a.rotation * b.translation + a.translation}; }
 inline Pose inverse(const Pose& p) { return {glm::transpose(p.rotation), -(glm::transpose(p.rotation) * p.translation)}; }
+// A turn about a point that stays where it is (a tilt about the tank's floor's centre).
+inline Pose turn_about(const glm::dquat& turn, const glm::dvec3& pivot) {
+  const glm::dmat3 r = glm::mat3_cast(turn);
+  return {r, pivot - r * pivot};
+}
 
 // What the tank's frame does to the fluid over a step, beside g dt: every particle's velocity
 // (x, v in the tank's frame) changes by at(x, v). of_x and of_v are zero unless the tank turns.
@@ -157,8 +162,7 @@ class TankMotion {
     }
   };
   Pose at(double t) const {
-    const glm::dmat3 turn = glm::mat3_cast(tilt_.at(t));
-    return compose({turn, pivot_ - turn * pivot_}, compose(from_, motion_.at(std::max(t - since_, 0.0))));
+    return compose(turn_about(tilt_.at(t), pivot_), compose(from_, motion_.at(std::max(t - since_, 0.0))));
   }
   Motion motion_;
   glm::dvec3 pivot_;
