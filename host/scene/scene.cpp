@@ -19,9 +19,8 @@ double fall_speed(const Scene& scene) {
 }
 
 double tank_speed(const Scene& scene) {
-  double reach = 0;  // the tank's corner farthest from the centre it turns about
-  for (int k = 0; k < 8; ++k) reach = std::max(reach, glm::length(scene.domain.corner(k) - scene.tank_motion.centre));
-  return scene.tank_motion.moves() ? scene.tank_motion.top_speed(reach) : 0.0;
+  const Motion& m = scene.tank_motion;
+  return m.moves() ? m.top_speed(reach(scene.domain.min, scene.domain.max, m.centre)) : 0.0;
 }
 
 double solid_speed(const Scene& scene) {

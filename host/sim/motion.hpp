@@ -92,6 +92,13 @@ constexpr double kSolidStep = 0.5;
 // A pose after another: a point placed by `b`, then moved as `a` moves it.
 inline Pose compose(const Pose& a, const Pose& b) { return {a.rotation * b.rotation, a.rotation * b.translation + a.translation}; }
 inline Pose inverse(const Pose& p) { return {glm::transpose(p.rotation), -(glm::transpose(p.rotation) * p.translation)}; }
+// How far the box [lo, hi]'s farthest corner lies from p: the reach of a turn about p.
+inline double reach(const glm::dvec3& lo, const glm::dvec3& hi, const glm::dvec3& p) {
+  double farthest = 0;
+  for (int k = 0; k < 8; ++k)
+    farthest = std::max(farthest, glm::length(glm::mix(lo, hi, glm::dvec3(k & 1, (k >> 1) & 1, (k >> 2) & 1)) - p));
+  return farthest;
+}
 // A turn about a point that stays where it is (a tilt about the tank's floor's centre).
 inline Pose turn_about(const glm::dquat& turn, const glm::dvec3& pivot) {
   const glm::dmat3 r = glm::mat3_cast(turn);
