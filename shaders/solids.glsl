@@ -40,7 +40,7 @@ void add_work(uint i, float w) {
 }
 #endif
 
-int obstacle_header(int k) { return 8 + 9 * k; }
+int obstacle_header(int k) { return 1 + TANK_KICK_VEC4S + OBSTACLE_VEC4S * k; }
 // The velocity a particle at x moving at v gains this step from the tank's motion, in its frame.
 vec3 tank_kick(vec3 x, vec3 v) {
   mat3 of_x = mat3(obstacle_data[2].xyz, obstacle_data[3].xyz, obstacle_data[4].xyz);

@@ -9,6 +9,7 @@
 #include <memory>
 #include <vector>
 
+#include "shaders/contract.h"
 #include "sim/distance_field.hpp"
 #include "sim/motion.hpp"
 
@@ -81,7 +82,7 @@ double open_fraction(const std::vector<Obstacle>& solids, const glm::dvec3& cent
 // transform (world to body, rotation | shift); then the meshes' field values, four a vec4, value 0
 // at vec4 obstacle_header_vec4s(count). The header (all but the field values) is what a step's
 // move changes.
-constexpr size_t kObstacleVec4s = 9, kTankKickVec4s = 7;
+constexpr size_t kObstacleVec4s = OBSTACLE_VEC4S, kTankKickVec4s = TANK_KICK_VEC4S;
 std::vector<glm::vec4> pack_obstacles(const std::vector<Obstacle>& obstacles, double margin,
                                       const TankKick& tank_kick = {});
 std::vector<glm::vec4> pack_obstacle_header(const std::vector<Obstacle>& obstacles, double margin,
