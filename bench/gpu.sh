@@ -2,7 +2,8 @@
 # The measurements a lent GPU is for, in one sitting, into OUT (default bench_out/gpu):
 # the Vulkan devices; drawing beside the solver for the default run at 720p and 1080p and for
 # ~1M particles at 1080p (bench/render.sh, GL timer queries); the cost model up to 4M
-# particles (pbflow bench --scaling); and the iterations-or-substeps study at 16k and 49k.
+# particles (pbflow bench --scaling); the iterations-or-substeps study at 16k and 49k; and what a
+# solid's terms cost a step at 16k (the dam break alone, past a box, into the cup's mesh).
 #
 #   bench/gpu.sh [OUT]
 set -euo pipefail
@@ -17,3 +18,6 @@ bench/render.sh -s bench/scenes/dam_break_1m.json -f 8 -r 1920x1080 -y "fluid pa
 build/pbflow bench --scaling --budget-minutes 1.5 --out "$out/scaling"
 build/pbflow bench --counts 16000,49000 --iterations 1,2,3,4 --substeps 2,4 --seconds 1.5 --scenes dam_break \
   --out "$out/pareto"
+for scene in dam_break dam_obstacle cup; do
+  build/pbflow bench --scaling --scenes "$scene" --counts 16000 --seconds 1 --no-charts --out "$out/solids_$scene"
+done
