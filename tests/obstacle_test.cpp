@@ -189,6 +189,32 @@ TEST(Motion, ATiltMovesTheWallsNoFasterThanAStepKeepsSound) {
   }
 }
 
+// A shake begun while a tilt turns the tank times the rest of the tilt again beside it: the
+// walls stay within kSolidStep spacings a step (the wave tank, shaken at 0.31 spacings a step
+// from a quarter of the way through a 30 degree tilt).
+TEST(Motion, AShakeDuringATiltKeepsTheWallsWithinAStep) {
+  Derived d = derive(load_scene("wave_tank"));
+  d.make_steerable();
+  d.tilt(glm::angleAxis(glm::radians(30.0), glm::dvec3(0, 0, 1)), 0.0);
+  Motion shake;
+  shake.type = Motion::Type::Oscillate, shake.axis = {1, 0, 0}, shake.amplitude = 0.06, shake.period = 0.5;
+  double fastest = 0;
+  Pose before = d.tank.pose();
+  for (int step = 1; step <= int(10 / d.dt); ++step) {
+    if (step == int(0.25 / d.dt)) d.shake(shake, (step - 1) * d.dt);
+    d.move_solids(step * d.dt);
+    for (int k = 0; k < 8; ++k) {
+      const glm::dvec3 corner = glm::mix(d.domain_min, d.domain_max, glm::dvec3(k & 1, (k >> 1) & 1, (k >> 2) & 1));
+      fastest = std::max(fastest, glm::length(d.tank.pose().world(corner) - before.world(corner)));
+    }
+    before = d.tank.pose();
+  }
+  std::printf("  the walls at most %.3f spacings a step\n", fastest / d.spacing);
+  EXPECT_LE(fastest, kSolidStep * d.spacing * (1 + 1e-6));
+  EXPECT_LT(glm::angle(glm::inverse(d.tank.tilt_at(10.0)) * glm::angleAxis(glm::radians(30.0), glm::dvec3(0, 0, 1))), 1e-9)
+      << "the tilt was not finished";
+}
+
 // A turned box is a box in its own frame: a particle inside is projected onto its nearest
 // face, and the solid's displacement over a step is the turn's at that point.
 TEST(Motion, ATurnedBoxProjectsOntoItsFacesAndMovesAsItTurns) {

@@ -157,6 +157,8 @@ class TankMotion {
   // From `now` on: turned smoothly to `to` (about the floor's centre) over `seconds`, then held.
   void tilt(const glm::dquat& to, double now, double seconds) { tilt_ = {tilt_.at(now), to, now, seconds}; }
   glm::dquat tilt_at(double t) const { return tilt_.at(t); }
+  bool tilting(double t) const { return t < tilt_.start + tilt_.seconds; }  // turning still at t
+  const glm::dquat& tilt_target() const { return tilt_.to; }
 
  private:
   // A turn from one orientation to another along smoothstep's ease, at rest at both ends.

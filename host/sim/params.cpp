@@ -80,6 +80,11 @@ void Derived::carry_solids(const std::vector<Obstacle>& placed, const TankMotion
   measure_open({});
 }
 
+void Derived::shake(const Motion& m, double now) {
+  tank.change(m, now);
+  if (tank.tilting(now)) tilt(tank.tilt_target(), now);
+}
+
 void Derived::tilt(const glm::dquat& to, double now) {
   const glm::dvec3 floor_centre(0.5 * (domain_min.x + domain_max.x), domain_min.y, 0.5 * (domain_min.z + domain_max.z));
   const double turn = glm::angle(glm::inverse(tank.tilt_at(now)) * to), fastest = kSolidStep * spacing / dt;

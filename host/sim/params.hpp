@@ -148,9 +148,11 @@ struct Derived {
   // Obstacle k's placement shifted by `shift` (m, from where the scene places it), reached at
   // most kSolidStep spacings a step less what its own motion takes (steerable only).
   void drag(size_t k, const glm::dvec3& shift);
-  void shake(const Motion& m, double now) { tank.change(m, now); }  // from the step's end `now`
+  // The tank shaken by m from the step's end `now`; a tilt under way is timed again beside it.
+  void shake(const Motion& m, double now);
   // The tank turned to `to` from the step's end `now`, eased over a second or what keeps its walls
-  // within kSolidStep spacings a step (smoothstep's peak rate is 1.5 times its mean).
+  // within kSolidStep spacings a step beside its own motion (smoothstep's peak rate is 1.5 times
+  // its mean).
   void tilt(const glm::dquat& to, double now);
   // The solids of this scene as another solver holds them (Solver::carry), their open shares
   // measured anew; kept steerable where this is.
