@@ -7,8 +7,10 @@ of no other is
 compared with the median density of the interior particles in its layer (one spacing high;
 interior: farther than 2 kernel radii from every solid and below the free surface by as much).
 Prints a Markdown row per solid: particles, median deviation, 1st and 99th percentiles; and
-the frame's largest speed.
-  bench/boundary.py RUN_DIR [FRAME]     (FRAME: default the last)"""
+the frame's largest speed. With --where, each box obstacle's particles are split by where they
+stand (above its top face, beside a side face, round an edge or corner) and their distance from
+it in half spacings.
+  bench/boundary.py [--where] RUN_DIR [FRAME]     (FRAME: default the last)"""
 import glob
 import json
 import math
@@ -43,7 +45,27 @@ def percentile(values, q):
     return s[min(len(s) - 1, max(0, int(round(q * (len(s) - 1)))))] if s else float("nan")
 
 
+def place(box, p):
+    """Where p stands beside a box: above its top face, beside a side face, or round an edge."""
+    out = [a for a in range(3) if p[a] < box["min"][a] or p[a] > box["max"][a]]
+    return "above its top face" if out == [1] else "beside a side face" if len(out) == 1 else "round an edge or corner"
+
+
+def print_places(box, rows, spacing):
+    """rows: (position, deviation) of one box's particles; a row per place and distance."""
+    groups = {}
+    for p, deviation in rows:
+        distance = round(distance_to(box, p) / spacing * 2) / 2
+        groups.setdefault((place(box, p), distance), []).append(deviation)
+    print("| where | distance | particles | median | least |")
+    print("|---|---|---|---|---|")
+    for (where, distance), v in sorted(groups.items()):
+        print(f"| {where} | {distance:g} | {len(v)} | {100 * percentile(v, 0.5):+.2f} % | {100 * min(v):+.2f} % |")
+
+
 def main(args):
+    where = "--where" in args
+    args = [a for a in args if a != "--where"]
     if not args:
         raise SystemExit(__doc__)
     run = args[0]
@@ -70,12 +92,19 @@ def main(args):
     print("| beside | particles | median deviation | 1st percentile | 99th percentile |")
     print("|---|---|---|---|---|")
     solids = [("the tank's walls", walls[0])] + [(f"obstacle {k} ({o.get('type')})", o) for k, o in enumerate(obstacles)]
+    beside = {}
     for name, solid in solids:  # a particle beside this solid alone, below the surface's layers
-        deviation = [p["density"] / reference[layer(p)] - 1 for p in particles
-                     if near(solid, p) and not any(near(o, p) for _, o in solids if o is not solid)
-                     and layer(p) in reference and p["y"] < top - 2 * h]
+        rows = [((p["x"], p["y"], p["z"]), p["density"] / reference[layer(p)] - 1) for p in particles
+                if near(solid, p) and not any(near(o, p) for _, o in solids if o is not solid)
+                and layer(p) in reference and p["y"] < top - 2 * h]
+        deviation = [d for _, d in rows]
+        beside[name] = rows
         print(f"| {name} | {len(deviation)} | {100 * percentile(deviation, 0.5):+.2f} % | "
               f"{100 * percentile(deviation, 0.01):+.2f} % | {100 * percentile(deviation, 0.99):+.2f} % |")
+    for name, solid in solids[1:] if where else []:
+        if solid.get("type", "box") == "box":
+            print(f"\n{name}:")
+            print_places(solid, beside[name], spacing)
 
 
 if __name__ == "__main__":
