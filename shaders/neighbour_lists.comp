@@ -94,7 +94,8 @@ void main() {
         vec3 xj = imageLoad(x, int(listed_neighbour ? group[pair + q] : i)).xyz;
         // The obstacle's image once, not once per subset of the walls with it: a CPU device
         // ran it masked in every turn of the loop (docs/performance.md).
-        vec3 behind = OBSTACLES ? obstacle_image(mirrors, xj) : xj;
+        vec3 behind = xj;
+        if (OBSTACLES && (mirrors.axes & OBSTACLE_MIRROR) != 0) behind = obstacle_image(mirrors, xj);
         for (int image = mirrors.axes; image != 0; image = next_image(mirrors.axes, image)) {
           vec3 d = xi - across_walls(mirrors, image, (image & OBSTACLE_MIRROR) != 0 ? behind : xj);
           hits |= uint(listed_neighbour && dot(d, d) < sim.h * sim.h) << (16u * q + 15u - uint(image));

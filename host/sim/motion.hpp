@@ -159,6 +159,7 @@ class TankMotion {
   glm::dquat tilt_at(double t) const { return tilt_.at(t); }
   bool tilting(double t) const { return t < tilt_.start + tilt_.seconds; }  // turning still at t
   const glm::dquat& tilt_target() const { return tilt_.to; }
+  const glm::dvec3& pivot() const { return pivot_; }  // what a tilt turns about
 
  private:
   // A turn from one orientation to another along smoothstep's ease, at rest at both ends.

@@ -86,14 +86,13 @@ void Derived::shake(const Motion& m, double now) {
 }
 
 void Derived::tilt(const glm::dquat& to, double now) {
-  const glm::dvec3 floor_centre(0.5 * (domain_min.x + domain_max.x), domain_min.y, 0.5 * (domain_min.z + domain_max.z));
   const double turn = glm::angle(glm::inverse(tank.tilt_at(now)) * to), fastest = kSolidStep * spacing / dt;
   // The walls move at the tilt's speed and the tank's own motion's (a scene's, a shake) added: the
   // tilt takes what that leaves (a thousandth of it at least, however slow the turn then is).
   const Motion& own = tank.motion();
   const double left = fastest - (own.moves() ? own.top_speed(reach(domain_min, domain_max, own.centre)) : 0.0);
-  const double speed = std::max(left, 1e-3 * fastest);
-  tank.tilt(to, now, std::max(1.0, 1.5 * std::min(turn, 2 * std::numbers::pi - turn) * reach(domain_min, domain_max, floor_centre) / speed));
+  const double corner_path = std::min(turn, 2 * std::numbers::pi - turn) * reach(domain_min, domain_max, tank.pivot());
+  tank.tilt(to, now, std::max(1.0, 1.5 * corner_path / std::max(left, 1e-3 * fastest)));
 }
 
 void Derived::drag(size_t k, const glm::dvec3& shift) {
