@@ -50,7 +50,7 @@ class Shared : public ParticleTransfer {
   // The 64 KiB of slack: llvmpipe (Mesa 22.3) refuses a buffer that fills its imported
   // memory object exactly (GL_OUT_OF_MEMORY), as it rounds the buffer's size up.
   Shared(const GpuSolver& solver, const vk::Context& vk)
-      : vk_buffer_(vk, frame_bytes(solver.particle_count(), solver.white_water_capacity()) + 65536, vk::Memory::Shared) {
+      : vk_buffer_(vk, frame_bytes(solver.capacity(), solver.white_water_capacity()) + 65536, vk::Memory::Shared) {
     GLuint memory = 0;
     glCreateMemoryObjectsEXT(1, &memory);
     memory_ = gl::Object(memory, [](GLuint m) { glDeleteMemoryObjectsEXT(1, &m); });
@@ -59,7 +59,7 @@ class Shared : public ParticleTransfer {
     GLuint buffer = 0;
     glCreateBuffers(1, &buffer);
     buffer_ = gl::Object(buffer, [](GLuint b) { glDeleteBuffers(1, &b); });
-    glNamedBufferStorageMemEXT(buffer_, GLsizeiptr(frame_bytes(solver.particle_count(), solver.white_water_capacity())), memory_, 0);
+    glNamedBufferStorageMemEXT(buffer_, GLsizeiptr(frame_bytes(solver.capacity(), solver.white_water_capacity())), memory_, 0);
     if (GLenum e = glGetError(); e != GL_NO_ERROR)
       throw gl::Error("GL could not import the solver's Vulkan memory (GL error " + std::to_string(e) + ")");
   }
@@ -85,7 +85,7 @@ std::unique_ptr<ParticleTransfer> make_particle_transfer(const Solver& solver, c
                    gl.has_extension("GL_EXT_memory_object_fd") && uuid &&
                    std::equal(uuid->begin(), uuid->end(), vk->device_uuid().begin());
   if (shareable) return std::make_unique<Shared>(*gpu, *vk);
-  return std::make_unique<ReadBack>(solver.particle_count(), solver.white_water_capacity());
+  return std::make_unique<ReadBack>(solver.capacity(), solver.white_water_capacity());
 }
 
 }  // namespace pbflow::capture

@@ -68,7 +68,7 @@
 #define SHAPE_MIN_NEIGHBOURS 6
 #define SHAPE_SWEEPS 4
 
-// The obstacle buffer (host/sim/obstacles.hpp's pack_obstacles, shaders/solids.glsl): vec4 0 the
+// The obstacle buffer (host/sim/solids/obstacles.hpp's pack_obstacles, shaders/solids.glsl): vec4 0 the
 // count and margin, then TANK_KICK_VEC4S of the tank's kick, then OBSTACLE_VEC4S per obstacle.
 #define TANK_KICK_VEC4S 7
 #define OBSTACLE_VEC4S 9

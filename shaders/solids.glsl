@@ -1,7 +1,7 @@
-// The solids: the tank's walls and the obstacles (host/sim/obstacles.hpp, stored grown by the
+// The solids: the tank's walls and the obstacles (host/sim/solids/obstacles.hpp, stored grown by the
 // keep-out margin, half a spacing). Particles are kept out of them (predicted_position,
 // project_out_of_solids), and every solid is a mirror for the neighbour passes (mirrors_near,
-// as host/sim/mirrors.cpp). The includer defines OBSTACLES_BINDING.
+// as host/sim/solids/mirrors.cpp). The includer defines OBSTACLES_BINDING.
 // Layout (pack_obstacles): obstacle_data[0] = (count, margin, 0, 0), [1-7] the tank's kick this
 // step (Derived::tank_kick, the tank's frame's velocity change: linear, of_x's and of_v's
 // columns); then per obstacle nine
@@ -74,7 +74,7 @@ vec3 to_world(int k, int pose, vec3 b) {
 // How far the solid's point now at x moved over the step (Obstacle::displacement).
 vec3 obstacle_displacement(int k, vec3 x) { return MOVING ? x - to_world(k, POSE_BEFORE, to_body(k, POSE_NOW, x)) : vec3(0.0); }
 // The work per unit mass of a push dx by a solid whose surface moved by `moved` over the step:
-// its force m dx / dt^2 times its velocity moved / dt, for dt (push_work in sim/mirrors.hpp).
+// its force m dx / dt^2 times its velocity moved / dt, for dt (push_work in sim/solids/mirrors.hpp).
 float push_work(vec3 dx, vec3 moved) { return MOVING ? dot(dx, moved) / (sim.dt * sim.dt) : 0.0; }
 float field_value(int first, ivec3 dims, ivec3 p) {
   int k = first + (p.z * dims.y + p.y) * dims.x + p.x;
@@ -156,7 +156,7 @@ float nearest_moving_solid(vec3 x, out vec3 normal, out vec3 velocity) {
   return nearest;
 }
 
-// Every solid is a mirror (ghost particles; host/sim/mirrors.hpp says why): the fluid behind
+// Every solid is a mirror (ghost particles; host/sim/solids/mirrors.hpp says why): the fluid behind
 // it is the fluid in front of it, reflected. A neighbour j of particle i has an image behind
 // every wall within h of i (the nearer wall of each axis), one behind each pair and the triple
 // of them at edges and corners, and one behind the nearest obstacle within h, alone and then
@@ -291,7 +291,7 @@ float first_entry(int k, vec3 from, vec3 to, float contact) {
   return t_enter < t_exit ? t_enter : 1.0;
 }
 
-// Where the move from -> to first enters an obstacle (host/sim/obstacles.cpp, stop_at): a
+// Where the move from -> to first enters an obstacle (host/sim/solids/obstacles.cpp, stop_at): a
 // fast particle stops at the first surface it meets instead of tunnelling through. Each
 // obstacle sees the move in its body frame, from its pose at the step's start to its end;
 // each can only shorten it.

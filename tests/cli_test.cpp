@@ -45,7 +45,8 @@ TEST(Cli, GpuAndCpuWriteMatchingStats) {
   std::string header_g, header_c;
   auto rows_g = read_csv(gpu / "stats.csv", &header_g), rows_c = read_csv(cpu / "stats.csv", &header_c);
   EXPECT_EQ(header_g,
-            "frame,time,mean_compression,max_compression,kinetic_energy,potential_energy,solid_work,max_speed,iterations,step_ms");
+            "frame,time,mean_compression,max_compression,kinetic_energy,potential_energy,solid_work,max_speed,iterations,"
+            "particles,emitted,drained,flow_energy,step_ms");
   EXPECT_EQ(header_c, header_g);
   ASSERT_EQ(rows_g.size(), 4u);
   ASSERT_EQ(rows_c.size(), 4u);

@@ -1,4 +1,4 @@
-// Obstacles are mirrors as the walls are (sim/mirrors.hpp): a lattice at rest reads rho0 beside
+// Obstacles are mirrors as the walls are (sim/solids/mirrors.hpp): a lattice at rest reads rho0 beside
 // a box's faces as inside the fluid, and an obstacle's image is a pair's (one distance seen from
 // either particle), so that the pair's terms conserve energy.
 
@@ -12,7 +12,7 @@
 #include <random>
 
 #include "gpu/gpu_solver.hpp"
-#include "sim/mirrors.hpp"
+#include "sim/solids/mirrors.hpp"
 #include "sim/settle.hpp"
 #include "support.hpp"
 

@@ -49,7 +49,7 @@ const std::string kMeshInTheColumn =
 struct ListCase {
   const char* name;
   int capacity;                  // -1: the scene's own (Derived::neighbour_capacity)
-  const char* obstacles = "[]";  // JSON: with obstacles, their images take part (sim/mirrors.hpp)
+  const char* obstacles = "[]";  // JSON: with obstacles, their images take part (sim/solids/mirrors.hpp)
 };
 void PrintTo(const ListCase& c, std::ostream* os) { *os << c.name; }
 

@@ -76,7 +76,7 @@ Camera moved(Camera c, const LiveCommand& m) {
 
 // The shift from where the scene places obstacle k that puts its middle nearest `position`
 // with its bounds inside the domain: a box may touch a wall (the projection keeps it sound
-// there, sim/obstacles.hpp), a sphere or a mesh keeps two spacings off it unless the scene
+// there, sim/solids/obstacles.hpp), a sphere or a mesh keeps two spacings off it unless the scene
 // put it nearer.
 glm::dvec3 hand_shift(const Scene& scene, size_t k, const glm::dvec3& position) {
   const Obstacle& o = scene.obstacles[k];

@@ -148,6 +148,7 @@ nlohmann::json describe_run(const RunOptions& o, const Scene& scene, const Deriv
   if (!camera.contains("eye")) chosen["camera.eye"] = vec(scene.camera.eye);  // framing_camera
   if (!camera.contains("target")) chosen["camera.target"] = vec(scene.camera.target);
   if (!stated.contains("seed")) chosen["seed"] = scene.seed;  // the start's jitter: the run is its seed's
+  if (d.flows() && !stated.contains("capacity")) chosen["capacity"] = solver.capacity();  // Derived::capacity_for
   return {{"scene_name", scene.name},
           {"scene", stated},
           {"chosen", chosen},
@@ -207,6 +208,9 @@ void announce(const RunOptions& o, const Scene& scene, const Derived& d, const n
     std::cerr << "pbflow: white water on, at most " << d.white_water.max_particles << " particles"
               << (chosen.contains("white_water.max_particles") ? " (chosen)" : "")
               << "; --param white_water.enabled=false turns it off\n";
+  if (d.flows())
+    std::cerr << "pbflow: " << d.emitters.size() << " emitter(s), " << d.drains.size() << " drain(s), room for "
+              << solver.capacity() << " particles" << (chosen.contains("capacity") ? " (chosen)" : "") << "\n";
   if (capture && o.verbose) std::cerr << "pbflow: rendering with " << capture->description() << "\n";
 }
 
@@ -237,6 +241,7 @@ struct RunTotals {
   double sum_mean = 0, worst = 0, sum_step_ms = 0, sum_white_water_ms = 0;
   EnergyGain energy;
   std::string diverged;  // the message, where the watch stopped the run
+  bool paused = false;  // an emitter waited for room (said once)
 };
 
 // A frame's rows: stats.csv's and, where the scene's solids move, solids.csv's.
@@ -281,6 +286,10 @@ RunTotals simulate_frames(const Scene& scene, const Derived& d, Solver& solver, 
       capture->write(dir.frame_path(frame), solver, row);
     else
       row();
+    if (s.paused && !totals.paused)
+      std::cerr << "pbflow: frame " << frame << ": the run holds its capacity of " << solver.capacity()
+                << " particles; the emitters wait for room (scene key capacity)\n";
+    totals.paused = totals.paused || s.paused;
     totals.energy.add(s);
     totals.sum_mean += s.mean_compression;
     totals.worst = std::max(totals.worst, s.max_compression);

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "sim/obstacles.hpp"
+#include "sim/solids/obstacles.hpp"
 
 namespace pbflow {
 

@@ -53,7 +53,7 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
       sim_(d.to_gpu(checked_count(ctx, d, x0.size()))),
       keys_(d),
       n_(sim_.count),
-      plan_(plan_buffers(d, n_)),
+      plan_(plan_buffers(d, d.capacity_for(n_))),
       viscosity_pass_(d.solver.viscosity_pass()),
       vorticity_pass_(d.solver.vorticity > 0),
       correction_pass_(d.solver.method == Method::Ldc),
@@ -102,7 +102,9 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
   if (plan_.curl) curl_ = vk::Buffer(ctx, plan_.curl);
   if (plan_.x_lambda_spare) x_lambda_spare_ = vk::Buffer(ctx, plan_.x_lambda_spare);
   if (d.coarse.strength > 0) build_coarse();
-  upload({x0, std::vector<glm::dvec3>(n_, glm::dvec3(0.0)), x0, {}, {}, {}});
+  capacity_ = d.capacity_for(n_);
+  next_id_ = n_;
+  upload({x0, std::vector<glm::dvec3>(n_, glm::dvec3(0.0)), x0, {}, {}, {}, {}});
 }
 
 // The coarse correction's programs and node buffers, where the scene runs it.
@@ -148,6 +150,7 @@ void GpuSolver::carry(const SolidsState& s) {
 }
 
 void GpuSolver::upload(const ParticleState& s) {
+  n_ = sim_.count = uint32_t(std::min(s.x.size(), capacity_));
   std::vector<float> rho(n_, 0.0f);
   for (uint32_t i = 0; i < n_ && i < s.rho.size(); ++i) rho[i] = float(s.rho[i]);
   auto pack = [&](const std::vector<glm::dvec3>& a, const std::vector<float>& w) {
@@ -162,8 +165,12 @@ void GpuSolver::upload(const ParticleState& s) {
   rho_.upload(std::span<const float>(rho));
   if (d_.coarse.strength > 0)  // the coarse solve starts from its last solution: a new state, from 0
     coarse_phi_.upload(std::span<const float>(std::vector<float>(size_t(d_.coarse.count()), 0.0f)));
-  std::vector<uint32_t> ids(n_);
-  std::iota(ids.begin(), ids.end(), 0u);
+  std::vector<uint32_t> ids(s.id.begin(), s.id.begin() + std::min(s.id.size(), size_t(n_)));
+  if (ids.size() < n_) {
+    ids.resize(n_);
+    std::iota(ids.begin(), ids.end(), 0u);
+  }
+  if (n_ > 0) next_id_ = std::max(next_id_, *std::max_element(ids.begin(), ids.end()) + 1);
   id_[id_current_].upload(std::span<const uint32_t>(ids));
   density_current_ = false;
   lists_built_ = false;
@@ -171,19 +178,23 @@ void GpuSolver::upload(const ParticleState& s) {
 }
 
 ParticleState GpuSolver::download() const {
-  auto ids = id_[id_current_].download<uint32_t>(n_);
+  const auto ids = id_[id_current_].download<uint32_t>(n_);
+  std::vector<uint32_t> order(n_);  // the entries in ascending id order
+  std::iota(order.begin(), order.end(), 0u);
+  std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return ids[a] < ids[b]; });
   auto unpack3 = [&](const vk::Buffer& b) {
     auto raw = b.download<glm::vec4>(n_);
     std::vector<glm::dvec3> out(n_);
-    for (uint32_t i = 0; i < n_; ++i) out[ids[i]] = glm::dvec3(glm::vec3(raw[i]));
+    for (uint32_t k = 0; k < n_; ++k) out[k] = glm::dvec3(glm::vec3(raw[order[k]]));
     return out;
   };
   auto unpack1 = [&](const std::vector<float>& raw) {
     std::vector<double> out(n_);
-    for (uint32_t i = 0; i < n_; ++i) out[ids[i]] = raw[i];
+    for (uint32_t k = 0; k < n_; ++k) out[k] = raw[order[k]];
     return out;
   };
   ParticleState s;
+  for (uint32_t k : order) s.id.push_back(ids[k]);
   s.x = unpack3(at(X));
   s.v = unpack3(at(V));
   s.x_pred = unpack3(at(XPred));
@@ -220,7 +231,7 @@ void GpuSolver::set_outputs(FrameOutputs outputs) {
     white_birth_ = particle_program("white_water_birth", std::array<vk::Constant, 1>{{{"SPACING", float(d_.spacing)}}});
   }
   // The plan's buffers for these outputs, and none for those off.
-  const SolverBuffers plan = plan_buffers(d_, n_, outputs);
+  const SolverBuffers plan = plan_buffers(d_, capacity_, outputs);
   if (shape_.bytes() != plan.shape) shape_ = plan.shape ? vk::Buffer(ctx_, plan.shape) : vk::Buffer{};
   if (white_was_on == outputs.white_water) return;
   white_count_ = plan.white_count ? vk::Buffer(ctx_, plan.white_count) : vk::Buffer{};
@@ -663,6 +674,9 @@ void GpuSolver::read_times(FrameStats& s, int steps, double wall_ms) const {
 // One frame: the plan's passes (sim/frame_plan.hpp) in one command buffer.
 FrameStats GpuSolver::advance(int steps) {
   const auto start = std::chrono::steady_clock::now();
+  // The flow's clock stands still with the solids' (the settle): no water enters or leaves.
+  const FlowCount flow = steps > 0 && !solids_held_ ? apply_flow() : FlowCount{};
+  if (!solids_held_) flow_steps_ += steps;
   begin();
   smoothed_current_ = false;  // the steps' sorts reuse the spare slot
   const WatchWords watch_reset;
@@ -679,7 +693,39 @@ FrameStats GpuSolver::advance(int steps) {
   finish();
   FrameStats s = read_measures();
   if (steps > 0) read_times(s, steps, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+  s.count = n_;
+  s.emitted = flow.emitted, s.drained = flow.drained, s.flow_energy = flow.energy, s.paused = flow.paused;
   return s;
+}
+
+// The frame's drains and emitters (sim/flow.hpp) on the host, as the reference's: positions,
+// velocities and ids down in the solver's order and back up. Only a frame with a drain or a
+// layer due pays the round trip; the steps' passes rebuild the rest.
+FlowCount GpuSolver::apply_flow() {
+  const double t = double(flow_steps_) * d_.dt;
+  if (!d_.flows() || !flow_due(d_.emitters, d_.drains, t, d_.spacing)) return {};
+  auto unpack = [&](const vk::Buffer& b) {
+    std::vector<glm::dvec3> out;
+    for (const glm::vec4& a : b.download<glm::vec4>(n_)) out.emplace_back(glm::vec3(a));
+    return out;
+  };
+  std::vector<glm::dvec3> x = unpack(at(X)), v = unpack(at(V));
+  std::vector<uint32_t> id = id_[id_current_].download<uint32_t>(n_);
+  const FlowCount flow = pbflow::apply_flow(d_.emitters, d_.drains, d_.flow_frame(capacity_), t, {x, v, id, {}, {}}, next_id_);
+  if (flow.emitted == 0 && flow.drained == 0) return flow;
+  n_ = sim_.count = uint32_t(x.size());
+  auto pack = [&](const std::vector<glm::dvec3>& a) {
+    std::vector<glm::vec4> out;
+    for (const glm::dvec3& p : a) out.emplace_back(glm::vec3(p), 0.0f);
+    return out;
+  };
+  if (n_ > 0) {
+    vec4_[role_[X]].upload(std::span<const glm::vec4>(pack(x)));
+    vec4_[role_[V]].upload(std::span<const glm::vec4>(pack(v)));
+    id_[id_current_].upload(std::span<const uint32_t>(id));
+  }
+  density_current_ = lists_built_ = smoothed_current_ = false;
+  return flow;
 }
 
 }  // namespace pbflow

@@ -12,7 +12,7 @@
 #include "gpu/key_constants.hpp"
 #include "gpu/gpu_grid.hpp"
 #include "gpu/gpu_scan.hpp"
-#include "sim/obstacles.hpp"
+#include "sim/solids/obstacles.hpp"
 #include "sim/params.hpp"
 #include "sim/solver.hpp"
 #include "sim/frame_plan.hpp"
@@ -65,6 +65,7 @@ class GpuSolver : public Solver {
   void viscosity_vorticity();
   void vorticity_force();
   void move_solids();  // Pass::Move: the solids to the step's end (Derived::move_solids)
+  FlowCount apply_flow();  // the frame's drains and emitters, before its steps (sim/flow.hpp)
   void watch();  // flags non-finite, runaway and escaped particles of this step
   // The fluid surface's positions at x, from the last lists (smoothed_positions.comp), into a
   // spare slot, which no pass writes again before the next frame's first grid build, and
@@ -127,7 +128,7 @@ class GpuSolver : public Solver {
   Derived d_;
   SimConstants sim_;
   KeyConstants keys_;  // offered to every particle pass
-  uint32_t n_;
+  uint32_t n_;  // particles now (at most capacity_)
   SolverBuffers plan_;  // every buffer below, in bytes
   bool viscosity_pass_, vorticity_pass_, correction_pass_;
   bool density_current_ = false;  // rho already matches x (the viscosity pass or a density pass left it)

@@ -81,7 +81,9 @@ MemoryNeed memory_need(const Derived& d, double particles, const vk::DeviceInfo*
   const double cells = double(d.grid.x) * d.grid.y * d.grid.z, pixels = picture.pixels;
   const double picture_bytes =
       pixels > 0 ? kRendererBytes + (kBytesPerPixel + (picture.full_surface ? kBytesPerPixelFullSurface : 0)) * pixels : 0;
-  // Capped where the count is past any machine, so that the conversions stay defined.
+  // Room for what the emitters bring (Derived::capacity_for); capped where the count is past any
+  // machine, so that the conversions stay defined.
+  if (d.flows()) particles = std::max(particles, double(d.capacity_for(size_t(std::min(particles, 1e15)))));
   const uint64_t count = uint64_t(std::ceil(std::min(particles, 1e15)));
   const size_t white = d.white_capacity();
   // A frame read back (capture, export), with room for the white water (Solver::white_water_capacity).

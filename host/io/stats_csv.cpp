@@ -9,13 +9,13 @@ namespace pbflow {
 StatsCsv::StatsCsv(const std::filesystem::path& path)
     : file_(path,
             "frame,time,mean_compression,max_compression,kinetic_energy,potential_energy,solid_work,max_speed,"
-            "iterations,step_ms\n") {}
+            "iterations,particles,emitted,drained,flow_energy,step_ms\n") {}
 
 void StatsCsv::write(int frame, double time, const FrameStats& s) {
   char row[512];
-  std::snprintf(row, sizeof row, "%d,%.6f,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.4g,%.6f\n", frame, time, s.mean_compression,
-                s.max_compression, s.kinetic_energy, s.potential_energy, s.solid_work, s.max_speed, s.iterations,
-                s.step_ms);
+  std::snprintf(row, sizeof row, "%d,%.6f,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.4g,%u,%u,%u,%.9g,%.6f\n", frame, time,
+                s.mean_compression, s.max_compression, s.kinetic_energy, s.potential_energy, s.solid_work, s.max_speed,
+                s.iterations, s.count, s.emitted, s.drained, s.flow_energy, s.step_ms);
   file_.append(row);
 }
 

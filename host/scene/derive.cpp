@@ -87,8 +87,10 @@ Derived derive(const Scene& scene) {
   d.dt = 1.0 / (scene.fps * scene.solver.substeps);
   // Ten times the speed of a fall through the whole domain (at least 1 m/s): no flow of the
   // scene reaches it, a blow-up passes it within a few steps.
-  d.speed_limit = 10.0 * std::max({fall_speed(scene), solid_speed(scene), 1.0});
-  d.flow_speed = std::max({fall_speed(scene), solid_speed(scene), 0.1});
+  double emitted = 0;
+  for (const Emitter& e : scene.emitters) emitted = std::max(emitted, e.speed);
+  d.speed_limit = 10.0 * std::max({fall_speed(scene), solid_speed(scene), emitted, 1.0});
+  d.flow_speed = std::max({fall_speed(scene), solid_speed(scene), emitted, 0.1});
   d.rho0 = scene.solver.rest_density;
   d.mass = lattice_mass(s, d.h, d.rho0);
   d.epsilon = scene.solver.relaxation * lattice_gradient_sq(s, d.h, d.mass, d.rho0);
@@ -106,6 +108,10 @@ Derived derive(const Scene& scene) {
   d.neighbour_capacity = 8 * uint32_t(std::ceil(kNeighbourHeadroom * at_rest / 8));
   derive_domain(scene, d);
   derive_coarse(s, d);
+  d.emitters = scene.emitters;
+  d.drains = scene.drains;
+  d.stated_capacity = scene.capacity;
+  d.run_seconds = scene.frames / scene.fps;
   if (d.white_water.max_particles == WhiteWaterParams::kChosenCapacity)  // as many as the fluid's
     d.white_water.max_particles = int(std::clamp(std::ceil(particle_estimate(scene)), 1.0, double(kMaxParticles)));
   return d;

@@ -47,6 +47,19 @@ const SceneKey kKeys[] = {
      "where the scene places it, rotation as above about centre, the solid's middle if left out; linear and slerp "
      "between keys, held before the first and after the last); its surface at most half a particle_spacing a step",
      "", {}},
+    {"emitters", K::Emitters, "[]", {}, {}, "m, m/s, s",
+     "inlets `{centre, normal, radius}` (a disc) or `{centre, normal, size: [across, along]}` (a rectangle), "
+     "`speed` along the normal, `start` and `stop` in s (0 and never if left out): particles enter in layers at the "
+     "rest spacing, one every spacing / speed seconds, moving at the speed; a layer moves at most a kernel radius a "
+     "step",
+     "", {}},
+    {"drains", K::Boxes, "[]", {}, {}, "m", "boxes `{min, max}`: every particle inside one at a frame's start is removed",
+     "", {}},
+    // Room for the start and all the emitters bring over the scene's frames, drains aside.
+    {"capacity", K::Whole, "chosen", {}, KeyRange{1, double(kMaxParticles)}, "",
+     "the most particles a run holds at once (emitters wait past it, and the run says so once); left out: the start's "
+     "count and what the emitters bring over the scene's `frames`",
+     "", &Scene::capacity},
     {"gravity", K::Vector, "[0, -9.81, 0]", {}, {}, "m/s²", "at most 1e4 m/s² (a thousand g)", "", {}},
     // A tank starts in the solver's own equilibrium only when asked: a drop in the air must not settle.
     {"settle", K::Boolean, {}, 0.0, {}, "",

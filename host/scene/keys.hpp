@@ -26,6 +26,7 @@ enum class KeyKind {
   Shapes,   // a list of {"type": "box" | "sphere", ...}
   Motion,   // {"type": "oscillate" | "rotate" | "keyframes", ...}
   Mesh,     // {"file", "scale", "position", "rotation"}
+  Emitters, // a list of {centre, normal, radius | size, speed, start, stop}
 };
 
 struct KeyRange {

@@ -11,7 +11,7 @@
 
 #include "common/input_error.hpp"
 #include "common/read_file.hpp"
-#include "sim/motion.hpp"
+#include "sim/solids/motion.hpp"
 
 namespace pbflow {
 

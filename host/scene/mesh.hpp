@@ -1,14 +1,14 @@
 #pragma once
 // Solids brought as triangle meshes (OBJ, STL, PLY): read by assimp, placed in the scene, checked
 // closed, and turned into a signed distance field by OpenVDB (mesh_field.cpp), which the solver
-// reads as any other solid (sim/distance_field.hpp).
+// reads as any other solid (sim/solids/distance_field.hpp).
 #include <glm/glm.hpp>
 
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "sim/distance_field.hpp"
+#include "sim/solids/distance_field.hpp"
 
 namespace pbflow {
 

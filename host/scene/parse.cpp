@@ -305,7 +305,7 @@ void read_keys(const json& j, const std::string& path, Motion& m) {
   }
 }
 
-// An obstacle's motion (sim/motion.hpp); `middle` is where its keyframes turn about by default.
+// An obstacle's motion (sim/solids/motion.hpp); `middle` is where its keyframes turn about by default.
 Motion motion(const json& j, const std::string& path, const glm::dvec3& middle) {
   require(j.is_object() && j.contains("type") && j["type"].is_string(),
           path + " needs a \"type\": \"oscillate\", \"rotate\" or \"keyframes\"");
@@ -359,6 +359,81 @@ Obstacle obstacle(const json& o, const std::string& path, const Scene& s, const 
     ob.pose = ob.previous = ob.motion.at(0);
   }
   return ob;
+}
+
+// An emitter: a disc (radius) or a rectangle (size) facing along its normal, its layers' points
+// inside the domain and clear of every solid by half a spacing.
+Emitter emitter(const json& e, const std::string& path, const Scene& s) {
+  require(e.is_object(), "scene key '" + path + "' must be an object with centre, normal, radius or size, and speed");
+  reject_unknown(e, json{{"centre", 0}, {"normal", 0}, {"radius", 0}, {"size", 0}, {"speed", 0}, {"start", 0}, {"stop", 0}},
+                 path);
+  require(e.contains("centre"), "scene key '" + path + ".centre' is missing");
+  require(e.contains("radius") != e.contains("size"), "scene key '" + path + "' needs a radius (a disc) or a size (a rectangle), not both");
+  Emitter out;
+  out.centre = vec3(e, "centre", path + ".centre", {});
+  const glm::dvec3 normal = vec3(e, "normal", path + ".normal", {});
+  require(glm::length(normal) > 0, "scene key '" + path + ".normal' must be a direction (not zero, not missing)");
+  out.normal = glm::normalize(normal);
+  if (e.contains("radius")) {
+    out.radius = bounded(e, "radius", path, 0, kMaxCoordinate);
+  } else {
+    const json& size = e["size"];
+    require(size.is_array() && size.size() == 2 && size[0].is_number() && size[1].is_number(),
+            "scene key '" + path + ".size' must be an array of two numbers");
+    out.size = {size[0].get<double>(), size[1].get<double>()};
+    require(out.size.x >= 0 && out.size.y >= 0 && out.size.x <= kMaxCoordinate && out.size.y <= kMaxCoordinate,
+            "scene key '" + path + ".size' must lie in [0, 1e6]");
+  }
+  out.speed = bounded(e, "speed", path, 0, 1e4);
+  require(out.speed > 0, "scene key '" + path + ".speed' must be above 0");
+  out.start = e.contains("start") ? bounded(e, "start", path, 0, 1e9) : 0.0;
+  if (e.contains("stop")) out.stop = bounded(e, "stop", path, 0, 1e9);
+  require(out.stop > out.start, "scene key '" + path + ".stop' must come after its start");
+  out.inlet = inlet_points(out, s.particle_spacing);
+  require(out.inlet.size() <= 1000000, "scene key '" + path + "': an inlet of over a million particles a layer");
+  const double margin = 0.5 * s.particle_spacing;
+  for (const glm::dvec3& x : out.inlet) {
+    require(glm::all(glm::greaterThanEqual(x, s.domain.min + margin)) && glm::all(glm::lessThanEqual(x, s.domain.max - margin)),
+            path + " reaches outside the domain (its inlet within half a spacing of the walls or past them)");
+    for (size_t k = 0; k < s.obstacles.size(); ++k)
+      require(!s.obstacles[k].grown(margin).contains(x),
+              path + " lies inside a solid (obstacle " + std::to_string(k) + " or the domain's mesh, within half a spacing)");
+  }
+  return out;
+}
+
+// Emitters and drains (sim/flow.hpp). A drain that holds every fluid block and sphere would
+// leave nothing to simulate.
+void read_flow(const json& j, Scene& s) {
+  const json &emitters = list(j, "emitters"), &drains = list(j, "drains");
+  for (size_t i = 0; i < emitters.size(); ++i)
+    s.emitters.push_back(emitter(emitters[i], "emitters[" + std::to_string(i) + "]", s));
+  for (size_t i = 0; i < drains.size(); ++i) {
+    const Box b = box(drains[i], "drains[" + std::to_string(i) + "]");
+    s.drains.push_back({b.min, b.max});
+  }
+  auto drained = [&](glm::dvec3 lo, glm::dvec3 hi) {
+    return std::any_of(s.drains.begin(), s.drains.end(), [&](const Drain& d) {
+      return glm::all(glm::greaterThan(lo, d.min)) && glm::all(glm::lessThan(hi, d.max));
+    });
+  };
+  bool all = !s.drains.empty();
+  for (const Box& b : s.fluid_blocks) all = all && drained(b.min, b.max);
+  for (const Ball& b : s.fluid_spheres) all = all && drained(b.centre - b.radius, b.centre + b.radius);
+  require(!all, "the drains hold all the fluid: nothing would be left to simulate");
+}
+
+// An emitter's layer may move at most a kernel radius a step, as a falling particle (chosen_substeps).
+void check_emitter_speed(const Scene& s) {
+  const double h = s.solver.kernel_ratio * s.particle_spacing, most = h * s.fps * s.solver.substeps;
+  for (size_t i = 0; i < s.emitters.size(); ++i)
+    if (s.emitters[i].speed > most) {
+      std::ostringstream m;
+      m.precision(3);
+      m << "emitters[" << i << "].speed " << s.emitters[i].speed << " m/s is faster than the " << most
+        << " m/s this time step keeps sound (a kernel radius a step): slow it or raise solver.substeps";
+      throw InputError(m.str());
+    }
 }
 
 // The tank and how it moves (simulated in its own frame), turning about the box's centre unless
@@ -434,10 +509,12 @@ Scene parse_checked(const std::string& json_text, const std::string& origin, con
   for (size_t i = 0; i < obstacles.size(); ++i)
     s.obstacles.push_back(obstacle(obstacles[i], "obstacles[" + std::to_string(i) + "]", s, files));
   read_container(j["domain"], s, files);
+  read_flow(j, s);
   s.gravity = vec3(j, "gravity", "gravity", s.gravity);
   require(glm::length(s.gravity) <= 1e4, "gravity must not exceed 1e4 m/s^2 (a thousand g)");
   if (s.solver.substeps == SolverParams::kChosenSubsteps) s.solver.substeps = chosen_substeps(s);
   check_solid_speed(s);
+  check_emitter_speed(s);
   read_method(j, s.solver);
   read_camera(j, s);
   return s;

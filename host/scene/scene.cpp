@@ -33,7 +33,9 @@ double solid_speed(const Scene& scene) {
 int chosen_substeps(const Scene& scene) {
   constexpr double kRealTimeStep = 1.0 / 120.0, kRounding = 1e-9;
   const double h = scene.solver.kernel_ratio * scene.particle_spacing;
-  const double n = std::max({1.0 / (scene.fps * kRealTimeStep), fall_speed(scene) / (scene.fps * h),
+  double emitted = 0;  // the fastest emitter's speed, a kernel radius a step like a fall
+  for (const Emitter& e : scene.emitters) emitted = std::max(emitted, e.speed);
+  const double n = std::max({1.0 / (scene.fps * kRealTimeStep), std::max(fall_speed(scene), emitted) / (scene.fps * h),
                              solid_speed(scene) / (scene.fps * kSolidStep * scene.particle_spacing)});
   return int(std::clamp(std::ceil(n - kRounding), 1.0, 1000.0));
 }

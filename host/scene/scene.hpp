@@ -7,13 +7,12 @@
 #include <vector>
 
 #include "common/input_error.hpp"
-#include "sim/obstacles.hpp"
+#include "sim/flow.hpp"
+#include "sim/solids/obstacles.hpp"
 #include "sim/params.hpp"
 
 namespace pbflow {
 
-// The most particles a scene may hold (positions alone are 2 GiB on the GPU).
-constexpr long long kMaxParticles = 1LL << 27;
 // The most frames a run may write (as --frames): far past any real run, well inside int.
 constexpr int kMaxFrames = 100000000;
 // The largest scene file read: 100 000 obstacles take about 10 MiB of JSON.
@@ -47,6 +46,9 @@ struct Scene {
   std::vector<Box> fluid_blocks;
   std::vector<Ball> fluid_spheres;
   std::vector<Obstacle> obstacles;
+  std::vector<Emitter> emitters;  // sim/flow.hpp; inlet points made by derive()
+  std::vector<Drain> drains;
+  int capacity = 0;  // 0: chosen (Derived::capacity)
   Motion tank_motion;  // domain.motion: the tank shaken (translation only)
   glm::dvec3 gravity;
   // The fluid starts at rest in the solver's own equilibrium (host/sim/settle.hpp): for a tank,
@@ -75,8 +77,8 @@ double fall_speed(const Scene& scene);
 double solid_speed(const Scene& scene);
 double tank_speed(const Scene& scene);  // the tank's walls' alone
 // The substeps a scene that leaves them out gets: the fewest that keep dt at most 1/120 s
-// (the real-time step at 60 fps), a particle falling through the domain within one kernel
-// radius a step (the time-step check of derive.hpp) and every moving solid within kSolidStep
+// (the real-time step at 60 fps), a particle falling through the domain or leaving an emitter
+// within one kernel radius a step (the time-step check of derive.hpp) and every moving solid within kSolidStep
 // spacings a step; at most 1000.
 int chosen_substeps(const Scene& scene);
 

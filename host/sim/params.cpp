@@ -1,5 +1,7 @@
 #include "sim/params.hpp"
 
+#include "common/input_error.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -163,6 +165,26 @@ void Derived::measure_open(const std::vector<Reach>& near) {
     if (near.empty() || std::any_of(near.begin(), near.end(), meets))
       coarse.open[size_t(k)] = float(open_fraction(solids, node, coarse.cell, COARSE_OPEN_SAMPLES));
   }
+}
+
+size_t Derived::capacity_for(size_t start) const {
+  size_t first = start;  // the start and every emitter's first layer
+  for (const Emitter& e : emitters) first += e.inlet.size();
+  if (stated_capacity > 0 && size_t(stated_capacity) < first)
+    throw InputError("capacity " + std::to_string(stated_capacity) + " holds less than the start's " +
+                     std::to_string(start) + " particles and the emitters' first layers (" + std::to_string(first) + ")");
+  if (stated_capacity > 0) return size_t(stated_capacity);
+  double total = double(start);
+  for (const Emitter& e : emitters) {
+    const double seconds = std::max(std::min(e.stop, run_seconds) - e.start, 0.0);
+    total += std::floor(seconds * e.speed / spacing + 1.0) * double(e.inlet.size());
+  }
+  return size_t(std::min(total, double(kMaxParticles)));
+}
+
+FlowFrame Derived::flow_frame(size_t capacity) const {
+  return {mass, spacing, gravity, glm::mix(domain_min, domain_max, glm::dvec3(glm::greaterThan(gravity, glm::dvec3(0.0)))),
+          capacity};
 }
 
 }  // namespace pbflow

@@ -10,7 +10,8 @@
 #include <vector>
 
 #include "shaders/sim_constants.h"
-#include "sim/obstacles.hpp"
+#include "sim/flow.hpp"
+#include "sim/solids/obstacles.hpp"
 #include "sim/white_water.hpp"
 
 namespace pbflow {
@@ -179,6 +180,19 @@ struct Derived {
   double flow_speed;
 
   SimConstants to_gpu(uint32_t count) const;
+
+  // Water in and out (sim/flow.hpp): the emitters (their layers' count is the solvers' state),
+  // the drains, and the most particles a run holds at once (capacity_for).
+  std::vector<Emitter> emitters;
+  std::vector<Drain> drains;
+  int stated_capacity = 0;  // the scene's capacity; 0: chosen
+  double run_seconds = 0;   // the scene's frames / fps: what the chosen capacity covers
+  bool flows() const { return !emitters.empty() || !drains.empty(); }
+  // The capacity for a run starting with `start` particles: the scene's, else the start and every
+  // layer the emitters bring up to run_seconds (none drained), within kMaxParticles. A stated
+  // capacity below the start and the emitters' first layers is bad input (InputError).
+  size_t capacity_for(size_t start) const;
+  FlowFrame flow_frame(size_t capacity) const;
 };
 
 // The lambda averages a pair of iterations gets unless the scene says: four from three

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <numbers>
+#include <numeric>
 
 #include "shaders/contract.h"
 #include "sim/kernels.hpp"
@@ -22,6 +23,10 @@ ReferenceSolver::ReferenceSolver(const Derived& d, const std::vector<dvec3>& x0)
   state.curl.assign(n, dvec3(0.0));
   state.rho.assign(n, 0.0);
   state.lambda.assign(n, 0.0);
+  state.id.resize(n);
+  std::iota(state.id.begin(), state.id.end(), 0u);
+  capacity_ = d.capacity_for(n);
+  next_id_ = uint32_t(n);
   cells_.resize(size_t(d.grid.x) * d.grid.y * d.grid.z);
 }
 
@@ -32,6 +37,12 @@ void ReferenceSolver::upload(const ParticleState& s) {
   // rho as GpuSolver::upload takes it (0 where s has none): the dashpot's until a step measures it.
   state.rho.assign(state.x.size(), 0.0);
   std::copy_n(s.rho.begin(), std::min(s.rho.size(), state.rho.size()), state.rho.begin());
+  state.id = s.id;
+  if (state.id.empty()) {
+    state.id.resize(state.x.size());
+    std::iota(state.id.begin(), state.id.end(), 0u);
+  }
+  if (!state.id.empty()) next_id_ = std::max(next_id_, state.id.back() + 1);
   neighbours_built_ = false;
   coarse_phi_.clear();
   drawn = {};
@@ -546,7 +557,7 @@ ParticleFrame ReferenceSolver::read_frame() const {
     f.x.emplace_back(glm::vec3(state.x[i]), 0.0f);
     f.v.emplace_back(glm::vec3(state.v[i]), 0.0f);
     f.rho.push_back(float(state.rho[i]));
-    f.id.push_back(uint32_t(i));
+    f.id.push_back(state.id[i]);
   }
   for (size_t i = 0; i < drawn.x.size(); ++i) {
     f.x_smooth.emplace_back(glm::vec3(drawn.x[i]), 0.0f);
@@ -565,6 +576,9 @@ FrameStats ReferenceSolver::advance(int steps) {
   watch_ = {};
   frame_time_ = steps * d_.dt;
   drawn = {};
+  // The flow's clock stands still with the solids' (the settle): no water enters or leaves.
+  const FlowCount flow = steps > 0 && !solids_held_ ? apply_flow() : FlowCount{};
+  if (!solids_held_) flow_steps_ += steps;
   double steps_ms = -1;  // the steps' wall time, to the frame's end
   for (const PlannedPass& pass : frame_plan(d_, steps, outputs_)) {
     if (steps_ms < 0 && !in_step(pass.group))
@@ -576,7 +590,23 @@ FrameStats ReferenceSolver::advance(int steps) {
   s.step_ms = steps > 0 ? steps_ms / steps : 0.0;
   s.iterations = steps > 0 ? double(iterations_run_) / steps : 0.0;
   s.divergence = watch_;
+  s.count = uint32_t(state.x.size());
+  s.emitted = flow.emitted, s.drained = flow.drained, s.flow_energy = flow.energy, s.paused = flow.paused;
   return s;
+}
+
+// The frame's drains and emitters on the state itself (sim/flow.hpp), at the time its steps start.
+FlowCount ReferenceSolver::apply_flow() {
+  const double t = double(flow_steps_) * d_.dt;
+  if (!d_.flows() || !flow_due(d_.emitters, d_.drains, t, d_.spacing)) return {};
+  std::vector<std::vector<dvec3>*> carried{&state.x_pred};
+  if (state.curl.size() == state.x.size()) carried.push_back(&state.curl);
+  std::vector<std::vector<double>*> scalars{&state.rho};
+  if (state.lambda.size() == state.x.size()) scalars.push_back(&state.lambda);
+  const FlowCount flow = pbflow::apply_flow(d_.emitters, d_.drains, d_.flow_frame(capacity_), t,
+                                            {state.x, state.v, state.id, carried, scalars}, next_id_);
+  neighbours_built_ = false;
+  return flow;
 }
 
 }  // namespace pbflow

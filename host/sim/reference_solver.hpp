@@ -6,7 +6,7 @@
 #include <array>
 #include <vector>
 
-#include "sim/mirrors.hpp"
+#include "sim/solids/mirrors.hpp"
 #include "sim/params.hpp"
 #include "sim/solver.hpp"
 #include "sim/frame_plan.hpp"
@@ -67,6 +67,8 @@ class ReferenceSolver : public Solver {
   void white_water_advect(double elapsed);
   void white_water_emit(double elapsed, uint32_t frame);
 
+  FlowCount apply_flow();  // the frame's drains and emitters, before its steps
+
   // The LDC acceleration on particle i (from rho and x); correction() applies it.
   // `work` (where given) gains the work per unit mass its moving solids' images did.
   glm::dvec3 correction_force(size_t i, double* work = nullptr) const;
@@ -83,7 +85,7 @@ class ReferenceSolver : public Solver {
   // the step, which places an image behind the walls near the particle's position then.
   struct Neighbour {
     uint32_t j;
-    uint32_t image;  // the mirrors j is reflected across (sim/mirrors.hpp; 0: j itself)
+    uint32_t image;  // the mirrors j is reflected across (sim/solids/mirrors.hpp; 0: j itself)
   };
   void build_neighbours(const std::vector<glm::dvec3>& at);
   void density_at_positions();  // rho at x, from the last step's lists (GpuSolver::density_at_positions)

@@ -3,8 +3,8 @@
 #include <glm/glm.hpp>
 
 #include "shaders/white_water.h"
-#include "sim/motion.hpp"
-#include "sim/obstacles.hpp"
+#include "sim/solids/motion.hpp"
+#include "sim/solids/obstacles.hpp"
 
 #include <algorithm>
 #include <array>
@@ -50,11 +50,17 @@ struct FrameStats {
   // mechanical energy that must never rise (docs/design.md).
   double potential_energy = 0;
   // J the moving solids did on the fluid over the frame's steps (their pushes and their
-  // images' pressure and drag, sim/mirrors.hpp): what may be added to the energy. 0 without.
+  // images' pressure and drag, sim/solids/mirrors.hpp): what may be added to the energy. 0 without.
   double solid_work = 0;
   double step_ms = 0;  // mean time of one step (GPU timestamps, else wall time); 0 when no step ran
   double iterations = 0;  // constraint iterations per step, on average (adaptive runs vary)
   double white_water_ms = 0;  // GPU time of the frame's white water passes (GpuSolver; 0 while off)
+  // The particles after the frame, those its emitters added and its drains removed at its start,
+  // and the energy they carried (J, kinetic and potential, in less out: sim/flow.hpp). `paused`:
+  // an emitter waited for room under the capacity.
+  uint32_t count = 0, emitted = 0, drained = 0;
+  double flow_energy = 0;
+  bool paused = false;
   // Mean GPU time per step of each pass group; filled only while profiling (GpuSolver).
   std::array<double, kStepGroups> pass_ms{};
   Divergence divergence;
@@ -68,7 +74,7 @@ struct FrameStats {
 class EnergyGain {
  public:
   void add(const FrameStats& s) {
-    work_ += s.solid_work;  // energy the solids brought in is no gain of the solver's
+    work_ += s.solid_work + s.flow_energy;  // what the solids and the flow brought in is no gain of the solver's
     const double energy = s.kinetic_energy + s.potential_energy - work_;
     if (!started_) std::tie(started_, e0_, pe0_, lowest_) = std::tuple(true, energy, s.potential_energy, energy);
     lowest_ = std::min(lowest_, energy);
@@ -87,10 +93,12 @@ class EnergyGain {
   double e0_ = 0, pe0_ = 0, largest_ = 0, last_ = 0, lowest_ = 0, largest_rise_ = 0, work_ = 0;
 };
 
-// Host copy of the per-particle state, indexed by particle id (the order of initial_particles).
+// Host copy of the per-particle state in ascending id order (the start's particles are ids 0 to
+// n - 1, in the order of initial_particles; an emitter's get the next ones). id empty: 0 to n - 1.
 struct ParticleState {
   std::vector<glm::dvec3> x, v, x_pred, curl;
   std::vector<double> rho, lambda;
+  std::vector<uint32_t> id;
 };
 
 // A white water particle (shaders/white_water.h): its kind is the tag's low bits.
@@ -185,6 +193,8 @@ class Solver {
   virtual ParticleState download() const = 0;     // everything, in id order
   virtual void upload(const ParticleState& s) = 0;  // x, v, x_pred and rho, in id order
   virtual size_t particle_count() const = 0;
+  // The most particles it holds at once (Derived::capacity_for): its buffers' and a frame's room.
+  size_t capacity() const { return capacity_; }
   virtual std::string device_name() const = 0;
   // One relaxation of the start: x* = x, the grid and lists at x*, a single constraint
   // iteration (smoothed as the scene smooths) with the coarse correction beside it, x = x*. No
@@ -229,6 +239,9 @@ class Solver {
  protected:
   FrameOutputs outputs_;
   bool solids_held_ = false;
+  size_t capacity_ = 0;
+  long flow_steps_ = 0;   // steps run, the emitters' clock
+  uint32_t next_id_ = 0;  // the id an emitter's next particle gets
 };
 
 }  // namespace pbflow

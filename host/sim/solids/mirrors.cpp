@@ -1,4 +1,4 @@
-#include "sim/mirrors.hpp"
+#include "sim/solids/mirrors.hpp"
 
 namespace pbflow {
 

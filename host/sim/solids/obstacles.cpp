@@ -1,4 +1,4 @@
-#include "sim/obstacles.hpp"
+#include "sim/solids/obstacles.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,6 +1,6 @@
 #pragma once
 // A solid of any shape as a signed distance field on a grid (built from a mesh by
-// scene/mesh_field.cpp): negative inside, read trilinearly (sample: sim/obstacles.cpp). The GPU reads the same values
+// scene/mesh_field.cpp): negative inside, read trilinearly (sample: sim/solids/obstacles.cpp). The GPU reads the same values
 // (shaders/solids.glsl, field_distance) from the obstacles' buffer.
 #include <glm/glm.hpp>
 

@@ -1,6 +1,6 @@
 #pragma once
 // Obstacles: boxes, spheres and meshes (as distance fields) that particles are projected out
-// of, like the walls, and that mirror the fluid (sim/mirrors.hpp). Each is a shape in its body
+// of, like the walls, and that mirror the fluid (sim/solids/mirrors.hpp). Each is a shape in its body
 // frame (where the scene places it) and a pose, which its motion moves every step. The solver
 // keeps particle centres half a spacing away from an obstacle's surface, so it works with each
 // shape grown by that margin (Derived::keep_out). shaders/solids.glsl mirrors this file.
@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "shaders/contract.h"
-#include "sim/distance_field.hpp"
-#include "sim/motion.hpp"
+#include "sim/solids/distance_field.hpp"
+#include "sim/solids/motion.hpp"
 
 namespace pbflow {
 

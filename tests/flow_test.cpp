@@ -1,0 +1,132 @@
+// Emitters and drains (sim/flow.hpp): the count balances, both solvers agree, a jet leaves its
+// inlet at the rest density, the capacity holds, and the flow's energy is accounted for.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "gpu/gpu_solver.hpp"
+#include "sim/reference_solver.hpp"
+#include "sim/settle.hpp"
+#include "support.hpp"
+
+namespace pbflow {
+namespace {
+
+class FlowTest : public test::GpuTest {};
+
+// The fountain at 0.04 m, its jet a 3 x 3 square (the disc would be one particle at this
+// spacing) and fast enough for a layer most frames.
+Scene coarse_fountain(std::vector<std::string> keys = {}) {
+  // The drains' tops off the lattice's layers (at 0.02 and 0.06 m): a particle on a drain's
+  // face is inside in one solver's rounding and outside in the other's.
+  keys.insert(keys.begin(), {"particle_spacing=0.04",
+                             R"(emitters=[{"centre": [0.3, 0.12, 0.4], "normal": [0.25, 1, 0], "size": [0.1, 0.1], "speed": 2.5}])",
+                             R"(drains=[{"min": [-1, -1, -1], "max": [0.1, 0.035, 1]}, {"min": [0.7, -1, -1], "max": [1, 0.035, 1]}])"});
+  return load_scene("fountain", keys);
+}
+
+// Counts, ids and positions agree frame by frame while the drains take the pool's edge and the
+// jet rises: the flow is the same host function in both, fed the same state.
+TEST_F(FlowTest, GpuAndReferenceAgreeAsWaterEntersAndLeaves) {
+  const Scene scene = coarse_fountain();
+  const Derived d = derive(scene);
+  const auto x0 = initial_particles(scene);
+  GpuSolver gpu(test::gpu(), d, x0);
+  ReferenceSolver ref(d, x0);
+  EXPECT_EQ(gpu.capacity(), ref.capacity());
+  uint32_t emitted = 0, drained = 0;
+  for (int frame = 0; frame < 4; ++frame) {
+    const FrameStats g = gpu.advance(2), r = ref.advance(2);
+    EXPECT_EQ(g.count, r.count) << "frame " << frame;
+    EXPECT_EQ(g.emitted, r.emitted) << "frame " << frame;
+    EXPECT_EQ(g.drained, r.drained) << "frame " << frame;
+    EXPECT_NEAR(g.flow_energy, r.flow_energy, 1e-5 + 1e-4 * std::abs(r.flow_energy));  // J
+    EXPECT_NEAR(g.kinetic_energy, r.kinetic_energy, 1e-3 * r.kinetic_energy);
+    emitted += r.emitted, drained += r.drained;
+  }
+  EXPECT_GT(emitted, 0u) << "the jet emitted nothing";
+  EXPECT_GT(drained, 0u) << "the drains took nothing";
+  const ParticleState g = gpu.download();
+  ASSERT_EQ(g.id, ref.state.id);
+  const test::ErrorReport e = test::compare(g.x, ref.state.x, "positions after 8 steps with flow");
+  EXPECT_LT(e.max_abs, 1e-5);  // metres
+}
+
+// Every frame's count is the last one's plus what entered less what left; past the capacity the
+// emitters wait (and say so) and the count never passes it.
+TEST_F(FlowTest, TheCountBalancesAndTheCapacityHolds) {
+  const Scene probe = coarse_fountain();
+  const size_t start = initial_particles(probe).size();
+  // Room for two of the jet's layers, and no drain to make more.
+  const Scene scene = coarse_fountain({"capacity=" + std::to_string(start + 20), "drains=[]"});
+  GpuSolver gpu(test::gpu(), derive(scene), initial_particles(scene));
+  ASSERT_EQ(gpu.capacity(), start + 20);
+  uint32_t count = uint32_t(start);
+  bool paused = false;
+  for (int frame = 0; frame < 30; ++frame) {
+    const FrameStats s = gpu.advance(2);
+    EXPECT_EQ(s.count, count + s.emitted - s.drained) << "frame " << frame;
+    EXPECT_LE(s.count, gpu.capacity()) << "frame " << frame;
+    EXPECT_EQ(s.count, gpu.particle_count());
+    count = s.count;
+    paused = paused || s.paused;
+  }
+  EXPECT_TRUE(paused) << "the emitters never reached the capacity";
+}
+
+// A jet in weightless air: its layers leave the inlet a spacing apart at the inlet's speed, so
+// its inside reads the rest density (the lattice's, 1e-3 at most off) from the first layer on.
+TEST_F(FlowTest, AJetLeavesItsInletAtTheRestDensity) {
+  const Scene scene = load_scene(
+      "fountain", {"gravity=[0, 0, 0]", "drains=[]", R"(fluid_blocks=[{"min": [0.7, 0, 0.7], "max": [0.8, 0.04, 0.8]}])",
+                   R"(emitters=[{"centre": [0.1, 0.25, 0.4], "normal": [1, 0, 0], "size": [0.16, 0.16], "speed": 1.2}])"});
+  const Derived d = derive(scene);
+  GpuSolver gpu(test::gpu(), d, initial_particles(scene));
+  for (int frame = 0; frame < 15; ++frame) gpu.advance(scene.solver.substeps);
+  const ParticleFrame f = gpu.read_frame();
+  double front = 0;
+  for (const glm::vec4& x : f.x) front = x.y > 0.1 ? std::max(front, double(x.x)) : front;
+  ASSERT_GT(front, 0.1 + 8 * d.spacing) << "the jet has not left its inlet";
+  int inside = 0;
+  double worst = 0;
+  for (size_t i = 0; i < f.x.size(); ++i) {
+    const glm::dvec3 x(f.x[i]);
+    const bool deep = std::abs(x.y - 0.25) <= d.spacing + 1e-6 && std::abs(x.z - 0.4) <= d.spacing + 1e-6 &&
+                      x.x > 0.1 + d.h + 1e-6 && x.x < front - d.h - 1e-6;
+    if (!deep) continue;
+    ++inside;
+    worst = std::max(worst, std::abs(f.rho[i] / d.rho0 - 1.0));
+  }
+  std::printf("  %d particles inside the jet, the furthest from rho0 %.2e\n", inside, worst);
+  EXPECT_GT(inside, 9);
+  EXPECT_LT(worst, 1e-3);
+}
+
+// The fountain for 2 s: the fluid gains no energy beyond what the jet brings and the drains
+// take (EnergyGain's bar, docs/design.md), and the count falls towards where they balance.
+TEST_F(FlowTest, TheFountainGainsNothingBeyondItsFlowSlow) {
+  const Scene scene = load_scene("fountain");
+  const Derived d = derive(scene);
+  GpuSolver gpu(test::gpu(), d, initial_particles(scene));
+  relax_start(gpu);
+  ASSERT_TRUE(settle(gpu, d).converged);
+  EnergyGain energy;
+  energy.add(gpu.advance(0));
+  uint32_t emitted = 0, drained = 0;
+  for (int frame = 1; frame <= 120; ++frame) {
+    const FrameStats s = gpu.advance(scene.solver.substeps);
+    ASSERT_FALSE(s.divergence.any()) << "frame " << frame;
+    energy.add(s);
+    emitted += s.emitted, drained += s.drained;
+  }
+  std::printf("  2 s: %u emitted, %u drained, %zu particles, largest gain %.4f\n", emitted, drained, gpu.particle_count(),
+              energy.largest());
+  EXPECT_GT(emitted, 1000u);
+  EXPECT_GT(drained, emitted);  // the pool's edge goes first
+  EXPECT_LE(energy.largest(), 0.01);
+}
+
+}  // namespace
+}  // namespace pbflow
