@@ -137,6 +137,7 @@ struct LiveRun::Stage {
   SolidsState start_solids;  // the solids where the scene places them, still, at time 0
   Motion shake;              // the tank's live shaking, as the viewers last asked
   LiveTilt tilt;             // and its tilt
+  bool emitting = true;      // the scene's emitters, as the viewers last switched them
   // Whether the lanes' solvers are made for a viewer's hand (Derived::steerable): not until a
   // viewer first drags, shakes or tilts, since the poses compiled in cost a still box scene 1.36x on lavapipe.
   bool steerable = false;
@@ -168,7 +169,7 @@ struct LiveRun::Stage {
     if (scene.settle) settle(first, derive(scene));
     start = first.download();
     start_solids = first.solids();
-    shake = {}, tilt = {};
+    shake = {}, tilt = {}, emitting = true;
     for (Lane& lane : lanes) lane.solver->upload(start);
     // A view the scene left to framing fits every tilt a viewer may ask.
     draw_anew(ctx, scene.camera_framed ? framing_camera(scene, kMaxTiltDegrees) : scene.camera);
@@ -176,7 +177,7 @@ struct LiveRun::Stage {
   // Every lane back at the start, the solids too.
   void restart() {
     for (Lane& lane : lanes) lane.solver->upload(start), lane.solver->carry(start_solids);
-    shake = {}, tilt = {};
+    shake = {}, tilt = {}, emitting = true;
   }
   // What the run is, to go back to where a viewer's change fails half way.
   struct Saved {
@@ -431,7 +432,7 @@ std::vector<FrontPoint> LiveRun::measure_front(Stage& stage, const vk::Context* 
 struct LiveRun::Asked {
   bool step = false, redraw = false, restart = false;
   std::optional<bool> paused;
-  std::optional<LiveCommand> setting, style, scene, budget, shake, tilt;
+  std::optional<LiveCommand> setting, style, scene, budget, shake, tilt, emit;
   std::vector<LiveCommand> cameras, drags;
 };
 
@@ -489,6 +490,7 @@ LiveRun::Asked LiveRun::take_commands(Clock::time_point until) {
       case LiveCommand::Kind::Drag: asked.drags.push_back(std::move(c)); break;
       case LiveCommand::Kind::Shake: asked.shake = std::move(c); break;
       case LiveCommand::Kind::Tilt: asked.tilt = std::move(c); break;
+      case LiveCommand::Kind::Emit: asked.emit = std::move(c); break;
     }
   }
   return asked;
@@ -515,6 +517,11 @@ bool LiveRun::apply(Stage& stage, const vk::Context* ctx, Pace& pace, Asked& ask
   const std::optional<LiveCommand> hand =
       !asked.drags.empty() ? std::optional(asked.drags.front()) : asked.shake ? asked.shake : asked.tilt;
   if (hand && (stage.steerable || attempt(hand, [&] { stage.make_steerable(ctx); }))) steer(stage, asked);
+  if (asked.emit && stage.scene.emitters.empty()) {
+    if (asked.emit->refused) asked.emit->refused("the scene has no emitters");
+  } else if (asked.emit) {
+    stage.emitting = asked.emit->emitting;
+  }
   std::optional<double> new_budget = asked.budget ? std::optional<double>(asked.budget->budget_ms) : std::nullopt;
   const bool scene = attempt(asked.scene, [&] {  // the new scene's start, under the settings the run has
     std::vector<LiveSetting> settings;            // at the new scene's own substeps
@@ -600,8 +607,10 @@ void LiveRun::hold_budget(Stage& stage, const vk::Context* ctx, Pace& pace, doub
 void LiveRun::draw_frame(Stage& stage, const vk::Context* ctx, Pace& pace, bool advance) {
   auto frame = std::make_shared<LiveFrame>();
   const Clock::time_point began = Clock::now();
-  for (const Lane& lane : stage.lanes)
+  for (const Lane& lane : stage.lanes) {
+    lane.solver->set_emitting(stage.emitting);  // also a lane made anew since (a setting, a restore)
     frame->panels.push_back({lane.setting, lane.solver->advance(advance ? lane.setting.substeps : 0)});  // 0: measures only
+  }
   frame->simulate_ms = ms_since(began);
   if (advance) pace.sim_time += 1.0 / stage.scene.fps;
   pace.realtime.add(advance ? 1.0 / stage.scene.fps : 0.0);
@@ -622,6 +631,7 @@ void LiveRun::draw_frame(Stage& stage, const vk::Context* ctx, Pace& pace, bool 
   frame->right = axes.right, frame->up = axes.up;
   frame->shake = stage.shake;
   frame->tilt = stage.tilt;
+  frame->emitters = stage.scene.emitters.size(), frame->emitting = stage.emitting;
   const Clock::time_point simulated = Clock::now();
   auto image = std::make_shared<const capture::Image>(stage.capture->draw(stage.solvers()));
   frame->draw_ms = ms_since(simulated);

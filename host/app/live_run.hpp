@@ -73,6 +73,8 @@ struct LiveFrame {
   glm::dvec3 right{1, 0, 0}, up{0, 1, 0};  // the camera's axes in the world: a drag's directions
   Motion shake;               // the tank's live shaking (Type::None: none)
   LiveTilt tilt;              // the tank's live tilt, as the viewers last asked
+  size_t emitters = 0;        // the scene's emitters, and whether a viewer left them on
+  bool emitting = true;
   std::shared_ptr<const std::vector<FrontPoint>> front;  // the measured front it chooses from, where held
   std::string jpeg;
   // The H.264 stream's access unit for this frame, where some viewer takes H.264: `unit` counts
@@ -88,7 +90,7 @@ struct LiveFrame {
 
 // What a viewer can ask of the run (docs/serve.md, "Protocol"), checked by the server.
 struct LiveCommand {
-  enum class Kind { Pause, Resume, Step, Restart, Setting, Style, Camera, Scene, Budget, Drag, Shake, Tilt } kind;
+  enum class Kind { Pause, Resume, Step, Restart, Setting, Style, Camera, Scene, Budget, Drag, Shake, Tilt, Emit } kind;
   LiveSetting setting;     // Setting: method and iterations (the scene's substeps)
   std::string style;       // Style: a capture::Style's name
   double orbit_x = 0, orbit_y = 0;  // Camera: radians about the up axis and the camera's right
@@ -102,6 +104,7 @@ struct LiveCommand {
   double amplitude = 0;      // ... m (0: the tank comes to rest) ...
   double period = 0;         // ... s (0: the tank's first sloshing mode along the axis)
   LiveTilt tilt;             // Tilt: where the tank turns to
+  bool emitting = true;      // Emit: the scene's emitters on or off
   // Called on the run's thread where the run could not take it (a scene that failed to load):
   // the run goes on as it was, and whoever asked is told why.
   std::function<void(const std::string& why)> refused;

@@ -63,7 +63,9 @@ std::string page_text() {
 json measures(const FrameStats& s) {
   return {{"mean_compression", s.mean_compression}, {"max_compression", s.max_compression},
           {"kinetic_energy", s.kinetic_energy},     {"potential_energy", s.potential_energy},
-          {"solid_work", s.solid_work},             {"step_ms", s.step_ms}};
+          {"solid_work", s.solid_work},             {"step_ms", s.step_ms},
+          {"particles", s.count},                   {"emitted", s.emitted},
+          {"drained", s.drained}};
 }
 
 json vector_json(const glm::dvec3& v) { return {v.x, v.y, v.z}; }
@@ -80,6 +82,8 @@ void add_solids(json& m, const LiveFrame& f) {
                                       {"period", f.shake.period}}
                                : json();
   m["tilt"] = f.tilt.degrees != 0 ? json{{"axis", vector_json(f.tilt.axis)}, {"angle", f.tilt.degrees}} : json();
+  m["emitters"] = f.emitters;
+  m["emitting"] = f.emitters > 0 ? json(f.emitting) : json();
 }
 
 // `bytes`: the viewer's payload of the frame (JPEG or H.264); `send_ms`: how long handing it
@@ -631,6 +635,9 @@ void read_arguments(const json& message, const LiveRun& run, LiveCommand& c) {
     c.period = number(message, "period", 0, 0.05, 60);
   } else if (c.kind == Kind::Tilt) {
     c.tilt = {number(message, "angle", 0, -kMaxTiltDegrees, kMaxTiltDegrees), direction(message)};
+  } else if (c.kind == Kind::Emit) {
+    if (!message.contains("on") || !message["on"].is_boolean()) throw InputError("'on' must be true or false");
+    c.emitting = message["on"].get<bool>();
   } else if (c.kind == Kind::Camera) {
     c.orbit_x = number(message, "orbit_x", 0, -7, 7), c.orbit_y = number(message, "orbit_y", 0, -7, 7);
     c.zoom = number(message, "zoom", 1, 0.1, 10);
@@ -665,11 +672,12 @@ std::string WebServer::Impl::answer(const std::string& text, const std::shared_p
                                                        {"setting", Kind::Setting}, {"style", Kind::Style},
                                                        {"camera", Kind::Camera},   {"scene", Kind::Scene},
                                                        {"budget", Kind::Budget},   {"drag", Kind::Drag},
-                                                       {"shake", Kind::Shake},     {"tilt", Kind::Tilt}};
+                                                       {"shake", Kind::Shake},     {"tilt", Kind::Tilt},
+                                                       {"emit", Kind::Emit}};
   const auto kind = std::find_if(std::begin(kinds), std::end(kinds), [&](const auto& k) { return cmd == k.first; });
   if (kind == std::end(kinds))
     return error_message("unknown command '" + clipped(cmd, 40) +
-                         "' (pause, resume, step, restart, setting, style, camera, scene, budget, drag, shake, tilt, stream)");
+                         "' (pause, resume, step, restart, setting, style, camera, scene, budget, drag, shake, tilt, emit, stream)");
   LiveCommand c{kind->second};
   try {
     read_arguments(message, run, c);

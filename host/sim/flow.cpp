@@ -68,6 +68,7 @@ FlowCount apply_flow(std::vector<Emitter>& emitters, const std::vector<Drain>& d
   drain(drains, f, p, count);
   for (Emitter& e : emitters)
     for (double due = e.layer_time(e.layers, f.spacing); due <= t && due < e.stop; due = e.layer_time(++e.layers, f.spacing)) {
+      if (!f.emitting) continue;
       if (p.x.size() + e.inlet.size() > f.capacity) {
         count.paused = true;  // the layer is skipped: the jet resumes when the drains make room
         continue;

@@ -51,6 +51,7 @@ struct FlowFrame {
   double mass = 0, spacing = 0;
   glm::dvec3 gravity{0.0}, lowest{0.0};
   size_t capacity = 0;
+  bool emitting = true;  // false: every layer due is skipped (a viewer turned the emitters off)
   double energy(const glm::dvec3& x, const glm::dvec3& v) const {
     return mass * (0.5 * glm::dot(v, v) + glm::dot(-gravity, x - lowest));
   }
@@ -58,7 +59,8 @@ struct FlowFrame {
 
 // The particles at time t: those inside a drain removed (order kept), then every layer due by t
 // appended (each moved on from its inlet by the time since it was due, ids from next_id up).
-// Layers that find no room under the capacity are skipped whole, and `paused` says so. The
+// Layers that find no room under the capacity are skipped whole, and `paused` says so; while the
+// emitters are off (FlowFrame::emitting) every layer due is skipped. The
 // other arrays in `carried` are kept or dropped with x (their new entries zero).
 struct FlowParticles {
   std::vector<glm::dvec3>& x;

@@ -186,6 +186,7 @@ struct Derived {
   std::vector<Emitter> emitters;
   std::vector<Drain> drains;
   int stated_capacity = 0;  // the scene's capacity; 0: chosen
+  bool emitting = true;     // the emitters on (a viewer's switch, Solver::set_emitting)
   double run_seconds = 0;   // the scene's frames / fps: what the chosen capacity covers
   bool flows() const { return !emitters.empty() || !drains.empty(); }
   // The capacity for a run starting with `start` particles: the scene's, else the start and every

@@ -28,6 +28,7 @@ class ReferenceSolver : public Solver {
   void drag(size_t k, const glm::dvec3& shift) override { d_.drag(k, shift); }
   void shake(const Motion& m) override { d_.shake(m, double(steps_moved_) * d_.dt); }
   void tilt(const glm::dquat& to) override { d_.tilt(to, double(steps_moved_) * d_.dt); }
+  void set_emitting(bool on) override { d_.emitting = on; }
   SolidsState solids() const override { return {steps_moved_, d_.obstacles, d_.tank}; }
   void carry(const SolidsState& s) override;
   std::string device_name() const override { return "cpu (C++ reference)"; }

@@ -232,6 +232,8 @@ class Solver {
   virtual void drag(size_t k, const glm::dvec3& shift) = 0;
   virtual void shake(const Motion& m) = 0;
   virtual void tilt(const glm::dquat& to) = 0;
+  // The emitters on or off from the next frame (a viewer's tap); off, every layer due is skipped.
+  virtual void set_emitting(bool on) = 0;
   virtual SolidsState solids() const = 0;
   // The solids (of this scene) placed as `s` has them, their clock and motions carried on.
   virtual void carry(const SolidsState& s) = 0;

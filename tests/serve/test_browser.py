@@ -216,6 +216,32 @@ class SolidsBrowserTest(PageTest):
         wait_for(lambda: self.stats()["tilt"] is None, what="the tank level again")
 
 
+class FlowBrowserTest(PageTest):
+    """The fountain's tap from the page: off, no water enters while the drains go on taking it;
+    on again, the jet runs."""
+    SCENE = "fountain"
+    OPTIONS = ("--param", "particle_spacing=0.04", "--style", "particles", "--width", "320", "--height", "180")
+
+    def stats(self):
+        return self.browser.execute_script("return window.pbflowLive.stats;")
+
+    def test_the_tap_turns_the_emitters_off_and_on(self):
+        wait_for(lambda: self.browser.find_element("id", "tap").is_displayed(), what="the tap control")
+        wait_for(lambda: (lambda m: m and m["emitted"] > 0)(self.stats()), what="the jet emitting")
+        Select(self.browser.find_element("id", "tap")).select_by_visible_text("off")
+        wait_for(lambda: (lambda m: m and m["emitting"] is False)(self.stats()), what="the tap off in the stats")
+        frame = self.stats()["frame"]
+        emitted = []
+        while len(emitted) < 20:  # a layer is due every 1.2 frames: 20 frames off would hold ~16
+            m = wait_for(lambda: (lambda m: m and m["frame"] > frame and m)(self.stats()), what="the next frame")
+            frame = m["frame"]
+            emitted.append(m["emitted"])
+        self.assertEqual(sum(emitted), 0, "water entered with the tap off")
+        wait_for(lambda: "the tap off" in self.browser.find_element("id", "stats").text, what="the tap in the page's text")
+        Select(self.browser.find_element("id", "tap")).select_by_visible_text("on")
+        wait_for(lambda: (lambda m: m and m["emitting"] and m["emitted"] > 0)(self.stats()), what="the jet again")
+
+
 class CompareBrowserTest(PageTest):
     OPTIONS = ("--param", "particle_spacing=0.05", "--style", "particles", "--width", "160", "--height", "90",
                "--compare", "pbf@1,ldc@1,pbf@2")

@@ -186,7 +186,9 @@ class ServeTest(OneServer, unittest.TestCase):
                                 ({"cmd": "shake", "amplitude": 0.5, "period": 0.1}, "faster than"),
                                 ({"cmd": "tilt", "angle": 45}, "'angle' must be a number in [-30, 30]"),
                                 ({"cmd": "tilt", "angle": 10, "axis": [0, 0, 0]}, "'axis' must be a direction"),
-                                ({"cmd": "tilt", "angle": "steep"}, "'angle'")):
+                                ({"cmd": "tilt", "angle": "steep"}, "'angle'"),
+                                ({"cmd": "emit"}, "'on' must be true or false"),
+                                ({"cmd": "emit", "on": "yes"}, "'on' must be true or false")):
             self.assertIn(expect, viewer.error_for(command))
         viewer.send(json.dumps({"cmd": "shake", "amplitude": 0.01, "axis": [0, 0, 2]}))
         shaking = self.frame_where(viewer, lambda f: f[2]["shake"] is not None)[2]["shake"]
