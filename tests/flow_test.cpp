@@ -74,6 +74,10 @@ TEST_F(FlowTest, TheCountBalancesAndTheCapacityHolds) {
     paused = paused || s.paused;
   }
   EXPECT_TRUE(paused) << "the emitters never reached the capacity";
+  ParticleState past = gpu.download();  // a state past the buffers' room is refused, not cut
+  past.x.resize(gpu.capacity() + 1, past.x.back());
+  past.v.resize(past.x.size()), past.x_pred = past.x, past.id.clear();
+  EXPECT_THROW(gpu.upload(past), std::invalid_argument);
 }
 
 // A jet in weightless air: its layers leave the inlet a spacing apart at the inlet's speed, so

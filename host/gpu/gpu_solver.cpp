@@ -150,7 +150,8 @@ void GpuSolver::carry(const SolidsState& s) {
 }
 
 void GpuSolver::upload(const ParticleState& s) {
-  n_ = sim_.count = uint32_t(std::min(s.x.size(), capacity_));
+  if (s.x.size() > capacity_) throw std::invalid_argument("upload: more particles than the solver's capacity");
+  n_ = sim_.count = uint32_t(s.x.size());
   std::vector<float> rho(n_, 0.0f);
   for (uint32_t i = 0; i < n_ && i < s.rho.size(); ++i) rho[i] = float(s.rho[i]);
   auto pack = [&](const std::vector<glm::dvec3>& a, const std::vector<float>& w) {

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 #include <numeric>
+#include <stdexcept>
 
 #include "shaders/contract.h"
 #include "sim/kernels.hpp"
@@ -31,6 +32,7 @@ ReferenceSolver::ReferenceSolver(const Derived& d, const std::vector<dvec3>& x0)
 }
 
 void ReferenceSolver::upload(const ParticleState& s) {
+  if (s.x.size() > capacity_) throw std::invalid_argument("upload: more particles than the solver's capacity");
   state.x = s.x;
   state.v = s.v;
   state.x_pred = s.x_pred;
