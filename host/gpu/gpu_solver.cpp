@@ -675,10 +675,10 @@ void GpuSolver::read_times(FrameStats& s, int steps, double wall_ms) const {
 // One frame: the plan's passes (sim/frame_plan.hpp) in one command buffer.
 FrameStats GpuSolver::advance(int steps) {
   const auto start = std::chrono::steady_clock::now();
+  begin();
   // The flow's clock stands still with the solids' (the settle): no water enters or leaves.
   const FlowCount flow = steps > 0 && !solids_held_ ? apply_flow() : FlowCount{};
   if (!solids_held_) flow_steps_ += steps;
-  begin();
   smoothed_current_ = false;  // the steps' sorts reuse the spare slot
   const WatchWords watch_reset;
   cmd_.update(watch_buf_, &watch_reset, sizeof watch_reset);
@@ -699,31 +699,42 @@ FrameStats GpuSolver::advance(int steps) {
   return s;
 }
 
-// The frame's drains and emitters (sim/flow.hpp) on the host, as the reference's: positions,
-// velocities and ids down in the solver's order and back up. Only a frame with a drain or a
-// layer due pays the round trip; the steps' passes rebuild the rest.
+// The frame's drains and emitters (sim/flow.hpp) on the host, as the reference's, recorded at
+// the frame's start. With a drain, positions, velocities and ids come down in the solver's order
+// and go back up whole (a round trip each such frame); without, only the new particles go up, in
+// the frame's own commands. The steps' passes rebuild the rest.
 FlowCount GpuSolver::apply_flow() {
   const double t = double(flow_steps_) * d_.dt;
   if (!d_.flows() || !flow_due(d_.emitters, d_.drains, t, d_.spacing)) return {};
+  const bool drains = !d_.drains.empty();
   auto unpack = [&](const vk::Buffer& b) {
     std::vector<glm::dvec3> out;
     for (const glm::vec4& a : b.download<glm::vec4>(n_)) out.emplace_back(glm::vec3(a));
     return out;
   };
-  std::vector<glm::dvec3> x = unpack(at(X)), v = unpack(at(V));
-  std::vector<uint32_t> id = id_[id_current_].download<uint32_t>(n_);
+  // Without a drain the particles there stay as they are: stand-ins hold their places.
+  std::vector<glm::dvec3> x = drains ? unpack(at(X)) : std::vector<glm::dvec3>(n_);
+  std::vector<glm::dvec3> v = drains ? unpack(at(V)) : std::vector<glm::dvec3>(n_);
+  std::vector<uint32_t> id = drains ? id_[id_current_].download<uint32_t>(n_) : std::vector<uint32_t>(n_);
   const FlowCount flow = pbflow::apply_flow(d_.emitters, d_.drains, d_.flow_frame(capacity_), t, {x, v, id, {}, {}}, next_id_);
   if (flow.emitted == 0 && flow.drained == 0) return flow;
+  const uint32_t from = drains ? 0 : n_;  // the first entry written
   n_ = sim_.count = uint32_t(x.size());
   auto pack = [&](const std::vector<glm::dvec3>& a) {
     std::vector<glm::vec4> out;
-    for (const glm::dvec3& p : a) out.emplace_back(glm::vec3(p), 0.0f);
+    for (size_t k = from; k < a.size(); ++k) out.emplace_back(glm::vec3(a[k]), 0.0f);
     return out;
   };
-  if (n_ > 0) {
+  const std::vector<uint32_t> ids(id.begin() + from, id.end());
+  if (drains && n_ > 0) {
     vec4_[role_[X]].upload(std::span<const glm::vec4>(pack(x)));
     vec4_[role_[V]].upload(std::span<const glm::vec4>(pack(v)));
-    id_[id_current_].upload(std::span<const uint32_t>(id));
+    id_[id_current_].upload(std::span<const uint32_t>(ids));
+  } else if (!drains) {
+    const uint32_t at_vec4 = from * uint32_t(sizeof(glm::vec4)), count = n_ - from;
+    cmd_.update(at(X), pack(x).data(), count * uint32_t(sizeof(glm::vec4)), at_vec4);
+    cmd_.update(at(V), pack(v).data(), count * uint32_t(sizeof(glm::vec4)), at_vec4);
+    cmd_.update(id_[id_current_], ids.data(), count * uint32_t(sizeof(uint32_t)), from * uint32_t(sizeof(uint32_t)));
   }
   density_current_ = lists_built_ = smoothed_current_ = false;
   return flow;
