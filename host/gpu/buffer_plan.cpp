@@ -63,6 +63,12 @@ SolverBuffers plan_buffers(const Derived& d, uint64_t particles, FrameOutputs ou
     b.coarse_grad = nodes * sizeof(glm::vec4);
   }
   b.grid = plan_grid(d, particles);
+  if (!d.drains.empty()) {
+    b.drains = 2 * d.drains.size() * sizeof(glm::vec4);
+    b.drained = 2 * vec4;
+    b.drain_counts = 2 * sizeof(uint32_t);
+    b.drain_keep = plan_scan(particles);
+  }
   if (outputs.surface) b.shape = 2 * vec4;
   if (outputs_made(d, outputs).white_water) {
     b.white_count = 2 * sizeof(uint32_t);
@@ -77,7 +83,7 @@ uint64_t SolverBuffers::total() const {
   uint64_t sum = (kParticleVec4s + 1) * particle_vec4 + kIdArrays * id + rho + neighbour_count + neighbour_list +
                  x_lambda_spare + curl + partials + obstacles + work + watch + overflow_groups + 3 * adaptive_words +
                  coarse_sums + coarse_phi + coarse_grad + coarse_open + result + grid.cell + grid.rank + grid.order + shape +
-                 white_water() + grid.scan.total();
+                 white_water() + grid.scan.total() + drains + drained + drain_counts + drain_keep.total();
   return sum;
 }
 

@@ -70,6 +70,10 @@ struct SolverBuffers {
   static constexpr int kWhiteLists = 2;
   uint64_t shape = 0, white_count = 0, white_array = 0;
   ScanBuffers white_survivors, white_births;
+  // The drains' (a scene without them holds none): their boxes, the drained particles' (x, v), the
+  // counts kept and drained, and which particles stay, scanned into their slots (drain_*.comp).
+  uint64_t drains = 0, drained = 0, drain_counts = 0;
+  ScanBuffers drain_keep;
   GridBuffers grid;
 
   uint64_t total() const;

@@ -102,6 +102,17 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
   if (plan_.curl) curl_ = vk::Buffer(ctx, plan_.curl);
   if (plan_.x_lambda_spare) x_lambda_spare_ = vk::Buffer(ctx, plan_.x_lambda_spare);
   if (d.coarse.strength > 0) build_coarse();
+  if (!d.drains.empty()) {
+    drain_mark_ = particle_program("drain_mark", std::array<vk::Constant, 1>{{{"DRAINS", int(d.drains.size())}}});
+    drain_compact_ = particle_program("drain_compact");
+    drains_ = vk::Buffer(ctx, plan_.drains);
+    std::vector<glm::vec4> boxes;
+    for (const Drain& b : d.drains) boxes.insert(boxes.end(), {glm::vec4(glm::vec3(b.min), 0.0f), glm::vec4(glm::vec3(b.max), 0.0f)});
+    drains_.upload(std::span<const glm::vec4>(boxes));
+    drained_ = vk::Buffer(ctx, plan_.drained);
+    drain_counts_ = vk::Buffer(ctx, plan_.drain_counts);
+    drain_keep_ = GpuScan(ctx, plan_.drain_keep);
+  }
   capacity_ = d.capacity_for(n_);
   next_id_ = n_;
   upload({x0, std::vector<glm::dvec3>(n_, glm::dvec3(0.0)), x0, {}, {}, {}, {}});
@@ -699,44 +710,69 @@ FrameStats GpuSolver::advance(int steps) {
   return s;
 }
 
-// The frame's drains and emitters (sim/flow.hpp) on the host, as the reference's, recorded at
-// the frame's start. With a drain, positions, velocities and ids come down in the solver's order
-// and go back up whole (a round trip each such frame); without, only the new particles go up, in
-// the frame's own commands. The steps' passes rebuild the rest.
+// The frame's drains and emitters (sim/flow.hpp) at its start: the drains' passes on the GPU,
+// submitted and read back (the counts, and the drained particles for the energy they took);
+// then the layers due, made by the reference's function and written in the frame's commands
+// past the count.
 FlowCount GpuSolver::apply_flow() {
   const double t = double(flow_steps_) * d_.dt;
   if (!d_.flows() || !flow_due(d_.emitters, d_.drains, t, d_.spacing)) return {};
-  const bool drains = !d_.drains.empty();
-  auto unpack = [&](const vk::Buffer& b) {
-    std::vector<glm::dvec3> out;
-    for (const glm::vec4& a : b.download<glm::vec4>(n_)) out.emplace_back(glm::vec3(a));
-    return out;
-  };
-  // Without a drain the particles there stay as they are: stand-ins hold their places.
-  std::vector<glm::dvec3> x = drains ? unpack(at(X)) : std::vector<glm::dvec3>(n_);
-  std::vector<glm::dvec3> v = drains ? unpack(at(V)) : std::vector<glm::dvec3>(n_);
-  std::vector<uint32_t> id = drains ? id_[id_current_].download<uint32_t>(n_) : std::vector<uint32_t>(n_);
-  const FlowCount flow = pbflow::apply_flow(d_.emitters, d_.drains, d_.flow_frame(capacity_), t, {x, v, id, {}, {}}, next_id_);
-  if (flow.emitted == 0 && flow.drained == 0) return flow;
-  const uint32_t from = drains ? 0 : n_;  // the first entry written
+  FlowCount flow = d_.drains.empty() ? FlowCount{} : drain();
+  // Stand-ins hold the places of the particles there: only what the emitters add goes up.
+  const uint32_t from = n_;
+  std::vector<glm::dvec3> x(n_), v(n_);
+  std::vector<uint32_t> id(n_);
+  const FlowCount emitted = pbflow::apply_flow(d_.emitters, {}, d_.flow_frame(capacity_), t, {x, v, id, {}, {}}, next_id_);
+  flow.emitted = emitted.emitted, flow.energy += emitted.energy, flow.paused = emitted.paused;
+  if (emitted.emitted == 0) return flow;
   n_ = sim_.count = uint32_t(x.size());
   auto pack = [&](const std::vector<glm::dvec3>& a) {
     std::vector<glm::vec4> out;
     for (size_t k = from; k < a.size(); ++k) out.emplace_back(glm::vec3(a[k]), 0.0f);
     return out;
   };
-  const std::vector<uint32_t> ids(id.begin() + from, id.end());
-  if (drains && n_ > 0) {
-    vec4_[role_[X]].upload(std::span<const glm::vec4>(pack(x)));
-    vec4_[role_[V]].upload(std::span<const glm::vec4>(pack(v)));
-    id_[id_current_].upload(std::span<const uint32_t>(ids));
-  } else if (!drains) {
-    const uint32_t at_vec4 = from * uint32_t(sizeof(glm::vec4)), count = n_ - from;
-    cmd_.update(at(X), pack(x).data(), count * uint32_t(sizeof(glm::vec4)), at_vec4);
-    cmd_.update(at(V), pack(v).data(), count * uint32_t(sizeof(glm::vec4)), at_vec4);
-    cmd_.update(id_[id_current_], ids.data(), count * uint32_t(sizeof(uint32_t)), from * uint32_t(sizeof(uint32_t)));
-  }
+  const uint32_t count = n_ - from, at_vec4 = from * uint32_t(sizeof(glm::vec4));
+  cmd_.update(at(X), pack(x).data(), count * uint32_t(sizeof(glm::vec4)), at_vec4);
+  cmd_.update(at(V), pack(v).data(), count * uint32_t(sizeof(glm::vec4)), at_vec4);
+  cmd_.update(id_[id_current_], id.data() + from, count * uint32_t(sizeof(uint32_t)), from * uint32_t(sizeof(uint32_t)));
   density_current_ = lists_built_ = smoothed_current_ = false;
+  return flow;
+}
+
+FlowCount GpuSolver::drain() {
+  cmd_.fill(drain_keep_.data(), 0);  // past the count too: the scan's total
+  bind_particle_pass(drain_mark_);
+  cmd_.bind("x", at(X));
+  cmd_.bind("drains", drains_);
+  cmd_.bind("keep", drain_keep_.data());
+  cmd_.dispatch(n_);
+  drain_keep_.run(cmd_);
+  bind_particle_pass(drain_compact_);
+  cmd_.bind("slots", drain_keep_.data());
+  cmd_.bind("x_in", at(X));
+  cmd_.bind("v_in", at(V));
+  cmd_.bind("id_in", id_[id_current_]);
+  cmd_.bind("x_out", at(Spare0));
+  cmd_.bind("v_out", at(Spare1));
+  cmd_.bind("id_out", id_[1 - id_current_]);
+  cmd_.bind("drained", drained_);
+  cmd_.bind("counts", drain_counts_);
+  cmd_.dispatch(n_ + 1);
+  finish();
+  const std::vector<uint32_t> counts = drain_counts_.download<uint32_t>(2);
+  FlowCount flow;
+  if (counts[1] > 0) {
+    const FlowFrame f = d_.flow_frame(capacity_);
+    const std::vector<glm::vec4> out = drained_.download<glm::vec4>(2 * size_t(counts[1]));
+    for (size_t k = 0; k < out.size(); k += 2) flow.energy -= f.energy(glm::dvec3(glm::vec3(out[k])), glm::dvec3(glm::vec3(out[k + 1])));
+    flow.drained = counts[1];
+    swap_roles(X, Spare0);
+    swap_roles(V, Spare1);
+    id_current_ = 1 - id_current_;
+    n_ = sim_.count = counts[0];
+    density_current_ = lists_built_ = smoothed_current_ = false;
+  }
+  begin();
   return flow;
 }
 

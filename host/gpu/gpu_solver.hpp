@@ -67,6 +67,7 @@ class GpuSolver : public Solver {
   void vorticity_force();
   void move_solids();  // Pass::Move: the solids to the step's end (Derived::move_solids)
   FlowCount apply_flow();  // the frame's drains and emitters, before its steps (sim/flow.hpp)
+  FlowCount drain();       // the drains' passes, submitted and read back: what they took
   void watch();  // flags non-finite, runaway and escaped particles of this step
   // The fluid surface's positions at x, from the last lists (smoothed_positions.comp), into a
   // spare slot, which no pass writes again before the next frame's first grid build, and
@@ -159,6 +160,10 @@ class GpuSolver : public Solver {
   // iteration pair: zero where the pair does not run (check_converged.comp).
   vk::Buffer overflow_groups_, overflow_gated_;
   vk::Buffer coarse_sums_, coarse_phi_, coarse_grad_, coarse_open_;
+  // The drains' passes and buffers (SolverBuffers::drains), where the scene has drains.
+  vk::Program drain_mark_, drain_compact_;
+  vk::Buffer drains_, drained_, drain_counts_;
+  GpuScan drain_keep_;
   vk::Buffer watch_buf_;  // watch.comp: flags, first step, counts, the step being watched
   uint32_t step_in_frame_ = 0;  // adaptive iterations: the last check's measures, dispatch arguments + count
   // White water, where asked for: its count (the living, and the living and born while the
