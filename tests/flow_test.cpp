@@ -30,10 +30,20 @@ Scene coarse_fountain(std::vector<std::string> keys = {}) {
 // Counts, ids and positions agree frame by frame while the drains take the pool's edge and the
 // jet rises (drains: the GPU's particles come down and go back whole), and with the jet alone
 // (only the new particles go up): the flow is the same host function in both.
-class FlowAgreeTest : public test::GpuTest, public ::testing::WithParamInterface<bool> {};
+// (LDC reads rho at x from the last step's lists: both build them anew after the flow.)
+struct FlowCase {
+  const char* name;
+  bool drains;
+  const char* method;
+};
+void PrintTo(const FlowCase& c, std::ostream* os) { *os << c.name; }
+class FlowAgreeTest : public test::GpuTest, public ::testing::WithParamInterface<FlowCase> {};
 
 TEST_P(FlowAgreeTest, GpuAndReferenceAgreeAsWaterEntersAndLeaves) {
-  const Scene scene = GetParam() ? coarse_fountain() : coarse_fountain({"drains=[]"});
+  const FlowCase& c = GetParam();
+  std::vector<std::string> keys{std::string("solver.method=\"") + c.method + "\""};
+  if (!c.drains) keys.push_back("drains=[]");
+  const Scene scene = coarse_fountain(keys);
   const Derived d = derive(scene);
   const auto x0 = initial_particles(scene);
   GpuSolver gpu(test::gpu(), d, x0);
@@ -50,15 +60,17 @@ TEST_P(FlowAgreeTest, GpuAndReferenceAgreeAsWaterEntersAndLeaves) {
     emitted += r.emitted, drained += r.drained;
   }
   EXPECT_GT(emitted, 0u) << "the jet emitted nothing";
-  if (GetParam()) EXPECT_GT(drained, 0u) << "the drains took nothing";
+  if (c.drains) EXPECT_GT(drained, 0u) << "the drains took nothing";
   const ParticleState g = gpu.download();
   ASSERT_EQ(g.id, ref.state.id);
   const test::ErrorReport e = test::compare(g.x, ref.state.x, "positions after 8 steps with flow");
   EXPECT_LT(e.max_abs, 1e-5);  // metres
 }
 
-INSTANTIATE_TEST_SUITE_P(Flow, FlowAgreeTest, ::testing::Bool(),
-                         [](const auto& info) { return info.param ? "drained" : "emitted_alone"; });
+INSTANTIATE_TEST_SUITE_P(Flow, FlowAgreeTest,
+                         ::testing::Values(FlowCase{"drained", true, "pbf"}, FlowCase{"emitted_alone", false, "pbf"},
+                                           FlowCase{"ldc_drained", true, "ldc"}),
+                         [](const auto& info) { return std::string(info.param.name); });
 
 // Every frame's count is the last one's plus what entered less what left; past the capacity the
 // emitters wait (and say so) and the count never passes it.
