@@ -102,20 +102,23 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
   if (plan_.curl) curl_ = vk::Buffer(ctx, plan_.curl);
   if (plan_.x_lambda_spare) x_lambda_spare_ = vk::Buffer(ctx, plan_.x_lambda_spare);
   if (d.coarse.strength > 0) build_coarse();
-  if (!d.drains.empty()) {
-    drain_mark_ = particle_program("drain_mark", std::array<vk::Constant, 1>{{{"DRAINS", int(d.drains.size())}}});
-    drain_compact_ = particle_program("drain_compact");
-    drains_ = vk::Buffer(ctx, plan_.drains);
-    std::vector<glm::vec4> boxes;
-    for (const Drain& b : d.drains) boxes.insert(boxes.end(), {glm::vec4(glm::vec3(b.min), 0.0f), glm::vec4(glm::vec3(b.max), 0.0f)});
-    drains_.upload(std::span<const glm::vec4>(boxes));
-    drained_ = vk::Buffer(ctx, plan_.drained);
-    drain_counts_ = vk::Buffer(ctx, plan_.drain_counts);
-    drain_keep_ = GpuScan(ctx, plan_.drain_keep);
-  }
+  if (!d.drains.empty()) build_drains();
   capacity_ = d.capacity_for(n_);
   next_id_ = n_;
   upload({x0, std::vector<glm::dvec3>(n_, glm::dvec3(0.0)), x0, {}, {}, {}, {}});
+}
+
+// The drains' programs and buffers, where the scene has drains.
+void GpuSolver::build_drains() {
+  drain_mark_ = particle_program("drain_mark", std::array<vk::Constant, 1>{{{"DRAINS", int(d_.drains.size())}}});
+  drain_compact_ = particle_program("drain_compact");
+  drains_ = vk::Buffer(ctx_, plan_.drains);
+  std::vector<glm::vec4> boxes;
+  for (const Drain& b : d_.drains) boxes.insert(boxes.end(), {glm::vec4(glm::vec3(b.min), 0.0f), glm::vec4(glm::vec3(b.max), 0.0f)});
+  drains_.upload(std::span<const glm::vec4>(boxes));
+  drained_ = vk::Buffer(ctx_, plan_.drained);
+  drain_counts_ = vk::Buffer(ctx_, plan_.drain_counts);
+  drain_keep_ = GpuScan(ctx_, plan_.drain_keep);
 }
 
 // The coarse correction's programs and node buffers, where the scene runs it.

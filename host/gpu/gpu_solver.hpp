@@ -125,6 +125,7 @@ class GpuSolver : public Solver {
   void reduce_measures(const vk::Buffer& into);  // (mean c, max c, kinetic energy, max speed) of rho_, v
   void adaptive_iterations();                    // iteration pairs until the target (check_converged)
   void build_coarse();
+  void build_drains();
 
   const vk::Context& ctx_;
   Derived d_;
