@@ -1,9 +1,11 @@
 #include "capture/particle_export.hpp"
 
+#include <algorithm>
 #include <bit>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <numeric>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -34,15 +36,18 @@ struct Column {
   std::vector<float> values;
 };
 
-// The frame's fluid particles in id order: positions, velocity, density.
+// The frame's fluid particles in ascending id order (0 to n - 1 unless emitters or drains changed
+// them): positions, velocity, density.
 std::vector<Column> fluid_columns(const ParticleFrame& f) {
   const size_t n = f.x.size();
   if (f.v.size() != n || f.rho.size() != n || f.id.size() != n) throw std::runtime_error("inconsistent particle frame");
   std::vector<Column> c = {{"", 3, std::vector<float>(3 * n)}, {"velocity", 3, std::vector<float>(3 * n)},
                            {"density", 1, std::vector<float>(n)}};
-  for (size_t k = 0; k < n; ++k) {
-    const size_t i = f.id[k];
-    if (i >= n) throw std::runtime_error("particle id out of range");
+  std::vector<size_t> order(n);
+  std::iota(order.begin(), order.end(), size_t(0));
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return f.id[a] < f.id[b]; });
+  for (size_t i = 0; i < n; ++i) {
+    const size_t k = order[i];
     for (int a = 0; a < 3; ++a) c[0].values[3 * i + a] = f.x[k][a], c[1].values[3 * i + a] = f.v[k][a];
     c[2].values[i] = f.rho[k];
   }

@@ -5,6 +5,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
 
 #include "gpu/gpu_solver.hpp"
 #include "sim/reference_solver.hpp"
@@ -150,6 +154,37 @@ TEST_F(FlowTest, TheFountainGainsNothingBeyondItsFlowSlow) {
   EXPECT_GT(drained, 0u);
   EXPECT_NEAR(double(gpu.particle_count()), double(start), 0.1 * double(start));
   EXPECT_LE(energy.largest(), 0.01);
+}
+
+// A run with flow exports every frame whole: each PLY holds the frame's count from stats.csv
+// (the rows in ascending id order, ids no longer 0 to n - 1 once particles left).
+TEST(FlowCli, ARunWithFlowExportsEachFramesParticles) {
+  const std::filesystem::path dir = test::fresh_dir("flow_export");
+  // A drain over the floor's first layer by one wall: particles leave at the first frame.
+  const test::CliResult r = test::run_pbflow(
+      "run fountain --no-render --export ply --frames 5 --quiet --param particle_spacing=0.04 --param "
+      "'drains=[{\"min\": [-1, -1, -1], \"max\": [0.1, 0.035, 1]}]' --out " + dir.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  std::ifstream stats(dir / "stats.csv");
+  std::string line;
+  std::getline(stats, line);
+  ASSERT_NE(line.find(",particles,emitted,drained,"), std::string::npos) << line;
+  int frames = 0;
+  uint32_t drained = 0;
+  for (; std::getline(stats, line); ++frames) {
+    std::vector<std::string> cells;
+    std::stringstream row(line);
+    for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
+    const std::string count = cells.at(9);
+    drained += uint32_t(std::stoul(cells.at(11)));
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%05d.ply", frames);
+    std::ifstream ply(dir / "particles" / name, std::ios::binary);
+    std::string header((std::istreambuf_iterator<char>(ply)), std::istreambuf_iterator<char>());
+    EXPECT_NE(header.find("element vertex " + count + "\n"), std::string::npos) << name << " should hold " << count;
+  }
+  EXPECT_EQ(frames, 5);
+  EXPECT_GT(drained, 0u) << "no particle left: the ids stayed 0 to n - 1";
 }
 
 }  // namespace
