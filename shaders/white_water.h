@@ -36,7 +36,10 @@
 
 // A particle is two vec4s: (x, life left in s) and (v, tag). The tag's bits (read as a float's):
 // the kind in the low two, then the emitter's id times WHITE_MOST_BORN plus its birth's number.
+// The id's low 26 bits only (an emitter's particles count ids on): past them the tag, read as a
+// float, could reach an all-ones exponent, a NaN a device may rewrite.
 #define WHITE_KIND_BITS 2u
+#define WHITE_TAG_ID_MASK 0x3FFFFFFu
 // The count of particles alive (a word; the rest of the 16 bytes pad), then the capacity's
 // positions, then their velocities: where the frame buffer keeps them (host/sim/solver.hpp).
 #define WHITE_HEADER_BYTES 16

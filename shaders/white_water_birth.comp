@@ -34,6 +34,6 @@ void main() {
     uint seed = white_seed(emitter, b, sim.frame);
     vec3 offset = vec3(white_unit(seed, 1u), white_unit(seed, 2u), white_unit(seed, 3u)) - 0.5;
     white_x[k] = vec4(xi + SPACING * offset, WHITE_WATER_LIFETIME * (0.5 + white_unit(seed, 4u)));
-    white_v[k] = vec4(vi, uintBitsToFloat((emitter * WHITE_MOST_BORN + b) << WHITE_KIND_BITS | WHITE_FOAM));
+    white_v[k] = vec4(vi, uintBitsToFloat(((emitter & WHITE_TAG_ID_MASK) * WHITE_MOST_BORN + b) << WHITE_KIND_BITS | WHITE_FOAM));
   }
 }

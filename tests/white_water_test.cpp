@@ -117,6 +117,29 @@ TEST_F(WhiteWater, BirthsAgreeWithTheReference) {
   EXPECT_LT(a.life, 1e-5);
 }
 
+// Births are seeded by each fluid particle's id, not its place: with ids as emitters and drains
+// leave them (ascending, with gaps) both solvers still bear the same white water.
+TEST_F(WhiteWater, BirthsAgreeWithTheReferenceWhateverTheIds) {
+  Splash s = splash();
+  s.state.id.resize(s.state.x.size());
+  for (size_t k = 0; k < s.state.id.size(); ++k) s.state.id[k] = uint32_t(1000 + 3 * k);
+  auto gpu_solver = gpu_at(s);
+  GpuSolver& g = *gpu_solver;
+  g.begin();
+  g.grid_at_positions();
+  g.white_water_emit(s.frame_time, 7);
+  g.finish();
+  auto reference = reference_at(s);
+  ReferenceSolver& r = *reference;
+  r.build_grid(r.state.x);
+  r.white_water_emit(s.frame_time, 7);
+  ASSERT_GT(r.white.size(), 100u) << "the splash should make white water";
+  const Agreement a = agree(g.white_water(), r.white);
+  EXPECT_GE(double(a.same_kind), 0.99 * double(r.white.size()));
+  EXPECT_LT(a.x, 1e-5);
+  EXPECT_LT(a.life, 1e-5);
+}
+
 // A frame's moves: each particle typed by the fluid around it (some of each kind), moved as
 // its kind moves, stopped at the walls, aged; those whose life ends are gone in both.
 TEST_F(WhiteWater, MovesAgreeWithTheReference) {

@@ -74,11 +74,12 @@ void ReferenceSolver::white_water_emit(double elapsed, uint32_t frame) {
     });
     WhitePotentials p{trapped / weights / unit, glm::length(towards) / (weights * d_.h), 0, glm::length(vi) / unit};
     if (p.surface > 0) p.outward = glm::dot(vi, -glm::normalize(towards)) / unit;
-    const uint32_t born = white_water_born(p, d_.white_water.emission * elapsed, uint32_t(i), frame);
+    const uint32_t id = state.id[i];  // the emitter's id, as the GPU's (not its place: drains move them)
+    const uint32_t born = white_water_born(p, d_.white_water.emission * elapsed, id, frame);
     for (uint32_t b = 0; b < born && white.size() < white_water_capacity(); ++b) {
-      const WhiteRandom r(uint32_t(i), b, frame);
+      const WhiteRandom r(id, b, frame);
       white.push_back({xi + d_.spacing * (r.offset() - 0.5), vi, d_.white_water.lifetime * (0.5 + r.life()),
-                       (uint32_t(i) * WHITE_MOST_BORN + b) << WHITE_KIND_BITS | WHITE_FOAM});
+                       ((id & WHITE_TAG_ID_MASK) * WHITE_MOST_BORN + b) << WHITE_KIND_BITS | WHITE_FOAM});
     }
   }
 }
