@@ -5,7 +5,6 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
-#include <numeric>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -43,9 +42,7 @@ std::vector<Column> fluid_columns(const ParticleFrame& f) {
   if (f.v.size() != n || f.rho.size() != n || f.id.size() != n) throw std::runtime_error("inconsistent particle frame");
   std::vector<Column> c = {{"", 3, std::vector<float>(3 * n)}, {"velocity", 3, std::vector<float>(3 * n)},
                            {"density", 1, std::vector<float>(n)}};
-  std::vector<size_t> order(n);
-  std::iota(order.begin(), order.end(), size_t(0));
-  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return f.id[a] < f.id[b]; });
+  const std::vector<size_t> order = ascending_ids(f.id);
   for (size_t i = 0; i < n; ++i) {
     const size_t k = order[i];
     for (int a = 0; a < 3; ++a) c[0].values[3 * i + a] = f.x[k][a], c[1].values[3 * i + a] = f.v[k][a];

@@ -194,9 +194,7 @@ void GpuSolver::upload(const ParticleState& s) {
 
 ParticleState GpuSolver::download() const {
   const auto ids = id_[id_current_].download<uint32_t>(n_);
-  std::vector<uint32_t> order(n_);  // the entries in ascending id order
-  std::iota(order.begin(), order.end(), 0u);
-  std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return ids[a] < ids[b]; });
+  const std::vector<size_t> order = ascending_ids(ids);
   auto unpack3 = [&](const vk::Buffer& b) {
     auto raw = b.download<glm::vec4>(n_);
     std::vector<glm::dvec3> out(n_);
@@ -209,7 +207,7 @@ ParticleState GpuSolver::download() const {
     return out;
   };
   ParticleState s;
-  for (uint32_t k : order) s.id.push_back(ids[k]);
+  for (size_t k : order) s.id.push_back(ids[k]);
   s.x = unpack3(at(X));
   s.v = unpack3(at(V));
   s.x_pred = unpack3(at(XPred));
@@ -708,8 +706,7 @@ FrameStats GpuSolver::advance(int steps) {
   finish();
   FrameStats s = read_measures();
   if (steps > 0) read_times(s, steps, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
-  s.count = n_;
-  s.emitted = flow.emitted, s.drained = flow.drained, s.flow_energy = flow.energy, s.paused = flow.paused;
+  s.count_flow(flow, n_);
   return s;
 }
 

@@ -183,8 +183,7 @@ size_t Derived::capacity_for(size_t start) const {
 }
 
 FlowFrame Derived::flow_frame(size_t capacity) const {
-  return {mass, spacing, gravity, glm::mix(domain_min, domain_max, glm::dvec3(glm::greaterThan(gravity, glm::dvec3(0.0)))),
-          capacity, emitting};
+  return {mass, spacing, gravity, lowest(), capacity, emitting};
 }
 
 }  // namespace pbflow

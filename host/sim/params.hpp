@@ -194,6 +194,10 @@ struct Derived {
   // capacity below the start and the emitters' first layers is bad input (InputError).
   size_t capacity_for(size_t start) const;
   FlowFrame flow_frame(size_t capacity) const;
+  // The domain's lowest corner along g: where potential energy is measured from (reduce_stats.comp).
+  glm::dvec3 lowest() const {
+    return glm::mix(domain_min, domain_max, glm::dvec3(glm::greaterThan(gravity, glm::dvec3(0.0))));
+  }
 };
 
 // The lambda averages a pair of iterations gets unless the scene says: four from three

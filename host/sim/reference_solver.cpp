@@ -447,8 +447,7 @@ void ReferenceSolver::density_at_positions() {
 
 FrameStats ReferenceSolver::measure() const {
   FrameStats s;
-  // The domain's lowest corner along g (shaders/reduce_stats.comp).
-  const dvec3 lowest = glm::mix(d_.domain_min, d_.domain_max, glm::dvec3(glm::greaterThan(d_.gravity, dvec3(0.0))));
+  const dvec3 lowest = d_.lowest();
   for (size_t i = 0; i < state.x.size(); ++i) {
     s.potential_energy += d_.mass * glm::dot(-d_.gravity, state.x[i] - lowest);
     double c = std::max(state.rho[i] / d_.rho0 - 1.0, 0.0);
@@ -592,8 +591,7 @@ FrameStats ReferenceSolver::advance(int steps) {
   s.step_ms = steps > 0 ? steps_ms / steps : 0.0;
   s.iterations = steps > 0 ? double(iterations_run_) / steps : 0.0;
   s.divergence = watch_;
-  s.count = uint32_t(state.x.size());
-  s.emitted = flow.emitted, s.drained = flow.drained, s.flow_energy = flow.energy, s.paused = flow.paused;
+  s.count_flow(flow, state.x.size());
   return s;
 }
 

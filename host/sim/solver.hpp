@@ -3,6 +3,7 @@
 #include <glm/glm.hpp>
 
 #include "shaders/white_water.h"
+#include "sim/flow.hpp"
 #include "sim/solids/motion.hpp"
 #include "sim/solids/obstacles.hpp"
 
@@ -64,6 +65,9 @@ struct FrameStats {
   // Mean GPU time per step of each pass group; filled only while profiling (GpuSolver).
   std::array<double, kStepGroups> pass_ms{};
   Divergence divergence;
+  void count_flow(const FlowCount& f, size_t particles) {
+    count = uint32_t(particles), emitted = f.emitted, drained = f.drained, flow_energy = f.energy, paused = f.paused;
+  }
 };
 
 // docs/design.md's energy gain of a run: the largest (E_k - E_0) / PE_0 over its frames, with
@@ -124,6 +128,15 @@ struct WhiteParticle {
 // water alive, where asked for (FrameOutputs::white_water): (x, life) and (v, tag's bits). On the
 // GPU they lie back to back in one buffer (frame_bytes), white water last: a count, then room for
 // the capacity's positions and velocities; ids are read only for export.
+// The entries of `ids` (a solver's order) in ascending id order: how download() and the exports
+// lay particles out whatever the ids (emitters and drains leave gaps).
+inline std::vector<size_t> ascending_ids(const std::vector<uint32_t>& ids) {
+  std::vector<size_t> order(ids.size());
+  for (size_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return ids[a] < ids[b]; });
+  return order;
+}
+
 struct ParticleFrame {
   std::vector<glm::vec4> x, v;
   std::vector<float> rho;
