@@ -27,26 +27,29 @@ const char* export_extension(ExportFormat format) { return format == ExportForma
 
 namespace {
 
-// A point attribute: a name and `components` floats a particle (1 or 3; the positions are the
-// first column, named "").
+// A point attribute: a name and `components` values a particle (1 or 3; the positions are the
+// first column, named ""), floats or, `whole`, 32-bit unsigned integers held in their bits.
 struct Column {
   std::string name;
   int components;
   std::vector<float> values;
+  bool whole = false;
 };
 
 // The frame's fluid particles in ascending id order (0 to n - 1 unless emitters or drains changed
-// them): positions, velocity, density.
-std::vector<Column> fluid_columns(const ParticleFrame& f) {
+// them): positions, velocity, density and, `with_ids`, each one's id.
+std::vector<Column> fluid_columns(const ParticleFrame& f, bool with_ids) {
   const size_t n = f.x.size();
   if (f.v.size() != n || f.rho.size() != n || f.id.size() != n) throw std::runtime_error("inconsistent particle frame");
   std::vector<Column> c = {{"", 3, std::vector<float>(3 * n)}, {"velocity", 3, std::vector<float>(3 * n)},
                            {"density", 1, std::vector<float>(n)}};
+  if (with_ids) c.push_back({"id", 1, std::vector<float>(n), true});
   const std::vector<size_t> order = ascending_ids(f.id);
   for (size_t i = 0; i < n; ++i) {
     const size_t k = order[i];
     for (int a = 0; a < 3; ++a) c[0].values[3 * i + a] = f.x[k][a], c[1].values[3 * i + a] = f.v[k][a];
     c[2].values[i] = f.rho[k];
+    if (with_ids) c[3].values[i] = std::bit_cast<float>(f.id[k]);
   }
   return c;
 }
@@ -73,7 +76,7 @@ void put(std::FILE* out, const void* data, size_t bytes) {
 void write_ply(std::FILE* out, const std::vector<Column>& columns, size_t n, const char* comment) {
   std::fprintf(out, "ply\nformat binary_little_endian 1.0\ncomment %s\nelement vertex %zu\n", comment, n);
   for (const Column& c : columns) {
-    if (c.components == 1) std::fprintf(out, "property float %s\n", c.name.c_str());
+    if (c.components == 1) std::fprintf(out, "property %s %s\n", c.whole ? "uint" : "float", c.name.c_str());
     for (int a = 0; a < c.components && c.components == 3; ++a)
       std::fprintf(out, "property float %s%c\n", c.name.empty() ? "" : "v", "xyz"[a]);
   }
@@ -105,8 +108,8 @@ void write_vtp(std::FILE* out, const std::vector<Column>& columns, size_t n) {
                "      <PointData Vectors=\"velocity\" Scalars=\"%s\">\n",
                n, n, columns[2].name.c_str());
   for (size_t k = 1; k < columns.size(); ++k)
-    std::fprintf(out, "        <DataArray type=\"Float32\" Name=\"%s\" NumberOfComponents=\"%d\" format=\"appended\" offset=\"%zu\"/>\n",
-                 columns[k].name.c_str(), columns[k].components, at[k]);
+    std::fprintf(out, "        <DataArray type=\"%s\" Name=\"%s\" NumberOfComponents=\"%d\" format=\"appended\" offset=\"%zu\"/>\n",
+                 columns[k].whole ? "UInt32" : "Float32", columns[k].name.c_str(), columns[k].components, at[k]);
   std::fprintf(out,
                "      </PointData>\n"
                "      <Points>\n"
@@ -144,8 +147,8 @@ void write_columns(const std::filesystem::path& path, ExportFormat format, const
 
 }  // namespace
 
-void write_particles(const std::filesystem::path& path, ExportFormat format, const ParticleFrame& frame) {
-  write_columns(path, format, fluid_columns(frame), "pbflow particles");
+void write_particles(const std::filesystem::path& path, ExportFormat format, const ParticleFrame& frame, bool with_ids) {
+  write_columns(path, format, fluid_columns(frame, with_ids), "pbflow particles");
 }
 
 void write_white_water(const std::filesystem::path& path, ExportFormat format, const ParticleFrame& frame) {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -64,7 +65,9 @@ TEST_P(FlowAgreeTest, GpuAndReferenceAgreeAsWaterEntersAndLeaves) {
     emitted += r.emitted, drained += r.drained;
   }
   EXPECT_GT(emitted, 0u) << "the jet emitted nothing";
-  if (c.drains) EXPECT_GT(drained, 0u) << "the drains took nothing";
+  if (c.drains) {
+    EXPECT_GT(drained, 0u) << "the drains took nothing";
+  }
   const ParticleState g = gpu.download();
   ASSERT_EQ(g.id, ref.state.id);
   const test::ErrorReport e = test::compare(g.x, ref.state.x, "positions after 8 steps with flow");
@@ -171,6 +174,7 @@ TEST(FlowCli, ARunWithFlowExportsEachFramesParticles) {
   ASSERT_NE(line.find(",particles,emitted,drained,"), std::string::npos) << line;
   int frames = 0;
   uint32_t drained = 0;
+  std::vector<uint32_t> before;  // the last frame's ids
   for (; std::getline(stats, line); ++frames) {
     std::vector<std::string> cells;
     std::stringstream row(line);
@@ -180,8 +184,23 @@ TEST(FlowCli, ARunWithFlowExportsEachFramesParticles) {
     char name[32];
     std::snprintf(name, sizeof name, "frame_%05d.ply", frames);
     std::ifstream ply(dir / "particles" / name, std::ios::binary);
-    std::string header((std::istreambuf_iterator<char>(ply)), std::istreambuf_iterator<char>());
-    EXPECT_NE(header.find("element vertex " + count + "\n"), std::string::npos) << name << " should hold " << count;
+    const std::string file((std::istreambuf_iterator<char>(ply)), std::istreambuf_iterator<char>());
+    EXPECT_NE(file.find("element vertex " + count + "\n"), std::string::npos) << name << " should hold " << count;
+    // Each record seven floats and the id; the ids ascend, and a particle keeps its id: each is
+    // one the last frame held, or newer than all of them (an emitter's).
+    ASSERT_NE(file.find("property float density\nproperty uint id\nend_header\n"), std::string::npos) << name;
+    const size_t body = file.find("end_header\n") + 11, records = (file.size() - body) / 32;
+    ASSERT_EQ(records, std::stoul(count)) << name;
+    std::vector<uint32_t> ids(records);
+    for (size_t k = 0; k < records; ++k) std::memcpy(&ids[k], file.data() + body + 32 * k + 28, 4);
+    EXPECT_TRUE(std::is_sorted(ids.begin(), ids.end()) && std::adjacent_find(ids.begin(), ids.end()) == ids.end()) << name;
+    const uint32_t newest = before.empty() ? 0 : before.back();
+    for (uint32_t id : ids)
+      EXPECT_TRUE(before.empty() || id > newest || std::binary_search(before.begin(), before.end(), id)) << name << " id " << id;
+    if (drained > 0) {
+      EXPECT_GE(ids.back(), ids.size()) << name << ": the drained particles' ids left no gap";
+    }
+    before = ids;
   }
   EXPECT_EQ(frames, 5);
   EXPECT_GT(drained, 0u) << "no particle left: the ids stayed 0 to n - 1";

@@ -273,7 +273,7 @@ RunTotals simulate_frames(const Scene& scene, const Derived& d, Solver& solver, 
     if (export_format != capture::ExportFormat::None) {
       ParticleFrame f = solver.read_frame();
       to_world(f, solver.tank(), d.dt);
-      capture::write_particles(dir.particle_path(frame), export_format, f);
+      capture::write_particles(dir.particle_path(frame), export_format, f, d.flows());
       if (solver.white_water_capacity() > 0) capture::write_white_water(dir.white_water_path(frame), export_format, f);
     }
     auto row = [&rows, &dir, frame, t, s, tank = solver.tank_pose(),
