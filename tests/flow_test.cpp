@@ -161,6 +161,28 @@ TEST_F(FlowTest, TheFountainGainsNothingBeyondItsFlowSlow) {
 
 // A run with flow exports every frame whole: each PLY holds the frame's count from stats.csv
 // (the rows in ascending id order, ids no longer 0 to n - 1 once particles left).
+// A live run makes solvers anew (another setting, its substeps too) and carries the state: the
+// emitters' clock goes with it, in seconds, so a jet that stopped stays stopped, and the solids'
+// clock lands on the nearest step of the new dt.
+TEST(FlowCarry, ASolverMadeAnewKeepsTheEmittersAndTheSolidsClocks) {
+  Scene scene = coarse_fountain({R"(emitters=[{"centre": [0.3, 0.12, 0.4], "normal": [0, 1, 0], "size": [0.1, 0.1], "speed": 2.5, "stop": 0.05}])",
+                                 "drains=[]"});
+  ReferenceSolver first(derive(scene), initial_particles(scene));
+  uint32_t emitted = 0;
+  for (int frame = 0; frame < 5; ++frame) emitted += first.advance(scene.solver.substeps).emitted;
+  ASSERT_GT(emitted, 0u) << "the jet never ran";
+  const SolidsState solids = first.solids();
+  EXPECT_NEAR(solids.flow_time, 5.0 / scene.fps, 1e-12);
+  scene.solver.substeps = 3;  // another step: the clock is a time, not a count of steps
+  ReferenceSolver next(derive(scene), initial_particles(scene));
+  next.upload(first.download());
+  next.carry(solids);
+  EXPECT_NEAR(next.solids().flow_time, solids.flow_time, 0.5 * derive(scene).dt);
+  EXPECT_NEAR(next.solids().time, solids.time, 0.5 * derive(scene).dt);
+  for (int frame = 0; frame < 3; ++frame)
+    EXPECT_EQ(next.advance(scene.solver.substeps).emitted, 0u) << "the jet stopped at 0.05 s began again, frame " << frame;
+}
+
 TEST(FlowCli, ARunWithFlowExportsEachFramesParticles) {
   const std::filesystem::path dir = test::fresh_dir("flow_export");
   // A drain over the floor's first layer by one wall: particles leave at the first frame.

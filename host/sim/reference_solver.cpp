@@ -39,6 +39,9 @@ void ReferenceSolver::upload(const ParticleState& s) {
   // rho as GpuSolver::upload takes it (0 where s has none): the dashpot's until a step measures it.
   state.rho.assign(state.x.size(), 0.0);
   std::copy_n(s.rho.begin(), std::min(s.rho.size(), state.rho.size()), state.rho.begin());
+  // The passes' own arrays at the new count (a live run carries more particles than it started with).
+  state.curl.assign(state.x.size(), dvec3(0.0));
+  state.lambda.assign(state.x.size(), 0.0);
   state.id = s.id;
   if (state.id.empty()) {
     state.id.resize(state.x.size());
@@ -51,7 +54,7 @@ void ReferenceSolver::upload(const ParticleState& s) {
 }
 
 void ReferenceSolver::carry(const SolidsState& s) {
-  steps_moved_ = s.steps;
+  carry_clocks(s, d_.dt, steps_moved_);
   d_.carry_solids(s.obstacles, s.tank);
 }
 

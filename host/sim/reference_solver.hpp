@@ -29,7 +29,9 @@ class ReferenceSolver : public Solver {
   void shake(const Motion& m) override { d_.shake(m, double(steps_moved_) * d_.dt); }
   void tilt(const glm::dquat& to) override { d_.tilt(to, double(steps_moved_) * d_.dt); }
   void set_emitting(bool on) override { d_.emitting = on; }
-  SolidsState solids() const override { return {steps_moved_, d_.obstacles, d_.tank}; }
+  SolidsState solids() const override {
+    return {double(steps_moved_) * d_.dt, d_.obstacles, d_.tank, double(flow_steps_) * d_.dt};
+  }
   void carry(const SolidsState& s) override;
   std::string device_name() const override { return "cpu (C++ reference)"; }
   void set_outputs(FrameOutputs outputs) override;

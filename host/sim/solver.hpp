@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <tuple>
@@ -189,12 +190,14 @@ inline glm::dmat3 decode_shape(const glm::vec4& a, const glm::vec4& b) {
   return glm::dmat3(a.x + 1, b.x, b.y, b.x, a.y + 1, b.z, b.y, b.z, a.z + 1);
 }
 
-// Where the solids stand, how they move and their clock (steps since time 0): what a live run
-// carries from a solver to the one made anew in its place (another setting, a restart).
+// Where the solids stand, how they move, their clock and the emitters': what a live run carries
+// from a solver to the one made anew in its place (another setting, a restart). The clocks are
+// times, s: a solver of another step counts them in its own steps (Solver::carry_clocks).
 struct SolidsState {
-  long steps = 0;
+  double time = 0;  // the solids' (their steps moved times dt)
   std::vector<Obstacle> obstacles;  // as the solver holds them (Derived::obstacles)
   TankMotion tank;
+  double flow_time = 0;  // the emitters' (steps run but held)
 };
 
 class Solver {
@@ -256,6 +259,11 @@ class Solver {
   bool solids_held_ = false;
   size_t capacity_ = 0;
   long flow_steps_ = 0;   // steps run, the emitters' clock
+  // The clocks of `s` in steps of dt: the nearest step, a half step's motion at most.
+  void carry_clocks(const SolidsState& s, double dt, long& steps_moved) {
+    steps_moved = std::lround(s.time / dt);
+    flow_steps_ = std::lround(s.flow_time / dt);
+  }
   uint32_t next_id_ = 0;  // the id an emitter's next particle gets
 };
 
