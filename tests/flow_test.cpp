@@ -183,6 +183,16 @@ TEST(FlowCarry, ASolverMadeAnewKeepsTheEmittersAndTheSolidsClocks) {
     EXPECT_EQ(next.advance(scene.solver.substeps).emitted, 0u) << "the jet stopped at 0.05 s began again, frame " << frame;
 }
 
+// A capacity past what the device holds is bad input that names the key to lower, before anything
+// is written.
+TEST(FlowCli, ACapacityPastTheDeviceIsRefusedNamingIt) {
+  const std::filesystem::path dir = test::fresh_dir("flow_capacity");
+  const test::CliResult r = test::run_pbflow("run fountain --no-render --frames 2 --param capacity=100000000 --out " + dir.string());
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("lower capacity (room for 100000000 particles"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir)) << "a refused run wrote " << dir;
+}
+
 TEST(FlowCli, ARunWithFlowExportsEachFramesParticles) {
   const std::filesystem::path dir = test::fresh_dir("flow_export");
   // A drain over the floor's first layer by one wall: particles leave at the first frame.

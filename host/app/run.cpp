@@ -80,6 +80,9 @@ MemoryNeed check_run_memory(const RunOptions& o, const Scene& scene, const Deriv
   need.host = need.picture + (need.host - need.picture) * solvers;
   MemoryAdvice advice;
   if (full_surface) advice.picture += ", or leave out --fluid-resolution full";
+  if (const double start = particle_estimate(scene); d.flows() && double(d.capacity_for(size_t(start))) > 1.5 * start)
+    advice.particles = "lower capacity (room for " + std::to_string(d.capacity_for(size_t(start))) +
+                       " particles, the start's and what the emitters bring) or " + advice.particles;
   check_memory(need, device, advice);
   return need;
 }
