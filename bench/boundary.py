@@ -24,8 +24,10 @@ def read_ply(path):
     end = data.index(b"end_header\n") + len(b"end_header\n")
     header = data[:end].decode().split("\n")
     n = next(int(line.split()[2]) for line in header if line.startswith("element vertex"))
-    names = [line.split()[2] for line in header if line.startswith("property float")]
-    values = struct.unpack_from(f"<{n * len(names)}f", data, end)
+    properties = [line.split()[1:3] for line in header if line.startswith("property ")]
+    names = [name for _, name in properties]
+    record = "<" + "".join("I" if kind == "uint" else "f" for kind, _ in properties)  # an id is a uint
+    values = [v for k in range(n) for v in struct.unpack_from(record, data, end + k * struct.calcsize(record))]
     return [dict(zip(names, values[k * len(names):(k + 1) * len(names)])) for k in range(n)]
 
 
