@@ -74,14 +74,14 @@ FrameOutputs run_outputs(const RunOptions& o) {
 MemoryNeed check_run_memory(const RunOptions& o, const Scene& scene, const Derived& d, const vk::DeviceInfo* device,
                             size_t solvers) {
   const bool full_surface = o.fluid_resolution == "full";
-  const double pixels = o.render ? double(o.width) * o.height * double(solvers) : 0.0;
-  MemoryNeed need = memory_need(d, particle_estimate(scene), device, {pixels, full_surface}, run_outputs(o));
+  const double pixels = o.render ? double(o.width) * o.height * double(solvers) : 0.0, start = particle_estimate(scene);
+  MemoryNeed need = memory_need(d, start, device, {pixels, full_surface}, run_outputs(o));
   need.device *= solvers;  // each solver's buffers and host arrays, once each
   need.host = need.picture + (need.host - need.picture) * solvers;
   MemoryAdvice advice;
   if (full_surface) advice.picture += ", or leave out --fluid-resolution full";
-  if (const double start = particle_estimate(scene); d.flows() && double(d.capacity_for(size_t(start))) > 1.5 * start)
-    advice.particles = "lower capacity (room for " + std::to_string(d.capacity_for(size_t(start))) +
+  if (const size_t room = d.flows() ? d.capacity_for(size_t(start)) : 0; double(room) > 1.5 * start)
+    advice.particles = "lower capacity (room for " + std::to_string(room) +
                        " particles, the start's and what the emitters bring) or " + advice.particles;
   check_memory(need, device, advice);
   return need;

@@ -157,7 +157,7 @@ void GpuSolver::build_coarse() {
 std::string GpuSolver::device_name() const { return ctx_.info().name; }
 
 void GpuSolver::carry(const SolidsState& s) {
-  carry_clocks(s, d_.dt, steps_moved_);
+  carry_clocks(s, d_.dt);
   d_.carry_solids(s.obstacles, s.tank);
   obstacles_.upload(std::span<const glm::vec4>(pack_obstacles(d_.obstacles, d_.keep_out)));
   if (!d_.coarse.open.empty()) coarse_open_.upload(std::span<const float>(d_.coarse.open));

@@ -44,9 +44,7 @@ class GpuSolver : public Solver {
   void shake(const Motion& m) override { d_.shake(m, double(steps_moved_) * d_.dt); }
   void tilt(const glm::dquat& to) override { d_.tilt(to, double(steps_moved_) * d_.dt); }
   void set_emitting(bool on) override { d_.emitting = on; }
-  SolidsState solids() const override {
-    return {double(steps_moved_) * d_.dt, d_.obstacles, d_.tank, double(flow_steps_) * d_.dt};
-  }
+  SolidsState solids() const override { return solids_state(d_.obstacles, d_.tank, d_.dt); }
   void carry(const SolidsState& s) override;
   std::string device_name() const override;
 
@@ -173,7 +171,6 @@ class GpuSolver : public Solver {
   // births are placed), its lists ([0] the living, [1] where they move before the survivors are
   // packed back into [0]), each (x, life) and (v, tag); the prefix sums that fix their order.
   uint32_t frames_advanced_ = 0;
-  long steps_moved_ = 0;  // steps whose solids have moved: the time is this times dt
   double frame_time_ = 0;  // s the frame's steps advance, for white water
   NeighbourPass white_emit_;
   vk::Program white_advect_, white_compact_, white_birth_;

@@ -54,7 +54,7 @@ void ReferenceSolver::upload(const ParticleState& s) {
 }
 
 void ReferenceSolver::carry(const SolidsState& s) {
-  carry_clocks(s, d_.dt, steps_moved_);
+  carry_clocks(s, d_.dt);
   d_.carry_solids(s.obstacles, s.tank);
 }
 

@@ -29,9 +29,7 @@ class ReferenceSolver : public Solver {
   void shake(const Motion& m) override { d_.shake(m, double(steps_moved_) * d_.dt); }
   void tilt(const glm::dquat& to) override { d_.tilt(to, double(steps_moved_) * d_.dt); }
   void set_emitting(bool on) override { d_.emitting = on; }
-  SolidsState solids() const override {
-    return {double(steps_moved_) * d_.dt, d_.obstacles, d_.tank, double(flow_steps_) * d_.dt};
-  }
+  SolidsState solids() const override { return solids_state(d_.obstacles, d_.tank, d_.dt); }
   void carry(const SolidsState& s) override;
   std::string device_name() const override { return "cpu (C++ reference)"; }
   void set_outputs(FrameOutputs outputs) override;
@@ -115,7 +113,6 @@ class ReferenceSolver : public Solver {
 
   Derived d_;
   uint32_t frames_advanced_ = 0;  // white water's random stream
-  long steps_moved_ = 0;          // steps whose solids have moved: the time is this times dt
   double solid_work_ = 0;         // J/kg moving solids did in the current advance()
   double frame_time_ = 0;         // s the frame's steps advance, for white water
   long iterations_run_ = 0;  // constraint iterations in the current advance()

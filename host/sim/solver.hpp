@@ -259,9 +259,14 @@ class Solver {
   bool solids_held_ = false;
   size_t capacity_ = 0;
   long flow_steps_ = 0;   // steps run, the emitters' clock
+  long steps_moved_ = 0;  // steps whose solids have moved: their time is this times dt
+  // The solids as a solver holds them, with both clocks in s (solids()).
+  SolidsState solids_state(const std::vector<Obstacle>& obstacles, const TankMotion& tank, double dt) const {
+    return {double(steps_moved_) * dt, obstacles, tank, double(flow_steps_) * dt};
+  }
   // The clocks of `s` in steps of dt: the nearest step, a half step's motion at most.
-  void carry_clocks(const SolidsState& s, double dt, long& steps_moved) {
-    steps_moved = std::lround(s.time / dt);
+  void carry_clocks(const SolidsState& s, double dt) {
+    steps_moved_ = std::lround(s.time / dt);
     flow_steps_ = std::lround(s.flow_time / dt);
   }
   uint32_t next_id_ = 0;  // the id an emitter's next particle gets
