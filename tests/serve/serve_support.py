@@ -11,6 +11,12 @@ import subprocess
 import threading
 import time
 
+# A command that makes the run anew (a setting, a scene, a budget's trial runs) holds every frame
+# while it builds: seconds on lavapipe, several times that on two busy cores. Its wait is not a
+# measure of speed (bench/ holds those), so it is long.
+REMAKE_SECONDS = 120
+
+
 class Client:
     def __init__(self, port, path="/ws", timeout=10, host=None, origin=None):
         self.sock = socket.create_connection(("127.0.0.1", port), timeout=timeout)

@@ -14,7 +14,7 @@ import time
 import unittest
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from serve_support import Client, OneServer, Server  # noqa: E402
+from serve_support import REMAKE_SECONDS, Client, OneServer, Server  # noqa: E402
 
 if len(sys.argv) > 1:
     os.environ["PBFLOW_BINARY"] = sys.argv.pop(1)
@@ -131,7 +131,7 @@ class ServeTest(OneServer, unittest.TestCase):
         self.fail("no such frame")
 
     def test_setting_style_and_camera_change_live_and_bad_values_are_refused(self):
-        viewer = Client(self.server.port)
+        viewer = Client(self.server.port, timeout=REMAKE_SECONDS)
         viewer.send(json.dumps({"cmd": "setting", "method": "ldc", "iterations": 1}))
         self.frame_where(viewer, lambda f: f[2]["setting"] == "ldc@1")
         viewer.send(json.dumps({"cmd": "setting", "method": "pbf", "iterations": 2}))
@@ -159,7 +159,7 @@ class ServeTest(OneServer, unittest.TestCase):
         viewer.sock.close()
 
     def test_another_scene_from_a_command_and_only_a_built_in_one(self):
-        viewer = Client(self.server.port)
+        viewer = Client(self.server.port, timeout=REMAKE_SECONDS)
         viewer.send(json.dumps({"cmd": "scene", "name": "drop"}))
         dropped = self.frame_where(viewer, lambda f: f[2]["scene"] == "drop")
         self.assertIn("drop", dropped[2]["about"])
@@ -174,7 +174,7 @@ class ServeTest(OneServer, unittest.TestCase):
         viewer.sock.close()
 
     def test_the_tank_shakes_and_stops_on_command_and_bad_steering_is_refused(self):
-        viewer = Client(self.server.port)
+        viewer = Client(self.server.port, timeout=REMAKE_SECONDS)
         for command, expect in (({"cmd": "drag", "obstacle": 0, "position": [0.1, 0.1, 0.1]}, "the scene has 0 obstacle(s)"),
                                 ({"cmd": "drag", "position": [0.1, 0.1, 0.1]}, "'obstacle' must be an obstacle's index"),
                                 ({"cmd": "drag", "obstacle": 0.5, "position": [0, 0, 0]}, "'obstacle' must be"),
@@ -212,7 +212,7 @@ class ServeTest(OneServer, unittest.TestCase):
         viewer.sock.close()
 
     def test_a_frame_budget_chooses_from_the_front_it_measured(self):
-        viewer = Client(self.server.port)
+        viewer = Client(self.server.port, timeout=REMAKE_SECONDS)
         for command, expect in (({"cmd": "budget", "ms": -1}, "'ms' must be a number in [0, 10000]"),
                                 ({"cmd": "budget", "ms": "fast"}, "'ms'"),
                                 ({"cmd": "budget", "ms": 1e9}, "'ms'")):
@@ -326,7 +326,7 @@ class CompareTest(unittest.TestCase):
         cls.server.stop()
 
     def test_each_panel_shows_its_setting_in_one_picture(self):
-        viewer = Client(self.server.port)
+        viewer = Client(self.server.port, timeout=REMAKE_SECONDS)
         for _ in range(20):
             number, image, stats = viewer.frame()
         self.assertEqual(jpeg_size(image), (3 * 96, 64))
@@ -338,7 +338,7 @@ class CompareTest(unittest.TestCase):
         viewer.sock.close()
 
     def test_restart_and_a_new_scene_take_every_panel_and_settings_stay(self):
-        viewer = Client(self.server.port)
+        viewer = Client(self.server.port, timeout=REMAKE_SECONDS)
         viewer.send(json.dumps({"cmd": "restart"}))
         restarted = None
         for _ in range(100):
