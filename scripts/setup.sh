@@ -15,6 +15,7 @@ packages=(
   libboost-dev libturbojpeg0-dev libavcodec-dev libswscale-dev libavutil-dev
   python3-matplotlib ffmpeg
   libassimp-dev libopenvdb-dev libboost-iostreams-dev
+  libbullet-dev
 )
 if [[ "${1:-}" == "--test" ]]; then
   packages+=(python3-vtk9 chromium chromium-driver python3-selenium)

@@ -19,20 +19,8 @@ namespace fs = std::filesystem;
 
 using Result = pbflow::test::CliResult;
 using pbflow::test::fresh_dir;
+using pbflow::test::read_csv;
 using pbflow::test::run_pbflow;
-
-std::vector<std::vector<double>> read_csv(const fs::path& path, std::string* header) {
-  std::ifstream in(path);
-  std::getline(in, *header);
-  std::vector<std::vector<double>> rows;
-  for (std::string line; std::getline(in, line);) {
-    std::vector<double> row;
-    std::stringstream cells(line);
-    for (std::string cell; std::getline(cells, cell, ',');) row.push_back(std::stod(cell));
-    rows.push_back(row);
-  }
-  return rows;
-}
 
 TEST(Cli, GpuAndCpuWriteMatchingStats) {
   const std::string common = " run dam_break --no-render --frames 4 --param particle_spacing=0.04 --quiet --out ";
@@ -46,7 +34,7 @@ TEST(Cli, GpuAndCpuWriteMatchingStats) {
   auto rows_g = read_csv(gpu / "stats.csv", &header_g), rows_c = read_csv(cpu / "stats.csv", &header_c);
   EXPECT_EQ(header_g,
             "frame,time,mean_compression,max_compression,kinetic_energy,potential_energy,solid_work,max_speed,iterations,"
-            "particles,emitted,drained,flow_energy,step_ms");
+            "particles,emitted,drained,flow_energy,body_energy,step_ms");
   EXPECT_EQ(header_c, header_g);
   ASSERT_EQ(rows_g.size(), 4u);
   ASSERT_EQ(rows_c.size(), 4u);

@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <sstream>
 #include <random>
 
 namespace pbflow::test {
@@ -146,5 +147,19 @@ std::filesystem::path fresh_dir(const std::string& name) {
   std::filesystem::remove_all(dir);
   return dir;
 }
+
+std::vector<std::vector<double>> read_csv(const std::filesystem::path& path, std::string* header) {
+  std::ifstream in(path);
+  std::getline(in, *header);
+  std::vector<std::vector<double>> rows;
+  for (std::string line; std::getline(in, line);) {
+    std::vector<double> row;
+    std::stringstream cells(line);
+    for (std::string cell; std::getline(cells, cell, ',');) row.push_back(std::stod(cell));
+    rows.push_back(row);
+  }
+  return rows;
+}
+
 
 }  // namespace pbflow::test

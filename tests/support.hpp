@@ -65,6 +65,9 @@ pid_t spawn_pbflow(const std::vector<std::string>& args, const std::filesystem::
                    const std::vector<std::string>& env = {}, const std::string& stdout_path = "");
 CliResult finish_pbflow(pid_t pid, const std::filesystem::path& log);
 
+// A CSV file of numbers: its rows, and its header line in `header`.
+std::vector<std::vector<double>> read_csv(const std::filesystem::path& path, std::string* header);
+
 // Whether Debian's python3 imports `module` (matplotlib for the charts, vtk for .vtp files).
 bool python_has(const std::string& module);
 

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The README's pictures: one 1280x720 frame of each built-in scene at its defaults (fluid
 # style, default camera; each at a moment that shows it: the wave up the far wall, the drop going
-# in, the columns' jet, the front thrown over the box, the piston's waves, the paddle's heap, the slosh up an end wall, the cup filling, the fountain's arc, the cup poured over its rim), and an animated preview of the dam break (GIF, 480x270, 15 fps,
+# in, the columns' jet, the front thrown over the box, the piston's waves, the paddle's heap, the slosh up an end wall, the cup filling, the fountain's arc, the cup poured over its rim, the blocks afloat and sunk), and an animated preview of the dam break (GIF, 480x270, 15 fps,
 # its first 2 s), rendered on whatever device `auto` picks.
 #   docs/images/render.sh        (from anywhere; needs build/pbflow and ffmpeg)
 set -euo pipefail
@@ -15,6 +15,9 @@ for pick in dam_break:36 drop:24 double_dam_break:30 dam_obstacle:24 hydrostatic
   build/pbflow run "$scene" --frames $((frame + 1)) --quiet --out "$tmp/$scene"
   cp "$tmp/$scene/frames/frame_$(printf %05d "$frame").png" "$out/${scene}.png"
 done
+# Bodies move on the reference solver alone for now.
+build/pbflow run floating --device cpu --frames 181 --quiet --out "$tmp/floating"
+cp "$tmp/floating/frames/frame_00180.png" "$out/floating.png"
 build/pbflow run dam_break --frames 121 --quiet --width 480 --height 270 --fluid-resolution full --out "$tmp/preview"
 ffmpeg -loglevel error -y -framerate 60 -i "$tmp/preview/frames/frame_%05d.png" \
   -vf "fps=15,split[a][b];[a]palettegen=max_colors=128[p];[b][p]paletteuse=dither=bayer:bayer_scale=3" \

@@ -247,10 +247,12 @@ struct RunTotals {
   bool paused = false;  // an emitter waited for room (said once)
 };
 
-// A frame's rows: stats.csv's and, where the scene's solids move, solids.csv's.
+// A frame's rows: stats.csv's and, where the scene's solids move, solids.csv's; bodies.csv's
+// where it has bodies.
 struct FrameRows {
   StatsCsv stats;
   std::unique_ptr<SolidsCsv> solids;
+  std::unique_ptr<BodiesCsv> bodies;
 };
 
 // The frames: each simulated, its files written, then its rows (a row stands for a frame
@@ -280,9 +282,11 @@ RunTotals simulate_frames(const Scene& scene, const Derived& d, Solver& solver, 
       if (solver.white_water_capacity() > 0) capture::write_white_water(dir.white_water_path(frame), export_format, f);
     }
     auto row = [&rows, &dir, frame, t, s, tank = solver.tank_pose(),
-                poses = rows.solids ? solver.obstacle_poses() : std::vector<Pose>{}] {
+                poses = rows.solids ? solver.obstacle_poses() : std::vector<Pose>{},
+                bodies = rows.bodies ? solver.bodies() : std::vector<Body>{}] {
       rows.stats.write(frame, t, s);
       if (rows.solids) rows.solids->write(frame, t, tank, poses);
+      if (rows.bodies) rows.bodies->write(frame, t, bodies, poses);
       dir.frames_done(frame + 1);
     };
     if (capture)
@@ -406,7 +410,8 @@ int run(const RunOptions& o) {
   };
   RunTotals totals;
   try {
-    FrameRows rows{StatsCsv(dir.stats_path()), d.moving() ? std::make_unique<SolidsCsv>(dir.solids_path()) : nullptr};
+    FrameRows rows{StatsCsv(dir.stats_path()), d.moving() ? std::make_unique<SolidsCsv>(dir.solids_path()) : nullptr,
+                   d.bodies.empty() ? nullptr : std::make_unique<BodiesCsv>(dir.bodies_path())};
     if (std::string w = time_step_warning(scene, d); !w.empty()) std::cerr << "pbflow: " << w << "\n";
     if (!o.quiet) announce(o, scene, d, chosen, *solver, capture.get(), white_water);
     Progress progress(scene.frames, !o.quiet);

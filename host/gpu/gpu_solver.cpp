@@ -7,6 +7,7 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "common/input_error.hpp"
 #include "gpu/memory_estimate.hpp"
 #include "shaders/contract.h"
 #include "vk/check.hpp"
@@ -41,7 +42,10 @@ struct CheckPush {  // check_converged.comp
 
 // Bad input rather than a Vulkan failure: the scene asks for more than this device holds.
 // run.cpp checks the same estimate before any particle is made; this guards every other caller.
+// What this solver can run: the device's memory holds it, and it has no bodies (the reference moves them).
 uint32_t checked_count(const vk::Context& ctx, const Derived& d, size_t n) {
+  if (!d.bodies.empty())
+    throw InputError("the scene has bodies, which only the C++ reference solver moves yet: run it with --device cpu");
   check_device_memory(memory_need(d, double(n), &ctx.info()), ctx.info());
   return uint32_t(n);
 }
@@ -158,7 +162,7 @@ std::string GpuSolver::device_name() const { return ctx_.info().name; }
 
 void GpuSolver::carry(const SolidsState& s) {
   carry_clocks(s, d_.dt);
-  d_.carry_solids(s.obstacles, s.tank);
+  d_.carry_solids(s.obstacles, s.tank, s.bodies);
   obstacles_.upload(std::span<const glm::vec4>(pack_obstacles(d_.obstacles, d_.keep_out)));
   if (!d_.coarse.open.empty()) coarse_open_.upload(std::span<const float>(d_.coarse.open));
 }

@@ -39,12 +39,13 @@ class GpuSolver : public Solver {
   size_t particle_count() const override { return n_; }
   void relax() override;
   std::vector<Pose> obstacle_poses() const override { return d_.obstacle_poses(); }
+  std::vector<Body> bodies() const override { return d_.bodies; }
   const TankMotion& tank() const override { return d_.tank; }
   void drag(size_t k, const glm::dvec3& shift) override { d_.drag(k, shift); }
   void shake(const Motion& m) override { d_.shake(m, double(steps_moved_) * d_.dt); }
   void tilt(const glm::dquat& to) override { d_.tilt(to, double(steps_moved_) * d_.dt); }
   void set_emitting(bool on) override { d_.emitting = on; }
-  SolidsState solids() const override { return solids_state(d_.obstacles, d_.tank, d_.dt); }
+  SolidsState solids() const override { return solids_state(d_.obstacles, d_.tank, d_.bodies, d_.dt); }
   void carry(const SolidsState& s) override;
   std::string device_name() const override;
 

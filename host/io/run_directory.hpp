@@ -52,6 +52,7 @@ class RunDirectory {
 
   std::filesystem::path stats_path() const { return dir_ / "stats.csv"; }
   std::filesystem::path solids_path() const { return dir_ / "solids.csv"; }
+  std::filesystem::path bodies_path() const { return dir_ / "bodies.csv"; }
   std::filesystem::path frame_path(int frame) const;  // frames/frame_N.png
   std::filesystem::path particle_path(int frame) const;
   std::filesystem::path white_water_path(int frame) const;

@@ -30,4 +30,16 @@ class SolidsCsv {
   CsvFile file_;
 };
 
+// DIR/bodies.csv, where the scene has rigid bodies: per frame a row for each (scene order), its
+// centre of mass and turn in the world (a unit quaternion w, x, y, z), its velocity (m/s) and
+// angular velocity (rad/s).
+class BodiesCsv {
+ public:
+  explicit BodiesCsv(const std::filesystem::path& path);
+  void write(int frame, double time, const std::vector<Body>& bodies, const std::vector<Pose>& obstacles);
+
+ private:
+  CsvFile file_;
+};
+
 }  // namespace pbflow

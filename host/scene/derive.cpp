@@ -52,6 +52,7 @@ void derive_domain(const Scene& scene, Derived& d) {
   d.wall_min = d.domain_min + d.keep_out;
   d.wall_max = d.domain_max - d.keep_out;
   for (const Obstacle& o : scene.obstacles) d.obstacles.push_back(o.grown(d.keep_out)), d.walls_mirror &= !o.container;
+  d.bodies = scene.bodies;
   d.tank = TankMotion(scene.tank_motion, scene.domain.floor_centre());
   glm::dvec3 size = d.domain_max - d.domain_min;
   if (glm::any(glm::lessThan(size, glm::dvec3(s))))

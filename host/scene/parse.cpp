@@ -361,6 +361,55 @@ Obstacle obstacle(const json& o, const std::string& path, const Scene& s, const 
   return ob;
 }
 
+// A rigid body (sim/solids/bodies.hpp): a box or a sphere, its density or mass, placed turned
+// about its middle, moving at the start as it says.
+Obstacle body(const json& b, const std::string& path, Scene& s) {
+  require(b.is_object() && b.contains("type") && b["type"].is_string(), path + " needs a \"type\": \"box\" or \"sphere\"");
+  json shape = b;
+  for (const char* key : {"type", "density", "mass", "rotation", "velocity", "angular_velocity"}) shape.erase(key);
+  Obstacle ob;
+  if (b["type"] == "box") {
+    const Box box_ = box(shape, path);
+    ob.min = box_.min, ob.max = box_.max;
+  } else if (b["type"] == "sphere") {
+    const Ball ball_ = ball(shape, path);
+    ob.kind = Obstacle::Kind::Sphere, ob.centre = ball_.centre, ob.radius = ball_.radius;
+  } else {
+    throw InputError(path + ".type must be \"box\" or \"sphere\"");
+  }
+  require(b.contains("density") != b.contains("mass"), path + " needs a \"density\" (kg/m^3) or a \"mass\" (kg), one of them");
+  const double density = number(b, "density", 0), mass = number(b, "mass", 0);
+  require(b.contains("mass") || (density > 0 && density <= 1e5), path + ".density must be a number in (0, 1e5] kg/m^3");
+  require(b.contains("density") || (mass > 0 && mass <= 1e9), path + ".mass must be a number in (0, 1e9] kg");
+  const glm::dmat3 turn = euler_rotation(vec3(b, "rotation", path + ".rotation", {}));
+  ob.pose = ob.previous = {turn, ob.middle() - turn * ob.middle()};
+  for (int k = 0; k < 8; ++k) {  // its box's corners, turned, inside the domain
+    const glm::dvec3 corner = ob.pose.world(glm::mix(ob.low(), ob.high(), glm::dvec3(k & 1, (k >> 1) & 1, (k >> 2) & 1)));
+    require(ob.kind == Obstacle::Kind::Sphere ? inside_domain(s, ob.centre - ob.radius, ob.centre + ob.radius)
+                                              : inside_domain(s, corner, corner),
+            path + " must lie inside the domain");
+  }
+  ob.body = int(s.bodies.size());
+  Body made = make_body(ob, density, mass, s.particle_spacing);
+  made.velocity = vec3(b, "velocity", path + ".velocity", {});
+  made.angular_velocity = glm::radians(vec3(b, "angular_velocity", path + ".angular_velocity", {}));
+  made.obstacle = s.obstacles.size();
+  for (const Obstacle& other : s.obstacles)
+    for (const glm::dvec3& p : made.samples)
+      require(!other.contains(ob.pose.world(p)), path + " overlaps another solid at the start");
+  s.bodies.push_back(std::move(made));
+  return ob;
+}
+
+void read_bodies(const json& j, Scene& s) {
+  const json& bodies = list(j, "bodies");
+  require(bodies.empty() || !s.tank_motion.moves(), "bodies cannot ride a moving tank (domain.motion) yet");
+  for (size_t i = 0; i < bodies.size(); ++i) {
+    Obstacle ob = body(bodies[i], "bodies[" + std::to_string(i) + "]", s);
+    s.obstacles.push_back(std::move(ob));
+  }
+}
+
 // An emitter: a disc (radius) or a rectangle (size) facing along its normal, its layers' points
 // inside the domain and clear of every solid by half a spacing.
 Emitter emitter(const json& e, const std::string& path, const Scene& s) {
@@ -508,6 +557,7 @@ Scene parse_checked(const std::string& json_text, const std::string& origin, con
   const json& obstacles = list(j, "obstacles");
   for (size_t i = 0; i < obstacles.size(); ++i)
     s.obstacles.push_back(obstacle(obstacles[i], "obstacles[" + std::to_string(i) + "]", s, files));
+  read_bodies(j, s);
   read_container(j["domain"], s, files);
   read_flow(j, s);
   s.gravity = vec3(j, "gravity", "gravity", s.gravity);

@@ -8,6 +8,7 @@
 
 #include "common/input_error.hpp"
 #include "sim/flow.hpp"
+#include "sim/solids/bodies.hpp"
 #include "sim/solids/obstacles.hpp"
 #include "sim/params.hpp"
 
@@ -45,7 +46,8 @@ struct Scene {
   double particle_spacing;
   std::vector<Box> fluid_blocks;
   std::vector<Ball> fluid_spheres;
-  std::vector<Obstacle> obstacles;
+  std::vector<Obstacle> obstacles;  // the scene's, then each body's (Obstacle::body), then the domain's mesh
+  std::vector<Body> bodies;
   std::vector<Emitter> emitters;  // sim/flow.hpp; inlet points made by derive()
   std::vector<Drain> drains;
   int capacity = 0;  // 0: chosen (Derived::capacity)

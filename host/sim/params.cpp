@@ -75,8 +75,9 @@ void Derived::make_steerable() {
   for (Obstacle& o : obstacles) o.draggable = true;
 }
 
-void Derived::carry_solids(const std::vector<Obstacle>& placed, const TankMotion& motion) {
+void Derived::carry_solids(const std::vector<Obstacle>& placed, const TankMotion& motion, const std::vector<Body>& moving) {
   obstacles = placed;
+  bodies = moving;
   if (steerable) make_steerable();  // carried from one that was not
   tank = motion;
   measure_open({});
@@ -121,12 +122,14 @@ bool Derived::move_solids(double t) {
   std::vector<Reach> near;
   for (Obstacle& o : obstacles) {
     if (!o.moves()) continue;
-    const glm::dvec3 left = o.shift_to - o.shift;
-    const double most = hand_step(o, spacing, dt);
-    o.shift += glm::length(left) > most ? most * glm::normalize(left) : left;
-    Pose p = o.motion.at(t);
-    p.translation += o.shift;
-    o.move_to(p);
+    if (o.body < 0) {  // a body's pose is its dynamics' (BodyWorld::predict, before this)
+      const glm::dvec3 left = o.shift_to - o.shift;
+      const double most = hand_step(o, spacing, dt);
+      o.shift += glm::length(left) > most ? most * glm::normalize(left) : left;
+      Pose p = o.motion.at(t);
+      p.translation += o.shift;
+      o.move_to(p);
+    }
     if (o.pose == o.previous) continue;  // a draggable obstacle left where it is
     for (const Pose* p : {&o.previous, &o.pose}) near.push_back({p->world(o.middle()), o.extent()});
   }
@@ -140,7 +143,7 @@ double Derived::nearest_moving_solid(const glm::dvec3& x, glm::dvec3& normal, gl
   normal = velocity = glm::dvec3(0.0);
   for (const Obstacle& o : obstacles) {
     glm::dvec3 n;
-    if (!o.moves()) continue;
+    if (!o.moves() || o.body >= 0) continue;  // a body's work on the fluid is in its energy
     if (const double d = o.grown(-keep_out).surface(x, n); d < nearest)
       nearest = d, normal = n, velocity = o.displacement(x) / dt;
   }

@@ -11,6 +11,7 @@
 
 #include "shaders/sim_constants.h"
 #include "sim/flow.hpp"
+#include "sim/solids/bodies.hpp"
 #include "sim/solids/obstacles.hpp"
 #include "sim/white_water.hpp"
 
@@ -130,6 +131,7 @@ struct Derived {
   std::vector<ParamKey> shader_keys;  // the keys of `solver` and `white_water`, offered to every pass
   double keep_out = 0;  // m: how far particle centres stay from every solid's surface, half a spacing
   std::vector<Obstacle> obstacles;  // grown by keep_out: where particle centres may not be
+  std::vector<Body> bodies;         // rigid bodies, each one of the obstacles (Obstacle::body)
   // Whether the box's walls mirror the fluid: not where the domain is a mesh (Obstacle::container),
   // which is then the tank; the walls still keep every particle inside the box.
   bool walls_mirror = true;
@@ -155,9 +157,9 @@ struct Derived {
   // within kSolidStep spacings a step beside its own motion (smoothstep's peak rate is 1.5 times
   // its mean).
   void tilt(const glm::dquat& to, double now);
-  // The solids of this scene as another solver holds them (Solver::carry), their open shares
-  // measured anew; kept steerable where this is.
-  void carry_solids(const std::vector<Obstacle>& placed, const TankMotion& motion);
+  // The solids of this scene and its bodies' velocities as another solver holds them
+  // (Solver::carry), their open shares measured anew; kept steerable where this is.
+  void carry_solids(const std::vector<Obstacle>& placed, const TankMotion& motion, const std::vector<Body>& moving);
   std::vector<Pose> obstacle_poses() const;  // where each stands now
   // The obstacles moved to their poses at time t, the end of a step, and the coarse nodes'
   // open shares measured again where a moving one reaches (at its start pose or its end);

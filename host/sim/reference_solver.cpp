@@ -7,6 +7,7 @@
 #include <numbers>
 #include <numeric>
 #include <stdexcept>
+#include <utility>
 
 #include "shaders/contract.h"
 #include "sim/kernels.hpp"
@@ -29,6 +30,7 @@ ReferenceSolver::ReferenceSolver(const Derived& d, const std::vector<dvec3>& x0)
   capacity_ = d.capacity_for(n);
   next_id_ = uint32_t(n);
   cells_.resize(size_t(d.grid.x) * d.grid.y * d.grid.z);
+  pushes_.resize(d.bodies.size());
 }
 
 void ReferenceSolver::upload(const ParticleState& s) {
@@ -55,7 +57,7 @@ void ReferenceSolver::upload(const ParticleState& s) {
 
 void ReferenceSolver::carry(const SolidsState& s) {
   carry_clocks(s, d_.dt);
-  d_.carry_solids(s.obstacles, s.tank);
+  d_.carry_solids(s.obstacles, s.tank, s.bodies);
 }
 
 glm::ivec3 ReferenceSolver::cell_of(const dvec3& x) const {
@@ -131,7 +133,10 @@ dvec3 ReferenceSolver::correction_force(size_t i, double* work) const {
     if (r <= 0 || r >= d_.h) return;
     const dvec3 term = difference * d_.h * (1 - r / d_.h) * (d / r);
     f += term;
-    if (work && (m.k & kObstacleMirror)) *work += glm::dot(k * term, m.mirrors->solid_velocity) * d_.dt;
+    if (work && (m.k & kObstacleMirror) && m.mirrors->obstacle.body >= 0)
+      push_body(m.mirrors->obstacle.body, xi, k * term * d_.dt * d_.dt);
+    else if (work && (m.k & kObstacleMirror))
+      *work += glm::dot(k * term, m.mirrors->solid_velocity) * d_.dt;
   });
   return k * f;
 }
@@ -158,7 +163,8 @@ dvec3 ReferenceSolver::move_outside_solids(const dvec3& from, dvec3 to, double& 
   // Each obstacle can only shorten the move, so the last shortening is the first entry.
   for (const Obstacle& o : d_.obstacles) {
     const dvec3 stopped = stop_at(o, from, to, kContact * d_.h);
-    if (stopped != to) work += push_work(stopped - to, o.displacement(stopped), d_.dt);
+    if (stopped != to && o.body >= 0) push_body(o.body, stopped, stopped - to);
+    else if (stopped != to) work += push_work(stopped - to, o.displacement(stopped), d_.dt);
     to = stopped;
   }
   return project_out_of_solids(to, work);
@@ -219,30 +225,19 @@ void ReferenceSolver::constraint_apply(double relaxation) {
       dvec3 d = xi - m.of(state.x_pred[j]);
       const dvec3 term = (state.lambda[i] + state.lambda[j]) * kernels::spiky_grad(d, d_.h);
       dp += term;
-      if (m.k & kObstacleMirror) solid_work_ += push_work(scale * term, m.mirrors->solid_velocity * d_.dt, d_.dt);
+      if ((m.k & kObstacleMirror) && m.mirrors->obstacle.body >= 0)
+        push_body(m.mirrors->obstacle.body, xi, scale * term);
+      else if (m.k & kObstacleMirror)
+        solid_work_ += push_work(scale * term, m.mirrors->solid_velocity * d_.dt, d_.dt);
     });
     next[i] = project_out_of_solids(xi + scale * dp, solid_work_);
   }
   state.x_pred = std::move(next);
 }
 
-template <class F>
-void ReferenceSolver::for_each_coarse_node(const dvec3& x, F&& visit) const {
-  const Derived::Coarse& c = d_.coarse;
-  const dvec3 g = (x - d_.wall_min) / c.cell - 0.5;  // nodes at the cells' centres
-  const glm::ivec3 base = glm::ivec3(glm::floor(g));
-  const dvec3 t = g - dvec3(base);
-  for (int k = 0; k < 8; ++k) {
-    const glm::ivec3 o(k & 1, (k >> 1) & 1, (k >> 2) & 1);
-    const glm::ivec3 node = glm::clamp(base + o, glm::ivec3(0), c.nodes - 1);
-    const double w = (o.x ? t.x : 1 - t.x) * (o.y ? t.y : 1 - t.y) * (o.z ? t.z : 1 - t.z);
-    visit(c.index(node), w);
-  }
-}
-
-// As coarse_deposit, coarse_prepare, coarse_sweep, coarse_gradient and coarse_apply.comp, in their order and
-// fixed-point sums.
-void ReferenceSolver::coarse_correction() {
+// As coarse_deposit, coarse_prepare and coarse_sweep.comp, in their order and fixed-point sums:
+// phi on the coarse grid, into coarse_phi_; which nodes hold fluid.
+std::vector<char> ReferenceSolver::coarse_solve() {
   const Derived::Coarse& c = d_.coarse;
   const int count = c.count();
   std::vector<uint32_t> filled(count, 0), excess(count, 0);
@@ -289,7 +284,15 @@ void ReferenceSolver::coarse_correction() {
           phi[k] += overrelaxation * (gauss_seidel - phi[k]);
         }
       }
-  const std::vector<dvec3> grad = coarse_gradient(fluid);
+  return fluid;
+}
+
+// Then as coarse_gradient and coarse_apply.comp: x_pred moved along grad phi.
+void ReferenceSolver::coarse_correction() {
+  const Derived::Coarse& c = d_.coarse;
+  const std::vector<double>& phi = coarse_phi_;
+  const std::vector<dvec3> grad = coarse_gradient(coarse_solve());
+  add_buoyancy(grad);
   for (size_t i = 0; i < state.x.size(); ++i) {
     dvec3 g(0.0);
     double p = 0;
@@ -347,7 +350,10 @@ void ReferenceSolver::viscosity_vorticity() {
       if (r2 <= 0 || r2 >= d_.h * d_.h) return;
       const dvec3 pushed = c * (1 - std::sqrt(r2) / d_.h) * glm::dot(vij, d) / r2 * d;
       damp += pushed;
-      if (m.k & kObstacleMirror) solid_work_ += glm::dot(pushed, m.mirrors->solid_velocity);  // the images' drag
+      if ((m.k & kObstacleMirror) && m.mirrors->obstacle.body >= 0)  // the images' drag
+        push_body(m.mirrors->obstacle.body, state.x[i], pushed);
+      else if (m.k & kObstacleMirror)
+        solid_work_ += glm::dot(pushed, m.mirrors->solid_velocity);
     });
     v_next[i] = state.v[i] + d_.solver.xsph * volume * smooth + damp;
     state.curl[i] = volume * curl;
@@ -368,7 +374,9 @@ void ReferenceSolver::vorticity_force() {
 
 void ReferenceSolver::relax() {
   state.x_pred = state.x;
+  const bool held = std::exchange(solids_held_, true);  // no time passes: the bodies stay
   for (const PlannedPass& pass : relaxation_plan(d_)) run(pass);
+  solids_held_ = held;
   state.x = state.x_pred;
   for (dvec3& v : state.v) v = dvec3(0.0);
 }
@@ -376,29 +384,32 @@ void ReferenceSolver::relax() {
 void ReferenceSolver::run(const PlannedPass& p) {
   switch (p.pass) {
     case Pass::Move:
-      if (solids_held_)
+      if (solids_held_) {
         d_.hold_solids();
-      else
+      } else {
+        predict_bodies();
         d_.move_solids(double(++steps_moved_) * d_.dt);
+      }
       moved_since_lists_ = true;
       break;
     case Pass::Density: density_at_positions(); break;
-    case Pass::CorrectionPredict: correction(), predict(); break;
-    case Pass::Predict: predict(); break;
+    case Pass::CorrectionPredict: correction(), predict(), give_way_bodies(); break;
+    case Pass::Predict: predict(), give_way_bodies(); break;
     case Pass::Grid: build_grid(state.x_pred); break;
     case Pass::Lists: break;  // the reference walks its cells
     case Pass::Lambda: constraint_lambda(); break;
-    case Pass::Coarse: coarse_correction(); break;
+    case Pass::Coarse: coarse_correction(), give_way_bodies(); break;
     case Pass::Smooth: constraint_smooth(); break;
-    case Pass::Apply: constraint_apply(p.relaxation); break;
+    case Pass::Apply: constraint_apply(p.relaxation), give_way_bodies(); break;
     case Pass::Adaptive: adaptive_iterations(); break;
-    case Pass::Velocity: velocity_update(); break;
-    case Pass::Viscosity: viscosity_vorticity(); break;
+    case Pass::Velocity: velocity_update(), finish_bodies_step(); break;
+    case Pass::Viscosity: viscosity_vorticity(), kick_bodies(); break;
     case Pass::Vorticity: vorticity_force(); break;
     case Pass::Watch: watch_step(step_in_frame_++, watch_); break;
     case Pass::Measures:
       measured_ = measure();
       measured_.solid_work = d_.mass * solid_work_;
+      for (const Body& b : d_.bodies) measured_.body_energy += b.energy(d_.obstacles[b.obstacle].pose, d_.gravity, d_.lowest());
       break;
     case Pass::Surface: drawn = smoothed_positions(); break;
     case Pass::WhiteWaterAdvect: white_water_advect(frame_time_); break;
@@ -549,7 +560,8 @@ ReferenceSolver::DrawnParticles ReferenceSolver::smoothed_positions() {
 glm::dvec3 ReferenceSolver::project_out_of_solids(glm::dvec3 x, double& work) const {
   for (const Obstacle& o : d_.obstacles) {
     const dvec3 out = project_out(o, x, d_.wall_min, d_.wall_max);
-    if (out != x) work += push_work(out - x, o.displacement(out), d_.dt);
+    if (out != x && o.body >= 0) push_body(o.body, out, out - x);
+    else if (out != x) work += push_work(out - x, o.displacement(out), d_.dt);
     x = out;
   }
   return glm::clamp(x, d_.wall_min, d_.wall_max);

@@ -4,6 +4,7 @@
 
 #include "shaders/white_water.h"
 #include "sim/flow.hpp"
+#include "sim/solids/bodies.hpp"
 #include "sim/solids/motion.hpp"
 #include "sim/solids/obstacles.hpp"
 
@@ -54,6 +55,9 @@ struct FrameStats {
   // J the moving solids did on the fluid over the frame's steps (their pushes and their
   // images' pressure and drag, sim/solids/mirrors.hpp): what may be added to the energy. 0 without.
   double solid_work = 0;
+  // The rigid bodies' kinetic and potential energy (heights as potential_energy's), J: the fluid's
+  // partner in the energy bars; the work bodies and fluid do on each other is theirs, not solid_work.
+  double body_energy = 0;
   double step_ms = 0;  // mean time of one step (GPU timestamps, else wall time); 0 when no step ran
   double iterations = 0;  // constraint iterations per step, on average (adaptive runs vary)
   double white_water_ms = 0;  // GPU time of the frame's white water passes (GpuSolver; 0 while off)
@@ -80,7 +84,7 @@ class EnergyGain {
  public:
   void add(const FrameStats& s) {
     work_ += s.solid_work + s.flow_energy;  // what the solids and the flow brought in is no gain of the solver's
-    const double energy = s.kinetic_energy + s.potential_energy - work_;
+    const double energy = s.kinetic_energy + s.potential_energy + s.body_energy - work_;
     if (!started_) std::tie(started_, e0_, pe0_, lowest_) = std::tuple(true, energy, s.potential_energy, energy);
     lowest_ = std::min(lowest_, energy);
     if (pe0_ > 0) {
@@ -198,6 +202,7 @@ struct SolidsState {
   std::vector<Obstacle> obstacles;  // as the solver holds them (Derived::obstacles)
   TankMotion tank;
   double flow_time = 0;  // the emitters' (steps run but held)
+  std::vector<Body> bodies;  // their velocities (their poses are their obstacles')
 };
 
 class Solver {
@@ -234,6 +239,8 @@ class Solver {
 
   // Where each obstacle stands after the last advance() (scene order): for drawing them.
   virtual std::vector<Pose> obstacle_poses() const = 0;
+  // The rigid bodies as the last advance() left them (their obstacles' poses: obstacle_poses()).
+  virtual std::vector<Body> bodies() const = 0;
   // The tank's motion: where it stands in the world after the last advance() (the solver works in
   // its frame) and where it stood a step before.
   virtual const TankMotion& tank() const = 0;
@@ -261,8 +268,9 @@ class Solver {
   long flow_steps_ = 0;   // steps run, the emitters' clock
   long steps_moved_ = 0;  // steps whose solids have moved: their time is this times dt
   // The solids as a solver holds them, with both clocks in s (solids()).
-  SolidsState solids_state(const std::vector<Obstacle>& obstacles, const TankMotion& tank, double dt) const {
-    return {double(steps_moved_) * dt, obstacles, tank, double(flow_steps_) * dt};
+  SolidsState solids_state(const std::vector<Obstacle>& obstacles, const TankMotion& tank, const std::vector<Body>& bodies,
+                           double dt) const {
+    return {double(steps_moved_) * dt, obstacles, tank, double(flow_steps_) * dt, bodies};
   }
   // The clocks of `s` in steps of dt: the nearest step, a half step's motion at most.
   void carry_clocks(const SolidsState& s, double dt) {

@@ -33,8 +33,9 @@ struct Obstacle {
   // follows `shift_to` at the speed a step keeps sound. Only a draggable obstacle has one.
   bool draggable = false;
   glm::dvec3 shift{0.0}, shift_to{0.0};
+  int body = -1;  // a rigid body's solid (sim/solids/bodies.hpp): its index in Derived::bodies
 
-  bool moves() const { return draggable || motion.moves(); }
+  bool moves() const { return draggable || motion.moves() || body >= 0; }
 
   bool contains(const glm::dvec3& x) const;   // strictly inside
   Obstacle grown(double margin) const;        // every surface moved out by margin

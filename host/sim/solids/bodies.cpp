@@ -1,0 +1,173 @@
+#include "sim/solids/bodies.hpp"
+
+#include <btBulletDynamicsCommon.h>
+#include <glm/gtc/quaternion.hpp>
+
+#include <cmath>
+#include <numbers>
+
+namespace pbflow {
+
+namespace {
+btVector3 bt(const glm::dvec3& v) { return {v.x, v.y, v.z}; }
+glm::dvec3 from_bt(const btVector3& v) { return {v.x(), v.y(), v.z()}; }
+
+btTransform transform(const Pose& p, const glm::dvec3& origin_in_body) {
+  const glm::dmat3& r = p.rotation;  // glm is column-major: r[column][row]
+  btMatrix3x3 basis(r[0][0], r[1][0], r[2][0], r[0][1], r[1][1], r[2][1], r[0][2], r[1][2], r[2][2]);
+  return btTransform(basis, bt(p.world(origin_in_body)));
+}
+
+Pose pose_of(const btTransform& t, const glm::dvec3& origin_in_body) {
+  const btMatrix3x3& b = t.getBasis();
+  Pose p;
+  for (int row = 0; row < 3; ++row)
+    for (int column = 0; column < 3; ++column) p.rotation[column][row] = b[row][column];
+  p.translation = from_bt(t.getOrigin()) - p.rotation * origin_in_body;
+  return p;
+}
+
+// A solid's shape for Bullet, about its middle (where transform() puts the origin).
+std::unique_ptr<btCollisionShape> shape_of(const Obstacle& o, std::unique_ptr<btTriangleMesh>& triangles) {
+  if (o.kind == Obstacle::Kind::Sphere) return std::make_unique<btSphereShape>(o.radius);
+  if (o.kind == Obstacle::Kind::Box) return std::make_unique<btBoxShape>(bt(0.5 * (o.max - o.min)));
+  triangles = std::make_unique<btTriangleMesh>();
+  const std::vector<glm::vec3>& c = *o.corners;
+  for (size_t k = 0; k + 2 < c.size(); k += 3)
+    triangles->addTriangle(bt(glm::dvec3(c[k]) - o.middle()), bt(glm::dvec3(c[k + 1]) - o.middle()),
+                           bt(glm::dvec3(c[k + 2]) - o.middle()));
+  auto mesh = std::make_unique<btBvhTriangleMeshShape>(triangles.get(), true);
+  mesh->setMargin(o.margin);  // its triangles are its own surface; the solid is grown
+  return mesh;
+}
+}  // namespace
+
+double Body::energy(const Pose& p, const glm::dvec3& g, const glm::dvec3& floor) const {
+  const glm::dmat3 i_world = p.rotation * glm::dmat3(inertia.x, 0, 0, 0, inertia.y, 0, 0, 0, inertia.z) *
+                             glm::transpose(p.rotation);
+  return 0.5 * mass * glm::dot(velocity, velocity) + 0.5 * glm::dot(angular_velocity, i_world * angular_velocity) -
+         mass * glm::dot(g, world_centre(p) - floor);
+}
+
+Body make_body(const Obstacle& shape, double density, double mass, double spacing) {
+  Body b;
+  b.centre = shape.middle();
+  const glm::dvec3 size = shape.high() - shape.low();
+  const double volume = shape.kind == Obstacle::Kind::Sphere ? 4.0 / 3.0 * std::numbers::pi * std::pow(shape.radius, 3)
+                                                              : size.x * size.y * size.z;
+  b.mass = mass > 0 ? mass : density * volume;
+  if (shape.kind == Obstacle::Kind::Sphere)
+    b.inertia = glm::dvec3(0.4 * b.mass * shape.radius * shape.radius);
+  else
+    b.inertia = b.mass / 12.0 * glm::dvec3(size.y * size.y + size.z * size.z, size.x * size.x + size.z * size.z,
+                                           size.x * size.x + size.y * size.y);
+  // Cell centres of a lattice half a spacing fine, those inside the shape kept.
+  const glm::ivec3 n = glm::max(glm::ivec3(glm::ceil(size / (0.5 * spacing))), glm::ivec3(2));
+  for (int z = 0; z < n.z; ++z)
+    for (int y = 0; y < n.y; ++y)
+      for (int x = 0; x < n.x; ++x) {
+        const glm::dvec3 p = shape.low() + (glm::dvec3(x, y, z) + 0.5) / glm::dvec3(n) * size;
+        glm::dvec3 normal;
+        if (shape.surface(p, normal) < 0) b.samples.push_back(p);
+      }
+  b.sample_volume = b.samples.empty() ? 0.0 : volume / double(b.samples.size());
+  return b;
+}
+
+void Body::kick(const Pose& p, const BodyPush& push) {
+  velocity += push.impulse / mass;
+  angular_velocity += turn(p, push.moment);
+}
+
+Pose give_way(const Body& b, const Pose& pose, const BodyPush& push) {
+  const glm::dvec3 centre = b.world_centre(pose) + push.impulse / b.mass, turn = b.turn(pose, push.moment);
+  Pose p = pose;
+  if (const double angle = glm::length(turn); angle > 0)
+    p.rotation = glm::mat3_cast(glm::angleAxis(angle, turn / angle)) * pose.rotation;
+  p.translation = centre - p.rotation * b.centre;
+  return p;
+}
+
+void finish_bodies(std::vector<Body>& bodies, const std::vector<Obstacle>& obstacles, double dt) {
+  for (Body& b : bodies) {
+    const Obstacle& o = obstacles[b.obstacle];
+    const glm::dquat turned = glm::quat_cast(o.pose.rotation * glm::transpose(o.previous.rotation));
+    const double angle = glm::angle(turned);  // in [0, 2 pi): past pi, the other way round
+    const glm::dvec3 axis = angle > 1e-12 ? glm::axis(turned) : glm::dvec3(0.0);
+    b.velocity = (b.world_centre(o.pose) - b.world_centre(o.previous)) / dt;
+    b.angular_velocity = (angle > std::numbers::pi ? angle - 2 * std::numbers::pi : angle) * axis / dt;
+  }
+}
+
+struct BodyWorld::World {
+  btDefaultCollisionConfiguration configuration;
+  btCollisionDispatcher dispatcher{&configuration};
+  btDbvtBroadphase broadphase;
+  btSequentialImpulseConstraintSolver solver;
+  btDiscreteDynamicsWorld world{&dispatcher, &broadphase, &solver, &configuration};
+  std::vector<std::unique_ptr<btTriangleMesh>> triangles;
+  std::vector<std::unique_ptr<btCollisionShape>> shapes;
+  std::vector<std::unique_ptr<btCollisionObject>> solids;  // one per obstacle (bodies' are btRigidBody)
+  std::vector<std::unique_ptr<btRigidBody>> bodies;        // in Body order
+
+  ~World() {
+    for (auto& b : bodies) world.removeRigidBody(b.get());
+    for (auto& s : solids)
+      if (s) world.removeCollisionObject(s.get());
+  }
+};
+
+BodyWorld::BodyWorld(const std::vector<Body>& bodies, const std::vector<Obstacle>& obstacles, const glm::dvec3& wall_min,
+                     const glm::dvec3& wall_max, const glm::dvec3& gravity)
+    : world_(std::make_unique<World>()) {
+  World& w = *world_;
+  w.world.setGravity(bt(gravity));
+  for (int axis = 0; axis < 3; ++axis)  // the box's walls, facing in
+    for (int side = 0; side < 2; ++side) {
+      glm::dvec3 normal(0.0);
+      normal[axis] = side ? -1.0 : 1.0;
+      const double offset = side ? -wall_max[axis] : wall_min[axis];
+      w.shapes.push_back(std::make_unique<btStaticPlaneShape>(bt(normal), offset));
+      w.solids.push_back(std::make_unique<btCollisionObject>());
+      w.solids.back()->setCollisionShape(w.shapes.back().get());
+      w.world.addCollisionObject(w.solids.back().get());
+    }
+  for (const Obstacle& o : obstacles) {
+    if (o.body >= 0) continue;
+    w.triangles.emplace_back();
+    w.shapes.push_back(shape_of(o, w.triangles.back()));
+    w.solids.push_back(std::make_unique<btCollisionObject>());
+    w.solids.back()->setCollisionShape(w.shapes.back().get());
+    w.solids.back()->setWorldTransform(transform(o.pose, o.middle()));
+    w.world.addCollisionObject(w.solids.back().get());
+  }
+  for (const Body& b : bodies) {
+    const Obstacle& o = obstacles[b.obstacle];
+    std::unique_ptr<btTriangleMesh> unused;
+    w.shapes.push_back(shape_of(o, unused));
+    btRigidBody::btRigidBodyConstructionInfo info(b.mass, nullptr, w.shapes.back().get(), bt(b.inertia));
+    w.bodies.push_back(std::make_unique<btRigidBody>(info));
+    w.bodies.back()->setActivationState(DISABLE_DEACTIVATION);
+    w.world.addRigidBody(w.bodies.back().get());
+  }
+}
+
+BodyWorld::~BodyWorld() = default;
+
+void BodyWorld::predict(const std::vector<Body>& bodies, std::vector<Obstacle>& obstacles, double dt) {
+  World& w = *world_;
+  size_t solid = 6;  // after the walls
+  for (const Obstacle& o : obstacles)
+    if (o.body < 0) w.solids[solid++]->setWorldTransform(transform(o.pose, o.middle()));
+  for (size_t k = 0; k < bodies.size(); ++k) {
+    btRigidBody& rb = *w.bodies[k];
+    rb.setWorldTransform(transform(obstacles[bodies[k].obstacle].pose, bodies[k].centre));
+    rb.setLinearVelocity(bt(bodies[k].velocity));
+    rb.setAngularVelocity(bt(bodies[k].angular_velocity));
+  }
+  w.world.stepSimulation(dt, 0);
+  for (size_t k = 0; k < bodies.size(); ++k)
+    obstacles[bodies[k].obstacle].move_to(pose_of(w.bodies[k]->getWorldTransform(), bodies[k].centre));
+}
+
+}  // namespace pbflow
