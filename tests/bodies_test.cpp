@@ -119,6 +119,41 @@ TEST(Bodies, TheMomentumTheFluidGivesABodyIsWhatTheFluidLoses) {
   EXPECT_LT(glm::length((fluid - fluid0) - (body0 - body)), 1e-9 * glm::length(body0));
 }
 
+// Bodies meet the walls, the obstacles and each other a layer of water apart (BodyWorld), and
+// no particle is ever inside one: a ball dropped onto a heavy box in shallow water, and a light
+// box onto a wall-high obstacle's top.
+TEST(Bodies, BodiesRestOnTheFloorObstaclesAndEachOtherWithNothingInside) {
+  const std::string text = R"({"domain": {"min": [0, 0, 0], "max": [0.4, 0.5, 0.2]}, "particle_spacing": 0.02,
+    "fluid_blocks": [{"min": [0, 0, 0], "max": [0.4, 0.1, 0.2]}],
+    "obstacles": [{"type": "box", "min": [0, 0, 0], "max": [0.08, 0.2, 0.2]}],
+    "bodies": [{"type": "box", "min": [0.26, 0.12, 0.05], "max": [0.36, 0.18, 0.15], "density": 1500},
+               {"type": "sphere", "centre": [0.31, 0.32, 0.1], "radius": 0.04, "density": 2000},
+               {"type": "box", "min": [0.02, 0.3, 0.05], "max": [0.06, 0.34, 0.15], "density": 500}]})";
+  const Scene scene = parse_scene(text, "test", {});
+  const Derived d = derive(scene);
+  ReferenceSolver solver(d, initial_particles(scene));
+  relax_start(solver), settle(solver, d);
+  EnergyGain energy;
+  size_t inside = 0;
+  for (int frame = 0; frame <= 180; ++frame) {
+    energy.add(solver.advance(frame == 0 ? 0 : scene.solver.substeps));
+    for (const Body& b : solver.bodies())
+      for (const glm::dvec3& x : solver.state.x) inside += solver.derived().obstacles[b.obstacle].grown(-0.5 * d.keep_out).contains(x);
+  }
+  const std::vector<Body> bodies = solver.bodies();
+  const std::vector<Pose> poses = solver.obstacle_poses();
+  auto height = [&](size_t k) { return bodies[k].world_centre(poses[bodies[k].obstacle]).y; };
+  const double box = height(0), ball = height(1), top = height(2);
+  std::printf("rest heights: box %.4f (0.05), ball %.4f (0.14), box on the obstacle %.4f (0.24); %zu inside; energy %.4f\n",
+              box, ball, top, inside, energy.largest());
+  EXPECT_NEAR(box, 0.05, 0.002);
+  EXPECT_NEAR(ball, 0.14, 0.002);
+  EXPECT_NEAR(top, 0.24, 0.002);
+  EXPECT_EQ(inside, 0u);
+  for (const Body& b : bodies) EXPECT_LT(glm::length(b.velocity), 0.02);
+  EXPECT_LE(energy.largest(), 0.01);
+}
+
 TEST(Bodies, BadBodiesAreRefusedNamingThem) {
   auto error = [](const std::string& text) {
     try {

@@ -29,6 +29,7 @@ void ReferenceSolver::give_way_bodies() {
     o.pose = give_way(d_.bodies[k], o.pose, pushes_[k]);
     pushes_[k] = {};
   }
+  if (body_world_) body_world_->separate(d_.bodies, d_.obstacles);
 }
 
 void ReferenceSolver::finish_bodies_step() {
