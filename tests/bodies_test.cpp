@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <numbers>
 #include <string>
 
 #include "sim/reference_solver.hpp"
@@ -154,6 +155,44 @@ TEST(Bodies, BodiesRestOnTheFloorObstaclesAndEachOtherWithNothingInside) {
   EXPECT_LE(energy.largest(), 0.01);
 }
 
+// A mesh body's mass, centre and inertia come from the points filling it: the ball mesh (an
+// icosphere, its volume 1 % under the sphere's) against the sphere, and it floats where the
+// sphere of its mass does.
+TEST(Bodies, AMeshBodyWeighsAndFloatsAsItsShape) {
+  const std::string mesh = std::string(PBFLOW_TEST_DATA) + "/../scenes/meshes/ball.obj";
+  auto scene_with = [&](const std::string& body) {
+    return parse_scene(R"({"domain": {"min": [0, 0, 0], "max": [0.4, 0.4, 0.2]}, "particle_spacing": 0.02,
+      "fluid_blocks": [{"min": [0, 0, 0], "max": [0.4, 0.2, 0.2]}], "bodies": [)" + body + "]}", "test", {});
+  };
+  const Scene meshed = scene_with(R"({"type": "mesh", "file": ")" + mesh +
+                                  R"(", "scale": 0.5, "position": [0.2, 0.3, 0.1], "rotation": [20, 0, 0], "density": 500})");
+  const double r = 0.05, sphere = 500 * 4.0 / 3.0 * std::numbers::pi * r * r * r;
+  const Body& b = meshed.bodies[0];
+  std::printf("mesh ball: %.4f kg (sphere %.4f), inertia %.3g %.3g %.3g (sphere %.3g)\n", b.mass, sphere, b.inertia.x,
+              b.inertia.y, b.inertia.z, 0.4 * b.mass * r * r);
+  EXPECT_NEAR(b.mass, sphere, 0.03 * sphere);
+  for (int a = 0; a < 3; ++a) EXPECT_NEAR(b.inertia[a], 0.4 * b.mass * r * r, 0.05 * 0.4 * b.mass * r * r);
+  EXPECT_NEAR(glm::length(b.centre - glm::dvec3(0.2, 0.3, 0.1)), 0.0, 1e-3);
+  EXPECT_NEAR(glm::determinant(b.axes), 1.0, 1e-9);
+  auto float_height = [](const Scene& scene) {
+    const Derived d = derive(scene);
+    ReferenceSolver solver(d, initial_particles(scene));
+    relax_start(solver), settle(solver, d);
+    double sum = 0;
+    for (int frame = 1; frame <= 240; ++frame) {
+      solver.advance(scene.solver.substeps);
+      const Body body = solver.bodies()[0];
+      if (frame > 180) sum += body.world_centre(solver.obstacle_poses()[body.obstacle]).y / 60;
+    }
+    return sum;
+  };
+  const double as_mesh = float_height(meshed),
+               as_sphere = float_height(scene_with(R"({"type": "sphere", "centre": [0.2, 0.3, 0.1], "radius": 0.05,
+                                                      "mass": )" + std::to_string(b.mass) + "}"));
+  std::printf("floats at %.4f m as a mesh, %.4f m as a sphere\n", as_mesh, as_sphere);
+  EXPECT_NEAR(as_mesh, as_sphere, 0.25 * 0.02);
+}
+
 TEST(Bodies, BadBodiesAreRefusedNamingThem) {
   auto error = [](const std::string& text) {
     try {
@@ -179,7 +218,10 @@ TEST(Bodies, BadBodiesAreRefusedNamingThem) {
   EXPECT_EQ(error(with(R"([{"type": "box", "min": [0.4, 0.5, 0.4], "max": [0.6, 0.6, 0.6], "density": 500,
                             "rotation": [0, 0, 90], "velocity": [0, 0, 0]}, {"type": "sphere", "centre": [0.5, 0.55, 0.5], "radius": 0.05, "density": 500}])")),
             "bodies[1] overlaps another solid at the start");
-  EXPECT_EQ(error(with(R"([{"type": "cone", "density": 500}])")), "bodies[0].type must be \"box\" or \"sphere\"");
+  EXPECT_EQ(error(with(R"([{"type": "cone", "density": 500}])")), "bodies[0].type must be \"box\", \"sphere\" or \"mesh\"");
+  EXPECT_EQ(error(with(R"([{"type": "sphere", "centre": [0.5, 0.5, 0.5], "radius": 0.05, "density": 500, "velocity": [0, -30, 0]}])")),
+            "bodies[0] starts at 30 m/s at its fastest point, faster than the 12 m/s this time step keeps sound (a kernel "
+            "radius a step): slow it or raise solver.substeps");
   EXPECT_EQ(error(with(R"([{"type": "sphere", "centre": [0.5, 0.5, 0.5], "radius": 0.05, "density": 500}])",
                        R"("domain": {"min": [0, 0, 0], "max": [1, 1, 1], "motion": {"type": "oscillate", "axis": [1, 0, 0], "amplitude": 0.01, "period": 1}}, )")),
             "bodies cannot ride a moving tank (domain.motion) yet");

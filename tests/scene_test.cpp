@@ -4,6 +4,7 @@
 
 #include "app/live_run.hpp"
 #include "gpu/gpu_solver.hpp"
+#include "gpu/make_solver.hpp"
 #include "scene/framing.hpp"
 #include "sim/solids/obstacles.hpp"
 #include "sim/reference_solver.hpp"
@@ -28,11 +29,12 @@ TEST_F(SceneTest, EveryBuiltinSceneRunsAFewFramesInsideItsDomain) {
     // either spacing, a larger share at the coarse one: the mixer's bowl keeps 1/9.8.
     const bool curved = std::any_of(full.obstacles.begin(), full.obstacles.end(), [](const Obstacle& o) { return o.container; });
     EXPECT_NEAR(ratio, curved ? 9.0 : 8.0, 1.6) << b.name << ": doubling the spacing should leave about an eighth";
-    GpuSolver solver(test::gpu(), derive(scene), x0);
+    // Bodies run on the reference (the GPU solver refuses them).
+    const std::unique_ptr<Solver> solver = make_solver(scene.bodies.empty() ? &test::gpu() : nullptr, derive(scene), x0);
     FrameStats s;
-    for (int frame = 0; frame < 10; ++frame) s = solver.advance(scene.solver.substeps);
+    for (int frame = 0; frame < 10; ++frame) s = solver->advance(scene.solver.substeps);
     EXPECT_TRUE(std::isfinite(s.kinetic_energy)) << b.name;
-    ParticleState state = solver.download();
+    ParticleState state = solver->download();
     ASSERT_EQ(state.x.size(), s.count);
     if (scene.emitters.empty() && scene.drains.empty()) ASSERT_EQ(state.x.size(), x0.size()) << b.name;
     for (const glm::dvec3& x : state.x) {

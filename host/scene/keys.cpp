@@ -48,10 +48,11 @@ const SceneKey kKeys[] = {
      "between keys, held before the first and after the last); its surface at most half a particle_spacing a step",
      "", {}},
     {"bodies", K::Shapes, "[]", {}, {}, "m, kg/m^3, kg, m/s, degrees/s",
-     "rigid bodies the water moves and that move it: `{\"type\": \"box\", min, max}` or `{\"type\": \"sphere\", "
-     "centre, radius}` with a `density` (kg/m^3) or a `mass` (kg), and optionally `rotation` (degrees about x, then y, "
-     "then z, about its middle), `velocity` and `angular_velocity` (degrees/s) at the start; Bullet moves them under "
-     "gravity and their contacts with the walls, the obstacles and each other; not in a moving tank",
+     "rigid bodies the water moves and that move it: `{\"type\": \"box\", min, max}`, `{\"type\": \"sphere\", "
+     "centre, radius}` or `{\"type\": \"mesh\", file, scale, position}` (a closed mesh; it collides as its convex hull) "
+     "with a `density` (kg/m^3) or a `mass` (kg), and optionally `rotation` (degrees about x, then y, then z, about its "
+     "middle), `velocity` and `angular_velocity` (degrees/s) at the start; Bullet moves them under gravity and their "
+     "contacts with the walls, the obstacles and each other; not in a moving tank",
      "", {}},
     {"emitters", K::Emitters, "[]", {}, {}, "m, m/s, s",
      "inlets `{centre, normal, radius}` (a disc) or `{centre, normal, size: [across, along]}` (a rectangle), "

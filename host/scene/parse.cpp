@@ -361,10 +361,11 @@ Obstacle obstacle(const json& o, const std::string& path, const Scene& s, const 
   return ob;
 }
 
-// A rigid body (sim/solids/bodies.hpp): a box or a sphere, its density or mass, placed turned
-// about its middle, moving at the start as it says.
-Obstacle body(const json& b, const std::string& path, Scene& s) {
-  require(b.is_object() && b.contains("type") && b["type"].is_string(), path + " needs a \"type\": \"box\" or \"sphere\"");
+// A rigid body (sim/solids/bodies.hpp): a box, a sphere or a closed mesh (its file, scale and
+// position), its density or mass, placed turned about its middle, moving at the start as it says.
+Obstacle body(const json& b, const std::string& path, Scene& s, const SceneFiles& files) {
+  require(b.is_object() && b.contains("type") && b["type"].is_string(),
+          path + " needs a \"type\": \"box\", \"sphere\" or \"mesh\"");
   json shape = b;
   for (const char* key : {"type", "density", "mass", "rotation", "velocity", "angular_velocity"}) shape.erase(key);
   Obstacle ob;
@@ -374,8 +375,10 @@ Obstacle body(const json& b, const std::string& path, Scene& s) {
   } else if (b["type"] == "sphere") {
     const Ball ball_ = ball(shape, path);
     ob.kind = Obstacle::Kind::Sphere, ob.centre = ball_.centre, ob.radius = ball_.radius;
+  } else if (b["type"] == "mesh") {
+    ob = mesh_solid(scene_mesh(shape, path, files), s, path);
   } else {
-    throw InputError(path + ".type must be \"box\" or \"sphere\"");
+    throw InputError(path + ".type must be \"box\", \"sphere\" or \"mesh\"");
   }
   require(b.contains("density") != b.contains("mass"), path + " needs a \"density\" (kg/m^3) or a \"mass\" (kg), one of them");
   const double density = number(b, "density", 0), mass = number(b, "mass", 0);
@@ -401,11 +404,11 @@ Obstacle body(const json& b, const std::string& path, Scene& s) {
   return ob;
 }
 
-void read_bodies(const json& j, Scene& s) {
+void read_bodies(const json& j, Scene& s, const SceneFiles& files) {
   const json& bodies = list(j, "bodies");
   require(bodies.empty() || !s.tank_motion.moves(), "bodies cannot ride a moving tank (domain.motion) yet");
   for (size_t i = 0; i < bodies.size(); ++i) {
-    Obstacle ob = body(bodies[i], "bodies[" + std::to_string(i) + "]", s);
+    Obstacle ob = body(bodies[i], "bodies[" + std::to_string(i) + "]", s, files);
     s.obstacles.push_back(std::move(ob));
   }
 }
@@ -470,6 +473,24 @@ void read_flow(const json& j, Scene& s) {
   for (const Box& b : s.fluid_blocks) all = all && drained(b.min, b.max);
   for (const Ball& b : s.fluid_spheres) all = all && drained(b.centre - b.radius, b.centre + b.radius);
   require(!all, "the drains hold all the fluid: nothing would be left to simulate");
+}
+
+// A body's fastest point at the start, its speed and its turn at its reach, may move at most a
+// kernel radius a step, as a falling particle (chosen_substeps): its projection would pass
+// particles it never met.
+void check_body_speed(const Scene& s) {
+  const double h = s.solver.kernel_ratio * s.particle_spacing, most = h * s.fps * s.solver.substeps;
+  for (size_t i = 0; i < s.bodies.size(); ++i) {
+    const Body& b = s.bodies[i];
+    const Obstacle& o = s.obstacles[b.obstacle];
+    const double fastest = glm::length(b.velocity) + glm::length(b.angular_velocity) * o.extent();
+    if (fastest <= most) continue;
+    std::ostringstream m;
+    m.precision(3);
+    m << "bodies[" << i << "] starts at " << fastest << " m/s at its fastest point, faster than the " << most
+      << " m/s this time step keeps sound (a kernel radius a step): slow it or raise solver.substeps";
+    throw InputError(m.str());
+  }
 }
 
 // An emitter's layer may move at most a kernel radius a step, as a falling particle (chosen_substeps).
@@ -557,7 +578,7 @@ Scene parse_checked(const std::string& json_text, const std::string& origin, con
   const json& obstacles = list(j, "obstacles");
   for (size_t i = 0; i < obstacles.size(); ++i)
     s.obstacles.push_back(obstacle(obstacles[i], "obstacles[" + std::to_string(i) + "]", s, files));
-  read_bodies(j, s);
+  read_bodies(j, s, files);
   read_container(j["domain"], s, files);
   read_flow(j, s);
   s.gravity = vec3(j, "gravity", "gravity", s.gravity);
@@ -565,6 +586,7 @@ Scene parse_checked(const std::string& json_text, const std::string& origin, con
   if (s.solver.substeps == SolverParams::kChosenSubsteps) s.solver.substeps = chosen_substeps(s);
   check_solid_speed(s);
   check_emitter_speed(s);
+  check_body_speed(s);
   read_method(j, s.solver);
   read_camera(j, s);
   return s;

@@ -12,65 +12,123 @@ namespace {
 btVector3 bt(const glm::dvec3& v) { return {v.x, v.y, v.z}; }
 glm::dvec3 from_bt(const btVector3& v) { return {v.x(), v.y(), v.z()}; }
 
-btTransform transform(const Pose& p, const glm::dvec3& origin_in_body) {
-  const glm::dmat3& r = p.rotation;  // glm is column-major: r[column][row]
+// Where Bullet's frame of a solid lies in its body frame: a body's at its centre of mass on its
+// principal axes, another solid's at its middle.
+struct Frame {
+  glm::dvec3 origin{0.0};
+  glm::dmat3 axes{1.0};
+};
+Frame frame_of(const Body& b) { return {b.centre, b.axes}; }
+Frame frame_of(const Obstacle& o) { return {o.middle(), glm::dmat3(1.0)}; }
+
+btTransform transform(const Pose& p, const Frame& f) {
+  const glm::dmat3 r = p.rotation * f.axes;  // glm is column-major: r[column][row]
   btMatrix3x3 basis(r[0][0], r[1][0], r[2][0], r[0][1], r[1][1], r[2][1], r[0][2], r[1][2], r[2][2]);
-  return btTransform(basis, bt(p.world(origin_in_body)));
+  return btTransform(basis, bt(p.world(f.origin)));
 }
 
-Pose pose_of(const btTransform& t, const glm::dvec3& origin_in_body) {
+Pose pose_of(const btTransform& t, const Frame& f) {
   const btMatrix3x3& b = t.getBasis();
-  Pose p;
+  glm::dmat3 r;
   for (int row = 0; row < 3; ++row)
-    for (int column = 0; column < 3; ++column) p.rotation[column][row] = b[row][column];
-  p.translation = from_bt(t.getOrigin()) - p.rotation * origin_in_body;
+    for (int column = 0; column < 3; ++column) r[column][row] = b[row][column];
+  Pose p;
+  p.rotation = r * glm::transpose(f.axes);
+  p.translation = from_bt(t.getOrigin()) - p.rotation * f.origin;
   return p;
 }
 
-// A solid's shape for Bullet, about its middle (where transform() puts the origin).
-std::unique_ptr<btCollisionShape> shape_of(const Obstacle& o, std::unique_ptr<btTriangleMesh>& triangles) {
+// A solid's shape for Bullet in its frame f: a mesh body as its convex hull, a standing mesh as its
+// triangles, grown by its margin (its triangles are its own surface).
+std::unique_ptr<btCollisionShape> shape_of(const Obstacle& o, const Frame& f, std::unique_ptr<btTriangleMesh>& triangles) {
   if (o.kind == Obstacle::Kind::Sphere) return std::make_unique<btSphereShape>(o.radius);
   if (o.kind == Obstacle::Kind::Box) return std::make_unique<btBoxShape>(bt(0.5 * (o.max - o.min)));
-  triangles = std::make_unique<btTriangleMesh>();
+  auto local = [&](const glm::vec3& c) { return bt(glm::transpose(f.axes) * (glm::dvec3(c) - f.origin)); };
   const std::vector<glm::vec3>& c = *o.corners;
-  for (size_t k = 0; k + 2 < c.size(); k += 3)
-    triangles->addTriangle(bt(glm::dvec3(c[k]) - o.middle()), bt(glm::dvec3(c[k + 1]) - o.middle()),
-                           bt(glm::dvec3(c[k + 2]) - o.middle()));
+  if (o.body >= 0) {
+    auto hull = std::make_unique<btConvexHullShape>();
+    for (const glm::vec3& corner : c) hull->addPoint(local(corner), false);
+    hull->recalcLocalAabb();
+    hull->setMargin(o.margin);
+    return hull;
+  }
+  triangles = std::make_unique<btTriangleMesh>();
+  for (size_t k = 0; k + 2 < c.size(); k += 3) triangles->addTriangle(local(c[k]), local(c[k + 1]), local(c[k + 2]));
   auto mesh = std::make_unique<btBvhTriangleMeshShape>(triangles.get(), true);
-  mesh->setMargin(o.margin);  // its triangles are its own surface; the solid is grown
+  mesh->setMargin(o.margin);
   return mesh;
 }
 }  // namespace
 
 double Body::energy(const Pose& p, const glm::dvec3& g, const glm::dvec3& floor) const {
-  const glm::dmat3 i_world = p.rotation * glm::dmat3(inertia.x, 0, 0, 0, inertia.y, 0, 0, 0, inertia.z) *
-                             glm::transpose(p.rotation);
+  const glm::dmat3 r = p.rotation * axes;
+  const glm::dmat3 i_world = r * glm::dmat3(inertia.x, 0, 0, 0, inertia.y, 0, 0, 0, inertia.z) * glm::transpose(r);
   return 0.5 * mass * glm::dot(velocity, velocity) + 0.5 * glm::dot(angular_velocity, i_world * angular_velocity) -
          mass * glm::dot(g, world_centre(p) - floor);
 }
 
-Body make_body(const Obstacle& shape, double density, double mass, double spacing) {
-  Body b;
-  b.centre = shape.middle();
-  const glm::dvec3 size = shape.high() - shape.low();
-  const double volume = shape.kind == Obstacle::Kind::Sphere ? 4.0 / 3.0 * std::numbers::pi * std::pow(shape.radius, 3)
-                                                              : size.x * size.y * size.z;
-  b.mass = mass > 0 ? mass : density * volume;
-  if (shape.kind == Obstacle::Kind::Sphere)
-    b.inertia = glm::dvec3(0.4 * b.mass * shape.radius * shape.radius);
-  else
-    b.inertia = b.mass / 12.0 * glm::dvec3(size.y * size.y + size.z * size.z, size.x * size.x + size.z * size.z,
-                                           size.x * size.x + size.y * size.y);
-  // Cell centres of a lattice half a spacing fine, those inside the shape kept.
+namespace {
+// Cell centres of a lattice half a spacing fine over the shape's box, those inside it kept (in
+// its body frame: the shape as the scene places it, unturned).
+std::vector<glm::dvec3> volume_samples(const Obstacle& shape, double spacing, double& cell_volume) {
+  Obstacle own = shape;
+  own.pose = own.previous = Pose{};
+  const glm::dvec3 size = own.high() - own.low();
   const glm::ivec3 n = glm::max(glm::ivec3(glm::ceil(size / (0.5 * spacing))), glm::ivec3(2));
+  cell_volume = size.x * size.y * size.z / (double(n.x) * n.y * n.z);
+  std::vector<glm::dvec3> samples;
   for (int z = 0; z < n.z; ++z)
     for (int y = 0; y < n.y; ++y)
       for (int x = 0; x < n.x; ++x) {
-        const glm::dvec3 p = shape.low() + (glm::dvec3(x, y, z) + 0.5) / glm::dvec3(n) * size;
+        const glm::dvec3 p = own.low() + (glm::dvec3(x, y, z) + 0.5) / glm::dvec3(n) * size;
         glm::dvec3 normal;
-        if (shape.surface(p, normal) < 0) b.samples.push_back(p);
+        if (own.surface(p, normal) < 0) samples.push_back(p);
       }
+  return samples;
+}
+
+// A mesh's centre, principal axes and moments from its samples, each a small cube of its share of
+// the mass (Bullet's Jacobi diagonalisation).
+void mesh_mass_properties(Body& b, double cell_volume) {
+  const double each = b.mass / double(b.samples.size()), side2 = std::cbrt(cell_volume) * std::cbrt(cell_volume);
+  b.centre = glm::dvec3(0.0);
+  for (const glm::dvec3& p : b.samples) b.centre += p / double(b.samples.size());
+  btMatrix3x3 tensor(0, 0, 0, 0, 0, 0, 0, 0, 0);
+  for (const glm::dvec3& p : b.samples) {
+    const glm::dvec3 r = p - b.centre;
+    const double rr = glm::dot(r, r) + side2 / 6.0;  // the cube's own: m s^2 / 6 on each axis
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) tensor[i][j] += each * ((i == j ? rr : 0.0) - r[i] * r[j]);
+  }
+  btMatrix3x3 rotation;
+  rotation.setIdentity();
+  tensor.diagonalize(rotation, 1e-12, 32);  // tensor = rotation diag rotation^T
+  for (int i = 0; i < 3; ++i) {
+    b.inertia[i] = tensor[i][i];
+    for (int j = 0; j < 3; ++j) b.axes[i][j] = rotation[j][i];  // column i: principal axis i
+  }
+  if (glm::determinant(b.axes) < 0) b.axes[2] = -b.axes[2];  // a rotation, not a reflection
+}
+}  // namespace
+
+Body make_body(const Obstacle& shape, double density, double mass, double spacing) {
+  Body b;
+  double cell_volume = 0;
+  b.samples = volume_samples(shape, spacing, cell_volume);
+  const glm::dvec3 size = shape.high() - shape.low();
+  const double volume = shape.kind == Obstacle::Kind::Sphere ? 4.0 / 3.0 * std::numbers::pi * std::pow(shape.radius, 3)
+                        : shape.kind == Obstacle::Kind::Box  ? size.x * size.y * size.z
+                                                             : cell_volume * double(b.samples.size());
+  b.mass = mass > 0 ? mass : density * volume;
   b.sample_volume = b.samples.empty() ? 0.0 : volume / double(b.samples.size());
+  b.centre = shape.middle();
+  if (shape.kind == Obstacle::Kind::Sphere)
+    b.inertia = glm::dvec3(0.4 * b.mass * shape.radius * shape.radius);
+  else if (shape.kind == Obstacle::Kind::Box)
+    b.inertia = b.mass / 12.0 * glm::dvec3(size.y * size.y + size.z * size.z, size.x * size.x + size.z * size.z,
+                                           size.x * size.x + size.y * size.y);
+  else if (!b.samples.empty())
+    mesh_mass_properties(b, cell_volume);
   return b;
 }
 
@@ -139,16 +197,16 @@ BodyWorld::BodyWorld(const std::vector<Body>& bodies, const std::vector<Obstacle
   for (const Obstacle& o : obstacles) {
     if (o.body >= 0) continue;
     w.triangles.emplace_back();
-    w.shapes.push_back(shape_of(o, w.triangles.back()));
+    w.shapes.push_back(shape_of(o, frame_of(o), w.triangles.back()));
     w.solids.push_back(std::make_unique<btCollisionObject>());
     w.solids.back()->setCollisionShape(w.shapes.back().get());
-    w.solids.back()->setWorldTransform(transform(o.pose, o.middle()));
+    w.solids.back()->setWorldTransform(transform(o.pose, frame_of(o)));
     w.world.addCollisionObject(w.solids.back().get());
   }
   for (const Body& b : bodies) {
     const Obstacle& o = obstacles[b.obstacle];
     std::unique_ptr<btTriangleMesh> unused;
-    w.shapes.push_back(shape_of(o, unused));
+    w.shapes.push_back(shape_of(o, frame_of(b), unused));
     btRigidBody::btRigidBodyConstructionInfo info(b.mass, nullptr, w.shapes.back().get(), bt(b.inertia));
     w.bodies.push_back(std::make_unique<btRigidBody>(info));
     w.bodies.back()->setActivationState(DISABLE_DEACTIVATION);
@@ -162,22 +220,22 @@ void BodyWorld::predict(const std::vector<Body>& bodies, std::vector<Obstacle>& 
   World& w = *world_;
   size_t solid = 6;  // after the walls
   for (const Obstacle& o : obstacles)
-    if (o.body < 0) w.solids[solid++]->setWorldTransform(transform(o.pose, o.middle()));
+    if (o.body < 0) w.solids[solid++]->setWorldTransform(transform(o.pose, frame_of(o)));
   for (size_t k = 0; k < bodies.size(); ++k) {
     btRigidBody& rb = *w.bodies[k];
-    rb.setWorldTransform(transform(obstacles[bodies[k].obstacle].pose, bodies[k].centre));
+    rb.setWorldTransform(transform(obstacles[bodies[k].obstacle].pose, frame_of(bodies[k])));
     rb.setLinearVelocity(bt(bodies[k].velocity));
     rb.setAngularVelocity(bt(bodies[k].angular_velocity));
   }
   w.world.stepSimulation(dt, 0);
   for (size_t k = 0; k < bodies.size(); ++k)
-    obstacles[bodies[k].obstacle].move_to(pose_of(w.bodies[k]->getWorldTransform(), bodies[k].centre));
+    obstacles[bodies[k].obstacle].move_to(pose_of(w.bodies[k]->getWorldTransform(), frame_of(bodies[k])));
 }
 
 void BodyWorld::separate(const std::vector<Body>& bodies, std::vector<Obstacle>& obstacles) {
   World& w = *world_;
   for (size_t k = 0; k < bodies.size(); ++k)
-    w.bodies[k]->setWorldTransform(transform(obstacles[bodies[k].obstacle].pose, bodies[k].centre));
+    w.bodies[k]->setWorldTransform(transform(obstacles[bodies[k].obstacle].pose, frame_of(bodies[k])));
   w.world.performDiscreteCollisionDetection();
   std::vector<glm::dvec3> shift(bodies.size(), glm::dvec3(0.0));
   btDispatcher& dispatcher = *w.world.getDispatcher();

@@ -29,7 +29,8 @@ struct BodyPush {
 
 struct Body {
   double mass = 0;                 // kg
-  glm::dvec3 inertia{0.0};         // kg m^2 about the centre of mass, on the body frame's axes
+  glm::dvec3 inertia{0.0};         // kg m^2 about the centre of mass, on its principal axes
+  glm::dmat3 axes{1.0};            // the principal axes in the body frame (columns; a box's and a ball's: its own)
   glm::dvec3 centre{0.0};          // of mass, in the body frame
   glm::dvec3 velocity{0.0};        // of the centre of mass, m/s (world)
   glm::dvec3 angular_velocity{0.0};  // rad/s (world)
@@ -42,7 +43,8 @@ struct Body {
   glm::dvec3 world_centre(const Pose& p) const { return p.world(centre); }
   // The turn (rad, world axis) a moment gives it at pose p: its inverse inertia times the moment.
   glm::dvec3 turn(const Pose& p, const glm::dvec3& moment) const {
-    return p.rotation * ((glm::transpose(p.rotation) * moment) / inertia);
+    const glm::dmat3 r = p.rotation * axes;
+    return r * ((glm::transpose(r) * moment) / inertia);
   }
   // Its velocities changed by a push of momentum (kg m/s) and its moment, at pose p.
   void kick(const Pose& p, const BodyPush& push);
@@ -50,8 +52,8 @@ struct Body {
   double energy(const Pose& p, const glm::dvec3& g, const glm::dvec3& floor) const;
 };
 
-// A box's or a sphere's mass properties at `density` (kg/m^3) or `mass` (kg, where > 0), and
-// the points sampling its volume at about `spacing`.
+// A solid's mass properties at `density` (kg/m^3) or `mass` (kg, where > 0), and the points
+// sampling its volume half a spacing apart: a box's and a ball's exact, a mesh's from the points.
 Body make_body(const Obstacle& shape, double density, double mass, double spacing);
 
 // The body's end-of-step pose after a push: its centre moved by impulse / mass, turned about
