@@ -1,6 +1,7 @@
 // Rigid bodies (sim/solids/bodies.hpp), on the reference solver: a light box floats at the draft
 // its weight sets, a heavy one sinks and rests, a neutral one stays, no run gains energy, the
-// momentum the fluid gives a body is what the fluid loses, and bad bodies are refused.
+// momentum the fluid gives a body is what the fluid loses, and bad bodies are refused. The
+// seconds-long runs are BodiesSlow (the `slow` label: minutes under the sanitizers).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -61,7 +62,7 @@ double mean_of_last(const std::vector<double>& v, size_t n) {
 // Archimedes: a 300 kg/m^3 box 0.06 m tall floats 0.018 m deep. Measured (2026-11-29): 0.0126 m
 // below the water beside it, 0.27 spacings short (the fine pushes' share at a free surface,
 // docs/physics.md "Bodies"); the bar is half a spacing.
-TEST(Bodies, ALightBoxFloatsAtTheDraftItsWeightSets) {
+TEST(BodiesSlow, ALightBoxFloatsAtTheDraftItsWeightSets) {
   const BodyRun run = run_box(tank_with_box(300, 0.25), 300);
   const double draft = run.water - mean_of_last(run.bottom, 60);
   std::printf("draft %.4f m (Archimedes 0.018), speed %.4f m/s over the last second, energy %.4f\n", draft, run.speed,
@@ -73,7 +74,7 @@ TEST(Bodies, ALightBoxFloatsAtTheDraftItsWeightSets) {
 
 // A 1300 kg/m^3 box sinks and rests a layer of water off the floor (solids meet a layer apart:
 // BodyWorld), still.
-TEST(Bodies, AHeavyBoxSinksAndRests) {
+TEST(BodiesSlow, AHeavyBoxSinksAndRests) {
   const BodyRun run = run_box(tank_with_box(1300, 0.25), 360);
   const double rest = mean_of_last(run.bottom, 60);
   std::printf("rests at %.4f m, speed %.4f m/s over the last second, energy %.4f\n", rest, run.speed, run.energy.largest());
@@ -84,7 +85,7 @@ TEST(Bodies, AHeavyBoxSinksAndRests) {
 
 // A box of the water's density in a settled tank stays where it is: measured 6.7 mm (a third
 // of a spacing) down over the first 2 s, then still.
-TEST(Bodies, ANeutralBoxAtRestStaysAtRest) {
+TEST(BodiesSlow, ANeutralBoxAtRestStaysAtRest) {
   const BodyRun run = run_box(tank_with_box(1000, 0.06), 180);
   double farthest = 0;
   for (double b : run.bottom) farthest = std::max(farthest, std::abs(b - 0.06));
@@ -158,7 +159,7 @@ TEST(Bodies, BodiesRestOnTheFloorObstaclesAndEachOtherWithNothingInside) {
 // A mesh body's mass, centre and inertia come from the points filling it: the ball mesh (an
 // icosphere, its volume 1 % under the sphere's) against the sphere, and it floats where the
 // sphere of its mass does.
-TEST(Bodies, AMeshBodyWeighsAndFloatsAsItsShape) {
+TEST(BodiesSlow, AMeshBodyWeighsAndFloatsAsItsShape) {
   const std::string mesh = std::string(PBFLOW_TEST_DATA) + "/../scenes/meshes/ball.obj";
   auto scene_with = [&](const std::string& body) {
     return parse_scene(R"({"domain": {"min": [0, 0, 0], "max": [0.4, 0.4, 0.2]}, "particle_spacing": 0.02,
