@@ -228,17 +228,21 @@ TEST(Bodies, BadBodiesAreRefusedNamingThem) {
             "bodies cannot ride a moving tank (domain.motion) yet");
 }
 
-// `pbflow run` writes bodies.csv (a row per body per frame) and their energy in stats.csv on the
-// reference; the GPU solver refuses bodies with one line until it moves them.
+// `pbflow run` writes bodies.csv (a row per body per frame) and their energy in stats.csv; the
+// device `auto` picks the reference for them and says so; the GPU solver, asked by name, refuses
+// bodies with one line until it moves them.
 TEST(Bodies, TheRunWritesBodiesCsvAndTheGpuSaysItCannotYet) {
   const std::filesystem::path dir = test::fresh_dir("bodies_cli");
   std::filesystem::create_directories(dir);
   {
     std::ofstream(dir / "scene.json") << tank_with_box(300, 0.25);
   }
-  const test::CliResult cpu = test::run_pbflow("run " + (dir / "scene.json").string() + " --device cpu --no-render --quiet --frames 4 --out " +
+  const test::CliResult cpu = test::run_pbflow("run " + (dir / "scene.json").string() + " --no-render --quiet --frames 4 --out " +
                                                (dir / "cpu").string());
   ASSERT_EQ(cpu.status, 0) << cpu.output;
+  EXPECT_NE(cpu.output.find("has bodies, which only the C++ reference solver moves yet: it runs on --device cpu"),
+            std::string::npos)
+      << cpu.output;
   std::string header;
   const auto rows = test::read_csv(dir / "cpu" / "bodies.csv", &header);
   ASSERT_EQ(rows.size(), 4u);
@@ -248,7 +252,7 @@ TEST(Bodies, TheRunWritesBodiesCsvAndTheGpuSaysItCannotYet) {
   const auto stats = test::read_csv(dir / "cpu" / "stats.csv", &header);
   EXPECT_NE(header.find(",flow_energy,body_energy,"), std::string::npos) << header;
   EXPECT_GT(stats[0][13], 0.0);
-  const test::CliResult gpu = test::run_pbflow("run " + (dir / "scene.json").string() + " --no-render --quiet --frames 4 --out " +
+  const test::CliResult gpu = test::run_pbflow("run " + (dir / "scene.json").string() + " --device 0 --no-render --quiet --frames 4 --out " +
                                                (dir / "gpu").string());
   EXPECT_EQ(gpu.status, 2);
   EXPECT_NE(gpu.output.find("only the C++ reference solver moves yet: run it with --device cpu"), std::string::npos)
