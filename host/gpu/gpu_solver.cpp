@@ -40,9 +40,9 @@ struct CheckPush {  // check_converged.comp
   uint32_t full_x, full_y, per_check;
 };
 
-// Bad input rather than a Vulkan failure: the scene asks for more than this device holds.
-// run.cpp checks the same estimate before any particle is made; this guards every other caller.
-// What this solver can run: the device's memory holds it, and it has no bodies (the reference moves them).
+// Bad input rather than a Vulkan failure: the scene has bodies (only the reference moves them), or
+// asks for more than this device holds (run.cpp checks the same estimate before any particle is
+// made; this guards every other caller).
 uint32_t checked_count(const vk::Context& ctx, const Derived& d, size_t n) {
   if (!d.bodies.empty())
     throw InputError("the scene has bodies, which only the C++ reference solver moves yet: run it with --device cpu");

@@ -6,6 +6,14 @@
 
 namespace pbflow {
 
+namespace {
+// A turn as the unit quaternion with w >= 0 (of the two that turn alike).
+glm::dquat unit_turn(const glm::dmat3& rotation) {
+  const glm::dquat q = glm::normalize(glm::quat_cast(rotation));
+  return q.w < 0 ? -q : q;
+}
+}  // namespace
+
 StatsCsv::StatsCsv(const std::filesystem::path& path)
     : file_(path,
             "frame,time,mean_compression,max_compression,kinetic_energy,potential_energy,solid_work,max_speed,"
@@ -27,8 +35,7 @@ void SolidsCsv::write(int frame, double time, const Pose& tank, const std::vecto
 }
 
 void SolidsCsv::row(int frame, double time, const std::string& solid, const Pose& pose) {
-  glm::dquat q = glm::normalize(glm::quat_cast(pose.rotation));
-  if (q.w < 0) q = -q;  // one of the two that turn alike
+  const glm::dquat q = unit_turn(pose.rotation);
   char text[512];
   std::snprintf(text, sizeof text, "%d,%.6f,%s,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", frame, time, solid.c_str(),
                 pose.translation.x, pose.translation.y, pose.translation.z, q.w, q.x, q.y, q.z);
@@ -42,8 +49,7 @@ void BodiesCsv::write(int frame, double time, const std::vector<Body>& bodies, c
   for (size_t k = 0; k < bodies.size(); ++k) {
     const Body& b = bodies[k];
     const Pose& pose = obstacles[b.obstacle];
-    glm::dquat q = glm::normalize(glm::quat_cast(pose.rotation));
-    if (q.w < 0) q = -q;
+    const glm::dquat q = unit_turn(pose.rotation);
     const glm::dvec3 c = b.world_centre(pose), v = b.velocity, w = b.angular_velocity;
     char text[512];
     std::snprintf(text, sizeof text, "%d,%.6f,%zu,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", frame,

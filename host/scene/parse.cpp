@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -361,37 +362,29 @@ Obstacle obstacle(const json& o, const std::string& path, const Scene& s, const 
   return ob;
 }
 
-// A rigid body (sim/solids/bodies.hpp): a box, a sphere or a closed mesh (its file, scale and
-// position), its density or mass, placed turned about its middle, moving at the start as it says.
+// A rigid body (sim/solids/bodies.hpp): an obstacle's shape (box, sphere, closed mesh) with no
+// motion, its density or mass, placed turned about its middle, moving at the start as it says.
 Obstacle body(const json& b, const std::string& path, Scene& s, const SceneFiles& files) {
-  require(b.is_object() && b.contains("type") && b["type"].is_string(),
-          path + " needs a \"type\": \"box\", \"sphere\" or \"mesh\"");
   json shape = b;
-  for (const char* key : {"type", "density", "mass", "rotation", "velocity", "angular_velocity"}) shape.erase(key);
-  Obstacle ob;
-  if (b["type"] == "box") {
-    const Box box_ = box(shape, path);
-    ob.min = box_.min, ob.max = box_.max;
-  } else if (b["type"] == "sphere") {
-    const Ball ball_ = ball(shape, path);
-    ob.kind = Obstacle::Kind::Sphere, ob.centre = ball_.centre, ob.radius = ball_.radius;
-  } else if (b["type"] == "mesh") {
-    ob = mesh_solid(scene_mesh(shape, path, files), s, path);
-  } else {
-    throw InputError(path + ".type must be \"box\", \"sphere\" or \"mesh\"");
-  }
+  if (shape.is_object())
+    for (const char* key : {"density", "mass", "rotation", "velocity", "angular_velocity"}) shape.erase(key);
+  require(!shape.contains("motion"), "unknown scene key '" + path + ".motion'");
+  Obstacle ob = obstacle(shape, path, s, files);
   require(b.contains("density") != b.contains("mass"), path + " needs a \"density\" (kg/m^3) or a \"mass\" (kg), one of them");
   const double density = number(b, "density", 0), mass = number(b, "mass", 0);
   require(b.contains("mass") || (density > 0 && density <= 1e5), path + ".density must be a number in (0, 1e5] kg/m^3");
   require(b.contains("density") || (mass > 0 && mass <= 1e9), path + ".mass must be a number in (0, 1e9] kg");
   const glm::dmat3 turn = euler_rotation(vec3(b, "rotation", path + ".rotation", {}));
   ob.pose = ob.previous = {turn, ob.middle() - turn * ob.middle()};
-  for (int k = 0; k < 8; ++k) {  // its box's corners, turned, inside the domain
-    const glm::dvec3 corner = ob.pose.world(glm::mix(ob.low(), ob.high(), glm::dvec3(k & 1, (k >> 1) & 1, (k >> 2) & 1)));
-    require(ob.kind == Obstacle::Kind::Sphere ? inside_domain(s, ob.centre - ob.radius, ob.centre + ob.radius)
-                                              : inside_domain(s, corner, corner),
-            path + " must lie inside the domain");
+  glm::dvec3 lo = ob.centre - ob.radius, hi = ob.centre + ob.radius;  // a sphere's; a box's turned corners
+  if (ob.kind != Obstacle::Kind::Sphere) {
+    lo = glm::dvec3(std::numeric_limits<double>::infinity()), hi = -lo;
+    for (int k = 0; k < 8; ++k) {
+      const glm::dvec3 corner = ob.pose.world(glm::mix(ob.low(), ob.high(), glm::dvec3(k & 1, (k >> 1) & 1, (k >> 2) & 1)));
+      lo = glm::min(lo, corner), hi = glm::max(hi, corner);
+    }
   }
+  require(inside_domain(s, lo, hi), path + " must lie inside the domain");
   ob.body = int(s.bodies.size());
   Body made = make_body(ob, density, mass, s.particle_spacing);
   made.velocity = vec3(b, "velocity", path + ".velocity", {});
@@ -407,10 +400,7 @@ Obstacle body(const json& b, const std::string& path, Scene& s, const SceneFiles
 void read_bodies(const json& j, Scene& s, const SceneFiles& files) {
   const json& bodies = list(j, "bodies");
   require(bodies.empty() || !s.tank_motion.moves(), "bodies cannot ride a moving tank (domain.motion) yet");
-  for (size_t i = 0; i < bodies.size(); ++i) {
-    Obstacle ob = body(bodies[i], "bodies[" + std::to_string(i) + "]", s, files);
-    s.obstacles.push_back(std::move(ob));
-  }
+  for (size_t i = 0; i < bodies.size(); ++i) s.obstacles.push_back(body(bodies[i], "bodies[" + std::to_string(i) + "]", s, files));
 }
 
 // An emitter: a disc (radius) or a rectangle (size) facing along its normal, its layers' points
@@ -475,11 +465,14 @@ void read_flow(const json& j, Scene& s) {
   require(!all, "the drains hold all the fluid: nothing would be left to simulate");
 }
 
+// A kernel radius a step, m/s: the most a falling particle (chosen_substeps), an emitter's layer
+// or a body's fastest point moves.
+double kernel_step_speed(const Scene& s) { return s.solver.kernel_ratio * s.particle_spacing * s.fps * s.solver.substeps; }
+
 // A body's fastest point at the start, its speed and its turn at its reach, may move at most a
-// kernel radius a step, as a falling particle (chosen_substeps): its projection would pass
-// particles it never met.
+// kernel radius a step: its projection would pass particles it never met.
 void check_body_speed(const Scene& s) {
-  const double h = s.solver.kernel_ratio * s.particle_spacing, most = h * s.fps * s.solver.substeps;
+  const double most = kernel_step_speed(s);
   for (size_t i = 0; i < s.bodies.size(); ++i) {
     const Body& b = s.bodies[i];
     const Obstacle& o = s.obstacles[b.obstacle];
@@ -493,9 +486,9 @@ void check_body_speed(const Scene& s) {
   }
 }
 
-// An emitter's layer may move at most a kernel radius a step, as a falling particle (chosen_substeps).
+// An emitter's layer may move at most a kernel radius a step, as a falling particle.
 void check_emitter_speed(const Scene& s) {
-  const double h = s.solver.kernel_ratio * s.particle_spacing, most = h * s.fps * s.solver.substeps;
+  const double most = kernel_step_speed(s);
   for (size_t i = 0; i < s.emitters.size(); ++i)
     if (s.emitters[i].speed > most) {
       std::ostringstream m;

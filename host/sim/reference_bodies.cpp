@@ -8,10 +8,11 @@ namespace pbflow {
 
 using glm::dvec3;
 
-void ReferenceSolver::push_body(int b, const dvec3& x, const dvec3& dx) const {
-  if (b < 0 || solids_held_) return;
+bool ReferenceSolver::push_body(int b, const dvec3& x, const dvec3& dx) const {
+  if (b < 0) return false;
   const Body& body = d_.bodies[size_t(b)];
-  pushes_[size_t(b)].add(body.world_centre(d_.obstacles[body.obstacle].pose), x, dx, d_.mass);
+  if (!solids_held_) pushes_[size_t(b)].add(body.world_centre(d_.obstacles[body.obstacle].pose), x, dx, d_.mass);
+  return true;
 }
 
 void ReferenceSolver::predict_bodies() {

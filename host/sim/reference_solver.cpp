@@ -133,9 +133,7 @@ dvec3 ReferenceSolver::correction_force(size_t i, double* work) const {
     if (r <= 0 || r >= d_.h) return;
     const dvec3 term = difference * d_.h * (1 - r / d_.h) * (d / r);
     f += term;
-    if (work && (m.k & kObstacleMirror) && m.mirrors->obstacle.body >= 0)
-      push_body(m.mirrors->obstacle.body, xi, k * term * d_.dt * d_.dt);
-    else if (work && (m.k & kObstacleMirror))
+    if (work && (m.k & kObstacleMirror) && !push_body(m.mirrors->obstacle.body, xi, k * term * d_.dt * d_.dt))
       *work += glm::dot(k * term, m.mirrors->solid_velocity) * d_.dt;
   });
   return k * f;
@@ -163,8 +161,8 @@ dvec3 ReferenceSolver::move_outside_solids(const dvec3& from, dvec3 to, double& 
   // Each obstacle can only shorten the move, so the last shortening is the first entry.
   for (const Obstacle& o : d_.obstacles) {
     const dvec3 stopped = stop_at(o, from, to, kContact * d_.h);
-    if (stopped != to && o.body >= 0) push_body(o.body, stopped, stopped - to);
-    else if (stopped != to) work += push_work(stopped - to, o.displacement(stopped), d_.dt);
+    if (stopped != to && !push_body(o.body, stopped, stopped - to))
+      work += push_work(stopped - to, o.displacement(stopped), d_.dt);
     to = stopped;
   }
   return project_out_of_solids(to, work);
@@ -225,9 +223,7 @@ void ReferenceSolver::constraint_apply(double relaxation) {
       dvec3 d = xi - m.of(state.x_pred[j]);
       const dvec3 term = (state.lambda[i] + state.lambda[j]) * kernels::spiky_grad(d, d_.h);
       dp += term;
-      if ((m.k & kObstacleMirror) && m.mirrors->obstacle.body >= 0)
-        push_body(m.mirrors->obstacle.body, xi, scale * term);
-      else if (m.k & kObstacleMirror)
+      if ((m.k & kObstacleMirror) && !push_body(m.mirrors->obstacle.body, xi, scale * term))
         solid_work_ += push_work(scale * term, m.mirrors->solid_velocity * d_.dt, d_.dt);
     });
     next[i] = project_out_of_solids(xi + scale * dp, solid_work_);
@@ -350,9 +346,7 @@ void ReferenceSolver::viscosity_vorticity() {
       if (r2 <= 0 || r2 >= d_.h * d_.h) return;
       const dvec3 pushed = c * (1 - std::sqrt(r2) / d_.h) * glm::dot(vij, d) / r2 * d;
       damp += pushed;
-      if ((m.k & kObstacleMirror) && m.mirrors->obstacle.body >= 0)  // the images' drag
-        push_body(m.mirrors->obstacle.body, state.x[i], pushed);
-      else if (m.k & kObstacleMirror)
+      if ((m.k & kObstacleMirror) && !push_body(m.mirrors->obstacle.body, state.x[i], pushed))  // the images' drag
         solid_work_ += glm::dot(pushed, m.mirrors->solid_velocity);
     });
     v_next[i] = state.v[i] + d_.solver.xsph * volume * smooth + damp;
@@ -560,8 +554,7 @@ ReferenceSolver::DrawnParticles ReferenceSolver::smoothed_positions() {
 glm::dvec3 ReferenceSolver::project_out_of_solids(glm::dvec3 x, double& work) const {
   for (const Obstacle& o : d_.obstacles) {
     const dvec3 out = project_out(o, x, d_.wall_min, d_.wall_max);
-    if (out != x && o.body >= 0) push_body(o.body, out, out - x);
-    else if (out != x) work += push_work(out - x, o.displacement(out), d_.dt);
+    if (out != x && !push_body(o.body, out, out - x)) work += push_work(out - x, o.displacement(out), d_.dt);
     x = out;
   }
   return glm::clamp(x, d_.wall_min, d_.wall_max);

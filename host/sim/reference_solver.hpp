@@ -108,8 +108,9 @@ class ReferenceSolver : public Solver {
   double mean_compression() const;  // of state.rho
 
   // Rigid bodies (sim/solids/bodies.hpp, reference_bodies.cpp). push_body: body b's solid pushed
-  // the particle at x by dx (velocity changes, the images' dashpot, alike: kick_bodies).
-  void push_body(int b, const glm::dvec3& x, const glm::dvec3& dx) const;
+  // the particle at x by dx (velocity changes, the images' dashpot, alike: kick_bodies); whether
+  // the solid is a body (b >= 0), whose pushes are no solid work.
+  bool push_body(int b, const glm::dvec3& x, const glm::dvec3& dx) const;
   void predict_bodies();     // Pass::Move: Bullet's step
   void give_way_bodies();    // after each pass that pushes: the pushes' momentum back
   void kick_bodies();        // after the dashpot: its momentum, into their velocities

@@ -165,13 +165,21 @@ struct BodyWorld::World {
   btDiscreteDynamicsWorld world{&dispatcher, &broadphase, &solver, &configuration};
   std::vector<std::unique_ptr<btTriangleMesh>> triangles;
   std::vector<std::unique_ptr<btCollisionShape>> shapes;
-  std::vector<std::unique_ptr<btCollisionObject>> solids;  // one per obstacle (bodies' are btRigidBody)
-  std::vector<std::unique_ptr<btRigidBody>> bodies;        // in Body order
+  std::vector<std::unique_ptr<btCollisionObject>> solids;  // the walls, then each obstacle not a body
+  std::vector<std::unique_ptr<btRigidBody>> bodies;        // in Body order, each its index as user index
 
+  // A standing solid of `shape` (kept here) at `at`.
+  void add_solid(std::unique_ptr<btCollisionShape> shape, const btTransform& at) {
+    shapes.push_back(std::move(shape));
+    solids.push_back(std::make_unique<btCollisionObject>());
+    solids.back()->setCollisionShape(shapes.back().get());
+    solids.back()->setWorldTransform(at);
+    solids.back()->setUserIndex(-1);  // not a body (BodyWorld::separate)
+    world.addCollisionObject(solids.back().get());
+  }
   ~World() {
     for (auto& b : bodies) world.removeRigidBody(b.get());
-    for (auto& s : solids)
-      if (s) world.removeCollisionObject(s.get());
+    for (auto& s : solids) world.removeCollisionObject(s.get());
   }
 };
 
@@ -189,19 +197,12 @@ BodyWorld::BodyWorld(const std::vector<Body>& bodies, const std::vector<Obstacle
       glm::dvec3 normal(0.0);
       normal[axis] = side ? -1.0 : 1.0;
       const double offset = side ? -wall_max[axis] : wall_min[axis];
-      w.shapes.push_back(std::make_unique<btStaticPlaneShape>(bt(normal), offset));
-      w.solids.push_back(std::make_unique<btCollisionObject>());
-      w.solids.back()->setCollisionShape(w.shapes.back().get());
-      w.world.addCollisionObject(w.solids.back().get());
+      w.add_solid(std::make_unique<btStaticPlaneShape>(bt(normal), offset), btTransform::getIdentity());
     }
   for (const Obstacle& o : obstacles) {
     if (o.body >= 0) continue;
     w.triangles.emplace_back();
-    w.shapes.push_back(shape_of(o, frame_of(o), w.triangles.back()));
-    w.solids.push_back(std::make_unique<btCollisionObject>());
-    w.solids.back()->setCollisionShape(w.shapes.back().get());
-    w.solids.back()->setWorldTransform(transform(o.pose, frame_of(o)));
-    w.world.addCollisionObject(w.solids.back().get());
+    w.add_solid(shape_of(o, frame_of(o), w.triangles.back()), transform(o.pose, frame_of(o)));
   }
   for (const Body& b : bodies) {
     const Obstacle& o = obstacles[b.obstacle];
@@ -209,6 +210,7 @@ BodyWorld::BodyWorld(const std::vector<Body>& bodies, const std::vector<Obstacle
     w.shapes.push_back(shape_of(o, frame_of(b), unused));
     btRigidBody::btRigidBodyConstructionInfo info(b.mass, nullptr, w.shapes.back().get(), bt(b.inertia));
     w.bodies.push_back(std::make_unique<btRigidBody>(info));
+    w.bodies.back()->setUserIndex(int(w.bodies.size() - 1));
     w.bodies.back()->setActivationState(DISABLE_DEACTIVATION);
     w.world.addRigidBody(w.bodies.back().get());
   }
@@ -241,19 +243,16 @@ void BodyWorld::separate(const std::vector<Body>& bodies, std::vector<Obstacle>&
   btDispatcher& dispatcher = *w.world.getDispatcher();
   for (int m = 0; m < dispatcher.getNumManifolds(); ++m) {
     const btPersistentManifold& contact = *dispatcher.getManifoldByIndexInternal(m);
-    const btRigidBody* a = btRigidBody::upcast(contact.getBody0());
-    const btRigidBody* b = btRigidBody::upcast(contact.getBody1());
-    const double inv_a = a ? a->getInvMass() : 0.0, inv_b = b ? b->getInvMass() : 0.0;
+    const int a = contact.getBody0()->getUserIndex(), b = contact.getBody1()->getUserIndex();  // -1: standing
+    const double inv_a = a >= 0 ? 1.0 / bodies[size_t(a)].mass : 0.0, inv_b = b >= 0 ? 1.0 / bodies[size_t(b)].mass : 0.0;
     glm::dvec3 deepest(0.0);  // B's normal times the overlap: A moves along it, B against it
     for (int p = 0; p < contact.getNumContacts(); ++p) {
       const btManifoldPoint& point = contact.getContactPoint(p);
       if (point.getDistance() < -glm::length(deepest)) deepest = -point.getDistance() * from_bt(point.m_normalWorldOnB);
     }
     if (inv_a + inv_b <= 0 || deepest == glm::dvec3(0.0)) continue;
-    for (size_t k = 0; k < bodies.size(); ++k) {
-      if (w.bodies[k].get() == a) shift[k] += deepest * inv_a / (inv_a + inv_b);
-      if (w.bodies[k].get() == b) shift[k] -= deepest * inv_b / (inv_a + inv_b);
-    }
+    if (a >= 0) shift[size_t(a)] += deepest * inv_a / (inv_a + inv_b);
+    if (b >= 0) shift[size_t(b)] -= deepest * inv_b / (inv_a + inv_b);
   }
   for (size_t k = 0; k < bodies.size(); ++k) obstacles[bodies[k].obstacle].pose.translation += shift[k];
 }
