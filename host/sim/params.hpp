@@ -210,5 +210,19 @@ int default_smoothing(int iterations, double travel);
 // stay under 1.3x at the real-time step; only a collapsing column (docs/physics.md) passes 2x.
 constexpr double kNeighbourHeadroom = 2.0;
 
+// The eight coarse nodes around x with their trilinear weights (shaders/coarse.glsl).
+template <class F>
+void for_each_coarse_node(const Derived& d, const glm::dvec3& x, F&& visit) {
+  const Derived::Coarse& c = d.coarse;
+  const glm::dvec3 g = (x - d.wall_min) / c.cell - 0.5;  // nodes at the cells' centres
+  const glm::ivec3 base = glm::ivec3(glm::floor(g));
+  const glm::dvec3 t = g - glm::dvec3(base);
+  for (int k = 0; k < 8; ++k) {
+    const glm::ivec3 o(k & 1, (k >> 1) & 1, (k >> 2) & 1);
+    const glm::ivec3 node = glm::clamp(base + o, glm::ivec3(0), c.nodes - 1);
+    const double w = (o.x ? t.x : 1 - t.x) * (o.y ? t.y : 1 - t.y) * (o.z ? t.z : 1 - t.z);
+    visit(c.index(node), w);
+  }
+}
 
 }  // namespace pbflow

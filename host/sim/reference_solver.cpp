@@ -30,7 +30,7 @@ ReferenceSolver::ReferenceSolver(const Derived& d, const std::vector<dvec3>& x0)
   capacity_ = d.capacity_for(n);
   next_id_ = uint32_t(n);
   cells_.resize(size_t(d.grid.x) * d.grid.y * d.grid.z);
-  pushes_.resize(d.bodies.size());
+  bodies_ = BodyCoupling(d.bodies.size());
 }
 
 void ReferenceSolver::upload(const ParticleState& s) {
@@ -239,7 +239,7 @@ std::vector<char> ReferenceSolver::coarse_solve() {
   std::vector<uint32_t> filled(count, 0), excess(count, 0);
   for (size_t i = 0; i < state.x.size(); ++i) {
     const double compression = std::clamp(state.rho[i] / d_.rho0 - 1.0 - COARSE_FLOOR, 0.0, COARSE_MAX_COMPRESSION);
-    for_each_coarse_node(state.x_pred[i], [&](int k, double w) {
+    for_each_coarse_node(d_, state.x_pred[i], [&](int k, double w) {
       filled[k] += uint32_t(w * COARSE_UNIT + 0.5);
       excess[k] += uint32_t(w * compression * COARSE_UNIT + 0.5);
     });
@@ -292,7 +292,7 @@ void ReferenceSolver::coarse_correction() {
   for (size_t i = 0; i < state.x.size(); ++i) {
     dvec3 g(0.0);
     double p = 0;
-    for_each_coarse_node(state.x_pred[i], [&](int k, double w) { g += w * grad[k], p += w * phi[k]; });
+    for_each_coarse_node(d_, state.x_pred[i], [&](int k, double w) { g += w * grad[k], p += w * phi[k]; });
     // phi is a pressure: on a particle of a moving solid's first layer, its reaction on the
     // face it stands for (a spacing squared) is worked by the solid (coarse_apply.comp).
     dvec3 normal, velocity;
@@ -381,29 +381,32 @@ void ReferenceSolver::run(const PlannedPass& p) {
       if (solids_held_) {
         d_.hold_solids();
       } else {
-        predict_bodies();
+        bodies_.predict(d_);
         d_.move_solids(double(++steps_moved_) * d_.dt);
       }
       moved_since_lists_ = true;
       break;
     case Pass::Density: density_at_positions(); break;
-    case Pass::CorrectionPredict: correction(), predict(), give_way_bodies(); break;
-    case Pass::Predict: predict(), give_way_bodies(); break;
+    case Pass::CorrectionPredict: correction(), predict(), answer_bodies(false); break;
+    case Pass::Predict: predict(), answer_bodies(false); break;
     case Pass::Grid: build_grid(state.x_pred); break;
     case Pass::Lists: break;  // the reference walks its cells
     case Pass::Lambda: constraint_lambda(); break;
-    case Pass::Coarse: coarse_correction(), give_way_bodies(); break;
+    case Pass::Coarse: coarse_correction(), answer_bodies(false); break;
     case Pass::Smooth: constraint_smooth(); break;
-    case Pass::Apply: constraint_apply(p.relaxation), give_way_bodies(); break;
+    case Pass::Apply: constraint_apply(p.relaxation), answer_bodies(false); break;
     case Pass::Adaptive: adaptive_iterations(); break;
-    case Pass::Velocity: velocity_update(), finish_bodies_step(); break;
-    case Pass::Viscosity: viscosity_vorticity(), kick_bodies(); break;
+    case Pass::Velocity:
+      velocity_update();
+      if (!solids_held_) BodyCoupling::finish(d_);
+      break;
+    case Pass::Viscosity: viscosity_vorticity(), answer_bodies(true); break;
     case Pass::Vorticity: vorticity_force(); break;
     case Pass::Watch: watch_step(step_in_frame_++, watch_); break;
     case Pass::Measures:
       measured_ = measure();
       measured_.solid_work = d_.mass * solid_work_;
-      for (const Body& b : d_.bodies) measured_.body_energy += b.energy(d_.obstacles[b.obstacle].pose, d_.gravity, d_.lowest());
+      measured_.body_energy = BodyCoupling::energy(d_);
       break;
     case Pass::Surface: drawn = smoothed_positions(); break;
     case Pass::WhiteWaterAdvect: white_water_advect(frame_time_); break;

@@ -7,6 +7,7 @@
 #include <memory>
 #include <vector>
 
+#include "sim/solids/coupling.hpp"
 #include "sim/solids/mirrors.hpp"
 #include "sim/params.hpp"
 #include "sim/solver.hpp"
@@ -107,18 +108,14 @@ class ReferenceSolver : public Solver {
 
   double mean_compression() const;  // of state.rho
 
-  // Rigid bodies (sim/solids/bodies.hpp, reference_bodies.cpp). push_body: body b's solid pushed
-  // the particle at x by dx (velocity changes, the images' dashpot, alike: kick_bodies); whether
-  // the solid is a body (b >= 0), whose pushes are no solid work.
+  // Rigid bodies (sim/solids/coupling.hpp, reference_bodies.cpp). push_body: body b's solid pushed
+  // the particle at x by dx (velocity changes, the images' dashpot, alike: BodyCoupling::kick);
+  // whether the solid is a body (b >= 0), whose pushes are no solid work.
   bool push_body(int b, const glm::dvec3& x, const glm::dvec3& dx) const;
-  void predict_bodies();     // Pass::Move: Bullet's step
-  void give_way_bodies();    // after each pass that pushes: the pushes' momentum back
-  void kick_bodies();        // after the dashpot: its momentum, into their velocities
-  void finish_bodies_step();  // after Pass::Velocity
-  void add_buoyancy(const std::vector<glm::dvec3>& grad);  // the coarse correction's share
-  // The eight coarse nodes around x with their trilinear weights (shaders/coarse_deposit.comp).
-  template <class F>
-  void for_each_coarse_node(const glm::dvec3& x, F&& visit) const;
+  // After a pass that pushed bodies (`kick`: the dashpot's velocity changes): their answer.
+  void answer_bodies(bool kick);
+  // The coarse correction's share (BodyCoupling::add_buoyancy), each body's water line from x_pred.
+  void add_buoyancy(const std::vector<glm::dvec3>& grad);
   std::vector<char> coarse_solve();  // phi into coarse_phi_; which nodes hold fluid
   // grad phi at the coarse nodes with fluid (`fluid`), from coarse_phi_.
   std::vector<glm::dvec3> coarse_gradient(const std::vector<char>& fluid) const;
@@ -133,9 +130,8 @@ class ReferenceSolver : public Solver {
   Divergence watch_;         // what the watch saw in the current advance()
   FrameStats measured_;      // the current advance()'s measures
   std::vector<double> coarse_phi_;  // the coarse correction's solution, the next step's start
-  std::shared_ptr<BodyWorld> body_world_;  // made at the first step with bodies
-  // What the running pass's pushes gave each body (push_body, from passes that only read the solver).
-  mutable std::vector<BodyPush> pushes_;
+  // The bodies' answer to the pushes (push_body, from passes that only read the solver).
+  mutable BodyCoupling bodies_;
   std::vector<std::vector<size_t>> cells_;  // particles binned by cell at the last build_grid
   // Per particle, as the GPU's lists: neighbour_capacity entries within h when the list was
   // built, and their count (past the capacity: overflowed, walk the cells).
@@ -173,20 +169,6 @@ void ReferenceSolver::for_each_neighbour(size_t i, const glm::dvec3& xi, F&& vis
   } else {
     const Neighbour* list = neighbour_list_.data() + i * d_.neighbour_capacity;
     for (uint32_t k = 0; k < count; ++k) visit(list[k].j, Image{&mirrors, int(list[k].image), !moved_since_lists_});
-  }
-}
-
-template <class F>
-void ReferenceSolver::for_each_coarse_node(const glm::dvec3& x, F&& visit) const {
-  const Derived::Coarse& c = d_.coarse;
-  const glm::dvec3 g = (x - d_.wall_min) / c.cell - 0.5;  // nodes at the cells' centres
-  const glm::ivec3 base = glm::ivec3(glm::floor(g));
-  const glm::dvec3 t = g - glm::dvec3(base);
-  for (int k = 0; k < 8; ++k) {
-    const glm::ivec3 o(k & 1, (k >> 1) & 1, (k >> 2) & 1);
-    const glm::ivec3 node = glm::clamp(base + o, glm::ivec3(0), c.nodes - 1);
-    const double w = (o.x ? t.x : 1 - t.x) * (o.y ? t.y : 1 - t.y) * (o.z ? t.z : 1 - t.z);
-    visit(c.index(node), w);
   }
 }
 

@@ -1,0 +1,41 @@
+#pragma once
+// The rigid bodies' side of a step, as both solvers take it (sim/solids/bodies.hpp says the
+// scheme): a solver sums what each pass gives each body (pushes(), per obstacle push site) and
+// calls these at the step's points; Bullet, the give-way, the buoyancy and the kick live here once.
+#include <glm/glm.hpp>
+
+#include <memory>
+#include <vector>
+
+#include "sim/params.hpp"
+
+namespace pbflow {
+
+class BodyCoupling {
+ public:
+  BodyCoupling() = default;
+  explicit BodyCoupling(size_t bodies) : pushes_(bodies) {}
+  // What the running pass's pushes gave each body (Derived::bodies' order).
+  std::vector<BodyPush>& pushes() { return pushes_; }
+  void predict(Derived& d);  // Pass::Move, before the solids move: Bullet's step to the predicted poses
+  void give_way(Derived& d);  // after a pass that pushed: each pose moved by its push, then overlaps parted
+  void kick(Derived& d);      // after the dashpot: its momentum into the velocities
+  static void finish(Derived& d);  // after Pass::Velocity: the velocities, the poses' change over the step
+  // The coarse correction counts a solid as fluid at rest: the push it would give the fluid in a
+  // body's place (rho0 strength grad phi per volume, `grad` at the coarse nodes) is the body's,
+  // over its volume below its water line (`lines`: the height along up() of the highest particle
+  // within a spacing of it and no higher than its top, water lying on it aside; -infinity for
+  // none) and that particle's own half spacing: phi is zero only a cell above the surface, and
+  // the body's dry part counts as fluid there.
+  void add_buoyancy(const Derived& d, const std::vector<glm::dvec3>& grad, const std::vector<double>& lines);
+  static double energy(const Derived& d);  // the bodies' kinetic and potential energy, J
+
+ private:
+  std::vector<BodyPush> pushes_;
+  std::shared_ptr<BodyWorld> world_;  // made at the first step
+};
+
+glm::dvec3 up(const Derived& d);  // against g (+y without it): where a water line is measured along
+double body_top(const Body& b, const Obstacle& o, const glm::dvec3& up);  // its samples' highest, along up
+
+}  // namespace pbflow
