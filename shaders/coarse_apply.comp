@@ -13,6 +13,7 @@ layout(std430, binding = 6) readonly buffer Grad { vec4 grad[]; };
 layout(std430, binding = 9) readonly buffer Phi { float phi[]; };  // coarse_sweep.comp's solution
 #define OBSTACLES_BINDING 7
 #define WORK_BINDING 8
+#define BODY_PUSH_BINDING 10
 #include "solids.glsl"
 
 // The work per unit mass a moving solid does through the correction on a particle of its

@@ -14,6 +14,7 @@ layout(binding = 1, rgba32f) uniform readonly imageBuffer x_lambda;  // (x*, lam
 layout(std430, binding = 2) writeonly buffer XOut { vec4 x_out[]; };
 #define OBSTACLES_BINDING 3
 #define WORK_BINDING 6
+#define BODY_PUSH_BINDING 7
 #include "solids.glsl"
 #define NEIGHBOUR_BINDING 4
 #define NEIGHBOUR_CAPACITY_ID 2
@@ -37,7 +38,7 @@ void main() {
     if (MOVING && (image & OBSTACLE_MIRROR) != 0) dp_solid += term;
   }
   float scale = sim.relaxation * (sim.mass / sim.rho0);
-  float work = MOVING ? dot(scale * dp_solid, mirrors.solid_velocity) / sim.dt : 0.0;
+  float work = MOVING && !push_body(mirrors.obstacle, xi, scale * dp_solid) ? dot(scale * dp_solid, mirrors.solid_velocity) / sim.dt : 0.0;
   x_out[i] = vec4(project_out_of_solids(xi + scale * dp, work), 0.0);
   add_work(i, work);
 }

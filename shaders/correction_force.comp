@@ -18,6 +18,7 @@ layout(std430, binding = 3) buffer V { vec4 v[]; };
 layout(std430, binding = 6) writeonly buffer XPred { vec4 x_pred[]; };
 #define OBSTACLES_BINDING 7
 #define WORK_BINDING 8
+#define BODY_PUSH_BINDING 9
 #include "solids.glsl"
 layout(constant_id = 100) const bool SOLVER_LDC_CLAMP = false;  // the scene's key (gpu/key_constants.hpp)
 layout(constant_id = 2) const float LDC_ROOM = 1.8;  // Derived::ldc_room
@@ -62,7 +63,9 @@ void main() {
   vi += sim.gravity * sim.dt + kick;
   v[i].xyz = vi;
   // The images' force does work at the solid's velocity over the step; the tank's motion at the fluid's.
-  float work = dot((-k_i / sim.rho0) * f_solid, mirrors.solid_velocity) * sim.dt + (MOVING ? dot(kick, vi) : 0.0);
+  vec3 f_images = (-k_i / sim.rho0) * f_solid;
+  float work = MOVING ? dot(kick, vi) : 0.0;
+  if (!push_body(mirrors.obstacle, xi, f_images * (sim.dt * sim.dt))) work += dot(f_images, mirrors.solid_velocity) * sim.dt;
   x_pred[i] = vec4(predicted_position(xi, vi, work), 0.0);
   add_work(i, work);
 }

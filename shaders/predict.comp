@@ -10,6 +10,7 @@ layout(std430, binding = 1) buffer V { vec4 v[]; };
 layout(std430, binding = 2) writeonly buffer XPred { vec4 x_pred[]; };
 #define OBSTACLES_BINDING 3
 #define WORK_BINDING 4
+#define BODY_PUSH_BINDING 5
 #include "solids.glsl"
 
 void main() {

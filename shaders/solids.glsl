@@ -71,6 +71,41 @@ vec3 to_world(int k, int pose, vec3 b) {
   int r = obstacle_header(k) + pose;
   return to_world_direction(k, pose, b - vec3(obstacle_data[r].w, obstacle_data[r + 1].w, obstacle_data[r + 2].w));
 }
+// Rigid bodies (host/sim/solids/coupling.hpp): an obstacle that is a body takes every push its
+// solid gives a particle back as momentum instead of counting it as work. The scene's bodies
+// compile in only where it has them (Derived::bodies).
+layout(constant_id = 93) const bool BODIES = false;
+int body_of(int k) { return BODIES && k >= 0 ? int(obstacle_data[obstacle_header(k) + 2].z) - 1 : -1; }
+#ifdef BODY_PUSH_BINDING
+// Per body BODY_PUSH_WORDS words (contract.h): the sums of -dx and of -(x - o) x dx over its
+// pushes (o: its body frame's origin, where it stands now), each a 64-bit fixed-point number in
+// two words, low first; then its water line (body_water_line.comp).
+layout(std430, binding = BODY_PUSH_BINDING) buffer BodyPushes { uint body_push[]; };
+// value / BODY_FIXED_UNIT added to the 64-bit sum at `word`: integer sums, so the total is the
+// same in any order, as the coarse deposit's.
+void add_fixed(int word, float value) {
+  float f = value * (BODY_FIXED_UNIT / 4294967296.0), whole = floor(f);
+  uint low = uint((f - whole) * 4294967296.0), high = uint(int(whole));
+  uint before = atomicAdd(body_push[word], low);
+  if (before + low < before) high += 1u;  // the low word's carry
+  if (high != 0u) atomicAdd(body_push[word + 1], high);
+}
+#endif
+// Whether obstacle k is a body; if so, its push dx of the particle at x is recorded for it.
+bool push_body(int k, vec3 x, vec3 dx) {
+  int b = body_of(k);
+  if (b < 0) return false;
+#ifdef BODY_PUSH_BINDING
+  if (dx == vec3(0.0)) return true;
+  vec3 moment = cross(x - to_world(k, POSE_NOW, vec3(0.0)), dx);
+  for (int c = 0; c < 3; ++c) {
+    add_fixed(b * BODY_PUSH_WORDS + 2 * c, -dx[c]);
+    add_fixed(b * BODY_PUSH_WORDS + 6 + 2 * c, -moment[c]);
+  }
+#endif
+  return true;
+}
+
 // How far the solid's point now at x moved over the step (Obstacle::displacement).
 vec3 obstacle_displacement(int k, vec3 x) { return MOVING ? x - to_world(k, POSE_BEFORE, to_body(k, POSE_NOW, x)) : vec3(0.0); }
 // The work per unit mass of a push dx by a solid whose surface moved by `moved` over the step:
@@ -302,7 +337,7 @@ vec3 stop_at_solids(vec3 from, vec3 to, inout float work) {
     float t = first_entry(k, a, b, contact);
     if (t >= 1.0) continue;
     vec3 stopped = to_world(k, POSE_NOW, a + t * (b - a));
-    work += push_work(stopped - to, obstacle_displacement(k, stopped));
+    if (!push_body(k, stopped, stopped - to)) work += push_work(stopped - to, obstacle_displacement(k, stopped));
     to = stopped;
   }
   return to;
@@ -319,7 +354,7 @@ vec3 project_out_of_solids(vec3 x, inout float work) {
       vec3 normal;
       float d = obstacle_surface(k, x, normal) - margin;
       if (d < 0.0) {
-        work += push_work(-d * normal, obstacle_displacement(k, x - d * normal));
+        if (!push_body(k, x - d * normal, -d * normal)) work += push_work(-d * normal, obstacle_displacement(k, x - d * normal));
         x -= d * normal;
       }
       continue;
@@ -338,7 +373,7 @@ vec3 project_out_of_solids(vec3 x, inout float work) {
       float move = abs(onto[c] - body[c]);
       if (move < nearest && !back_inside) nearest = move, best = w;
     }
-    work += push_work(best - x, obstacle_displacement(k, best));
+    if (!push_body(k, best, best - x)) work += push_work(best - x, obstacle_displacement(k, best));
     x = best;
   }
   return project_to_walls(x);

@@ -38,6 +38,7 @@ layout(std430, binding = 4) writeonly buffer Curl { vec4 curl[]; };  // VORTICIT
 layout(std430, binding = 5) writeonly buffer Rho { float rho[]; };
 #define OBSTACLES_BINDING 8
 #define WORK_BINDING 9
+#define BODY_PUSH_BINDING 10
 #define NEIGHBOUR_BINDING 6
 #define NEIGHBOUR_CAPACITY_ID 4
 #include "neighbours.glsl"
@@ -87,5 +88,5 @@ void main() {
   v_out[i] = vec4(vi + (SOLVER_XSPH * volume) * smooth_v + damp, 0.0);
   if (VORTICITY) curl[i] = vec4(volume * curl_i, 0.0);
   rho[i] = sim.mass * density;
-  add_work(i, dot(damp_solid, mirrors.solid_velocity));  // the images' drag, at the solid's velocity
+  if (!push_body(mirrors.obstacle, xi, damp_solid)) add_work(i, dot(damp_solid, mirrors.solid_velocity));  // the images' drag
 }

@@ -370,15 +370,6 @@ int finish(const vk::Context* ctx, const capture::FrameCapture* capture, RunDire
   return problem.empty() ? 0 : 1;
 }
 
-// The run's device (device_for), said where `auto` chose the reference for the scene's bodies.
-std::unique_ptr<vk::Context> run_context(const RunOptions& o, const Scene& scene, const Derived& d) {
-  const std::string device = device_for(o.device, d);
-  if (device != o.device)
-    std::cerr << "pbflow: " << scene.name << " has bodies, which only the C++ reference solver moves yet: it runs on --device "
-              << device << "\n";
-  return make_context(device, o.validate);
-}
-
 }  // namespace
 
 int run(const RunOptions& o) {
@@ -391,7 +382,7 @@ int run(const RunOptions& o) {
   const std::filesystem::path out(o.out);
   RunDirectory::check(out);  // before any work: a foreign file here is refused at once
   if (!o.video.empty()) check_video_outside(o.video, out);
-  std::unique_ptr<vk::Context> ctx = run_context(o, scene, d);
+  std::unique_ptr<vk::Context> ctx = make_context(o.device, o.validate);
   const vk::DeviceInfo* device = ctx ? &ctx->info() : nullptr;
   const MemoryNeed need = check_run_memory(o, scene, d, device);
   std::unique_ptr<Solver> solver = make_solver(ctx.get(), d, initial_particles(scene));
@@ -404,7 +395,8 @@ int run(const RunOptions& o) {
   // Everything is checked: from here the run owns DIR and replaces the previous run's files.
   RunDirectory dir(out, RunFiles{scene.frames, bool(capture),
                                  export_format == capture::ExportFormat::None ? "" : capture::export_extension(export_format),
-                                 white_water && export_format != capture::ExportFormat::None, d.moving()});
+                                 white_water && export_format != capture::ExportFormat::None, d.moving(),
+                                 !d.bodies.empty()});
   nlohmann::json about = describe_run(o, scene, d, *solver);
   const nlohmann::json chosen = about["chosen"];
   describe_machine(about, need, device, *solver);

@@ -69,6 +69,7 @@ SolverBuffers plan_buffers(const Derived& d, uint64_t particles, FrameOutputs ou
     b.drain_counts = 2 * sizeof(uint32_t);
     b.drain_keep = plan_scan(particles);
   }
+  b.body_push = d.bodies.size() * BODY_PUSH_WORDS * sizeof(uint32_t);
   if (outputs.surface) b.shape = 2 * vec4;
   if (outputs_made(d, outputs).white_water) {
     b.white_count = 2 * sizeof(uint32_t);
@@ -83,7 +84,8 @@ uint64_t SolverBuffers::total() const {
   uint64_t sum = (kParticleVec4s + 1) * particle_vec4 + kIdArrays * id + rho + neighbour_count + neighbour_list +
                  x_lambda_spare + curl + partials + obstacles + work + watch + overflow_groups + 3 * adaptive_words +
                  coarse_sums + coarse_phi + coarse_grad + coarse_open + result + grid.cell + grid.rank + grid.order + shape +
-                 white_water() + grid.scan.total() + drains + drained + drain_counts + drain_keep.total();
+                 white_water() + grid.scan.total() + drains + drained + drain_counts + drain_keep.total() +
+                 2 * body_push;
   return sum;
 }
 

@@ -74,6 +74,9 @@ struct SolverBuffers {
   // counts kept and drained, and which particles stay, scanned into their slots (drain_*.comp).
   uint64_t drains = 0, drained = 0, drain_counts = 0;
   ScanBuffers drain_keep;
+  // The bodies' push sums (contract.h's BODY_PUSH_WORDS a body), on the device and a host copy to
+  // read; none without bodies.
+  uint64_t body_push = 0;
   GridBuffers grid;
 
   uint64_t total() const;

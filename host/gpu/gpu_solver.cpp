@@ -40,12 +40,9 @@ struct CheckPush {  // check_converged.comp
   uint32_t full_x, full_y, per_check;
 };
 
-// Bad input rather than a Vulkan failure: the scene has bodies (only the reference moves them), or
-// asks for more than this device holds (run.cpp checks the same estimate before any particle is
-// made; this guards every other caller).
+// Bad input rather than a Vulkan failure: the scene asks for more than this device holds (run.cpp
+// checks the same estimate before any particle is made; this guards every other caller).
 uint32_t checked_count(const vk::Context& ctx, const Derived& d, size_t n) {
-  if (!d.bodies.empty())
-    throw InputError("the scene has bodies, which only the C++ reference solver moves yet: run it with --device cpu");
   check_device_memory(memory_need(d, double(n), &ctx.info()), ctx.info());
   return uint32_t(n);
 }
@@ -107,8 +104,8 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
   if (plan_.x_lambda_spare) x_lambda_spare_ = vk::Buffer(ctx, plan_.x_lambda_spare);
   if (d.coarse.strength > 0) build_coarse();
   if (!d.drains.empty()) build_drains();
-  capacity_ = d.capacity_for(n_);
-  next_id_ = n_;
+  if (!d.bodies.empty()) build_bodies();
+  capacity_ = d.capacity_for(n_), next_id_ = n_;  // the Solver's
   upload({x0, std::vector<glm::dvec3>(n_, glm::dvec3(0.0)), x0, {}, {}, {}, {}});
 }
 
@@ -394,6 +391,7 @@ void GpuSolver::correction_and_predict() {
     cmd_.bind("v", at(V));
     cmd_.bind("x_pred", at(XPred));
     cmd_.bind("work", work_);
+    cmd_.bind("body_pushes", body_pushes());
   });
 }
 
@@ -404,6 +402,7 @@ void GpuSolver::predict() {
   cmd_.bind("x_pred", at(XPred));
   cmd_.bind("obstacles", obstacles_);
   cmd_.bind("work", work_);
+  cmd_.bind("body_pushes", body_pushes());
   cmd_.dispatch(n_);
 }
 
@@ -443,6 +442,7 @@ void GpuSolver::constraint_apply(double relaxation, const vk::Buffer* indirect) 
     cmd_.bind("x_lambda", x_lambda_);  // x_pred, with lambda beside it
     cmd_.bind("x_out", at(Spare0));
     cmd_.bind("work", work_);
+    cmd_.bind("body_pushes", body_pushes());
   });
   swap_roles(XPred, Spare0);
 }
@@ -473,12 +473,14 @@ void GpuSolver::coarse_correction() {
   cmd_.bind("phi", coarse_phi_);
   cmd_.bind("grad", coarse_grad_);
   cmd_.dispatch(nodes);
+  if (!d_.bodies.empty()) body_water_line();  // x_pred before the correction moves it
   bind_particle_pass(coarse_apply_);
   cmd_.bind("x_lambda", x_lambda_);
   cmd_.bind("grad", coarse_grad_);
   cmd_.bind("phi", coarse_phi_);
   cmd_.bind("obstacles", obstacles_);
   cmd_.bind("work", work_);
+  cmd_.bind("body_pushes", body_pushes());
   cmd_.dispatch(n_);
 }
 
@@ -540,6 +542,7 @@ void GpuSolver::viscosity_vorticity() {
     cmd_.bind("curl", vorticity_pass_ ? curl_ : at(Spare0));
     cmd_.bind("rho", rho_);
     cmd_.bind("work", work_);
+    cmd_.bind("body_pushes", body_pushes());
   });
   swap_roles(V, Spare0);
 }
@@ -556,17 +559,20 @@ void GpuSolver::record(const PlannedPass& p, const vk::Buffer* indirect) {
   switch (p.pass) {
     case Pass::Move: move_solids(); break;
     case Pass::Density: density_at_positions(); break;
-    case Pass::CorrectionPredict: correction_and_predict(); break;
-    case Pass::Predict: predict(); break;
+    case Pass::CorrectionPredict: correction_and_predict(), answer_bodies(p.pass); break;
+    case Pass::Predict: predict(), answer_bodies(p.pass); break;
     case Pass::Grid: sort_by_cells(XPred, X); break;  // v is not carried: the velocity pass recomputes it
     case Pass::Lists: neighbour_lists(at(XPred)), lists_built_ = true; break;
     case Pass::Lambda: constraint_lambda(indirect); break;
-    case Pass::Coarse: coarse_correction(); break;
+    case Pass::Coarse: coarse_correction(), answer_bodies(p.pass); break;
     case Pass::Smooth: constraint_smooth(indirect); break;
-    case Pass::Apply: constraint_apply(p.relaxation, indirect); break;
+    case Pass::Apply: constraint_apply(p.relaxation, indirect), answer_bodies(p.pass); break;
     case Pass::Adaptive: adaptive_iterations(); break;
-    case Pass::Velocity: velocity_update(), density_current_ = false; break;
-    case Pass::Viscosity: viscosity_vorticity(), density_current_ = true; break;  // it sums rho at x
+    case Pass::Velocity:
+      velocity_update(), density_current_ = false;
+      if (!solids_held_) BodyCoupling::finish(d_);
+      break;
+    case Pass::Viscosity: viscosity_vorticity(), density_current_ = true, answer_bodies(p.pass); break;  // it sums rho at x
     case Pass::Vorticity: vorticity_force(); break;
     case Pass::Watch: watch(); break;
     case Pass::Measures: record_measures(); break;
@@ -577,6 +583,7 @@ void GpuSolver::record(const PlannedPass& p, const vk::Buffer* indirect) {
 }
 
 void GpuSolver::relax() {
+  const bool held = std::exchange(solids_held_, true);  // no time passes: the bodies stay
   begin();
   const VkBufferCopy all{0, 0, at(X).bytes()};
   vkCmdCopyBuffer(cmd_.handle(), at(X).handle(), at(XPred).handle(), 1, &all);  // x* = x
@@ -585,6 +592,7 @@ void GpuSolver::relax() {
   swap_roles(X, XPred);
   cmd_.fill(at(V), 0);  // the sort left v in the old order: it is zero anyway
   finish();
+  solids_held_ = held;
   density_current_ = false;  // no pass summed rho at the new x
   smoothed_current_ = false;
 }
@@ -596,7 +604,7 @@ void GpuSolver::move_solids() {
   if (solids_held_)
     d_.hold_solids();
   else
-    open_changed = d_.move_solids(double(++steps_moved_) * d_.dt);
+    bodies_.predict(d_), open_changed = d_.move_solids(double(++steps_moved_) * d_.dt);
   const std::vector<glm::vec4> header = pack_obstacle_header(d_.obstacles, d_.keep_out, d_.tank_kick);
   cmd_.update(obstacles_, header.data(), uint32_t(header.size() * sizeof(glm::vec4)));
   if (open_changed) cmd_.update(coarse_open_, d_.coarse.open.data(), uint32_t(d_.coarse.open.size() * sizeof(float)));
@@ -646,6 +654,7 @@ FrameStats GpuSolver::read_measures() const {
   s.max_speed = r.max_speed;
   s.potential_energy = r.potential_energy;
   s.solid_work = r.solid_work;
+  s.body_energy = BodyCoupling::energy(d_);
   const WatchWords& w = r.watch;
   if (w.flags) s.divergence = {int(w.first_step), w.counts[0], w.counts[1], w.counts[2]};
   return s;
@@ -699,6 +708,7 @@ FrameStats GpuSolver::advance(int steps) {
   const WatchWords watch_reset;
   cmd_.update(watch_buf_, &watch_reset, sizeof watch_reset);
   cmd_.fill(work_, 0);  // the frame's work, from none
+  if (!d_.bodies.empty()) cmd_.fill(body_push_, 0);  // and the bodies' pushes (none while held)
   step_in_frame_ = 0;
   if (d_.solver.target_compression > 0) {
     const uint32_t zero[4] = {0, 0, 0, 0};  // the frame's count of adaptive iterations

@@ -12,6 +12,7 @@
 #include "gpu/key_constants.hpp"
 #include "gpu/gpu_grid.hpp"
 #include "gpu/gpu_scan.hpp"
+#include "sim/solids/coupling.hpp"
 #include "sim/solids/obstacles.hpp"
 #include "sim/params.hpp"
 #include "sim/solver.hpp"
@@ -127,6 +128,17 @@ class GpuSolver : public Solver {
   void adaptive_iterations();                    // iteration pairs until the target (check_converged)
   void build_coarse();
   void build_drains();
+  void build_bodies();
+  // The bodies' push sums where the scene has bodies; else a stand-in the shaders never write (BODIES).
+  const vk::Buffer& body_pushes() const { return d_.bodies.empty() ? work_ : body_push_; }
+  // The bodies (gpu_bodies.cpp): each body's water line from x_pred (body_water_line.comp), before
+  // the coarse correction moves it; after a pass that pushed them, the sums read back and their
+  // answer (BodyCoupling: the give-way, the coarse correction's buoyancy, the dashpot's kick)
+  // between two submits, their poses into the next.
+  void body_water_line();
+  void answer_bodies(Pass pass);
+  void read_body_pushes();
+  std::vector<double> body_water_lines() const;
 
   const vk::Context& ctx_;
   Derived d_;
@@ -166,6 +178,10 @@ class GpuSolver : public Solver {
   vk::Program drain_mark_, drain_compact_;
   vk::Buffer drains_, drained_, drain_counts_;
   GpuScan drain_keep_;
+  // The bodies' program and push sums (SolverBuffers::body_push), where the scene has bodies.
+  vk::Program body_line_;
+  vk::Buffer body_push_, body_read_;
+  BodyCoupling bodies_;
   vk::Buffer watch_buf_;  // watch.comp: flags, first step, counts, the step being watched
   uint32_t step_in_frame_ = 0;  // adaptive iterations: the last check's measures, dispatch arguments + count
   // White water, where asked for: its count (the living, and the living and born while the

@@ -7,10 +7,6 @@
 
 namespace pbflow {
 
-std::string device_for(const std::string& device, const Derived& d) {
-  return device == "auto" && !d.bodies.empty() ? "cpu" : device;
-}
-
 std::unique_ptr<vk::Context> make_context(const std::string& device, bool validate) {
   if (device == "cpu") return nullptr;
   return std::make_unique<vk::Context>(vk::Context::Options{device, validate, 0});

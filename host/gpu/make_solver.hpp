@@ -15,9 +15,6 @@ namespace vk {
 class Context;
 }
 
-// The device a run of `d` gets when `device` is asked: "auto" is "cpu" (the reference solver)
-// where the scene has bodies, which the GPU solver does not move yet.
-std::string device_for(const std::string& device, const Derived& d);
 // The Vulkan context for `device`, or null for "cpu" (the reference solver).
 std::unique_ptr<vk::Context> make_context(const std::string& device, bool validate);
 // The reference solver where `ctx` is null, else the GPU solver on it; `ctx` must outlive it.

@@ -41,7 +41,7 @@ double now_seconds() {
 // Every name pbflow writes under DIR, with '*' for a frame number (io/frame_files.hpp). A
 // manifest may list these and nothing else: it is a file a user can edit, and pbflow removes
 // what it lists.
-const char* kOwnPatterns[] = {"stats.csv", "solids.csv", "frames/frame_*.png",    "particles/frame_*.ply",
+const char* kOwnPatterns[] = {"stats.csv", "solids.csv", "bodies.csv", "frames/frame_*.png",    "particles/frame_*.ply",
                               "particles/frame_*.vtp", "white_water/frame_*.ply", "white_water/frame_*.vtp"};
 
 size_t skip_digits(std::string_view text, size_t at) {
@@ -148,7 +148,7 @@ std::vector<std::string> previous_files(const fs::path& dir, const Listed& liste
         throw InputError(entry.path().string() + " is not a regular file (a folder or a link), so pbflow did not write it; "
                          "choose another --out");
       owned.push_back(name);
-    } else if (name == "stats.csv" || name == "solids.csv") {
+    } else if (name == "stats.csv" || name == "solids.csv" || name == "bodies.csv") {
       throw foreign(entry.path());
     }
   }
@@ -328,6 +328,7 @@ bool RunDirectory::begin(json about, const std::function<bool()>& stop) {
   if (!replace_previous_run(lock_fd_, dir_, previous_files(dir_, previous), stop)) return false;
   std::vector<std::string> listed = {"stats.csv"};
   if (files_.solids) listed.push_back("solids.csv");
+  if (files_.bodies) listed.push_back("bodies.csv");
   for (const auto& [sub, extension] : frame_folders()) {
     if (!extension.empty()) {  // a real directory where one exists (previous_files checked)
       if (mkdirat(lock_fd_, sub, 0755) != 0 && errno != EEXIST)

@@ -22,6 +22,7 @@ struct RunFiles {
   std::string particle_extension;  // particles/frame_N.EXT; empty: none
   bool white_water = false;        // white_water/frame_N.EXT too (the particles' extension)
   bool solids = false;             // solids.csv: the moving solids' poses
+  bool bodies = false;             // bodies.csv: the rigid bodies' poses and velocities
 };
 
 class RunDirectory {
