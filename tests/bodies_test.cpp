@@ -1,7 +1,7 @@
-// Rigid bodies (sim/solids/coupling.hpp): on the reference, a light box floats at the draft its
-// weight sets, a heavy one sinks and rests, a neutral one stays, no run gains energy; on both
-// solvers the momentum the fluid gives a body is what the fluid loses, and the GPU agrees with
-// the reference pass by pass; bad bodies are refused. The seconds-long runs are BodiesSlow (the
+// Rigid bodies (sim/solids/coupling.hpp), on both solvers: a light box floats at the draft its
+// weight sets, a heavy one sinks and rests, a neutral one stays, no run gains energy, the
+// momentum the fluid gives a body is what the fluid loses, and the GPU agrees with the reference
+// pass by pass; bad bodies are refused. The seconds-long runs are FloatingSlow and BodiesSlow (the
 // `slow` label: minutes under the sanitizers).
 #include <gtest/gtest.h>
 
@@ -35,10 +35,16 @@ struct BodyRun {
   EnergyGain energy;
 };
 
-BodyRun run_box(const std::string& text, int frames) {
+// The box's run on the GPU solver or the reference.
+BodyRun run_box(const std::string& text, int frames, bool on_gpu) {
   const Scene scene = parse_scene(text, "test", {});
   const Derived d = derive(scene);
-  ReferenceSolver solver(d, initial_particles(scene));
+  std::unique_ptr<Solver> made;
+  if (on_gpu)
+    made = std::make_unique<GpuSolver>(test::gpu(), d, initial_particles(scene));
+  else
+    made = std::make_unique<ReferenceSolver>(d, initial_particles(scene));
+  Solver& solver = *made;
   relax_start(solver), settle(solver, d);  // as `pbflow run` starts a tank
   BodyRun run;
   for (int frame = 0; frame <= frames; ++frame) {
@@ -49,7 +55,7 @@ BodyRun run_box(const std::string& text, int frames) {
     if (frame > frames - scene.fps) run.speed = std::max(run.speed, glm::length(b.velocity));
   }
   double top = 0;
-  for (const glm::dvec3& x : solver.state.x)
+  for (const glm::dvec3& x : solver.download().x)
     if (x.x < 0.1 || x.x > 0.3) top = std::max(top, x.y);
   run.water = top + 0.5 * scene.particle_spacing;
   return run;
@@ -61,11 +67,18 @@ double mean_of_last(const std::vector<double>& v, size_t n) {
   return sum / double(n);
 }
 
+// The long runs on either solver (the `slow` label: minutes under the sanitizers).
+class FloatingSlow : public test::GpuTest, public ::testing::WithParamInterface<const char*> {
+ protected:
+  BodyRun run(const std::string& text, int frames) { return run_box(text, frames, std::string(GetParam()) == "gpu"); }
+};
+INSTANTIATE_TEST_SUITE_P(Solvers, FloatingSlow, ::testing::Values("reference", "gpu"));
+
 // Archimedes: a 300 kg/m^3 box 0.06 m tall floats 0.018 m deep. Measured (2026-11-29): 0.0126 m
 // below the water beside it, 0.27 spacings short (the fine pushes' share at a free surface,
 // docs/physics.md "Bodies"); the bar is half a spacing.
-TEST(BodiesSlow, ALightBoxFloatsAtTheDraftItsWeightSets) {
-  const BodyRun run = run_box(tank_with_box(300, 0.25), 300);
+TEST_P(FloatingSlow, ALightBoxFloatsAtTheDraftItsWeightSets) {
+  const BodyRun run = this->run(tank_with_box(300, 0.25), 300);
   const double draft = run.water - mean_of_last(run.bottom, 60);
   std::printf("draft %.4f m (Archimedes 0.018), speed %.4f m/s over the last second, energy %.4f\n", draft, run.speed,
               run.energy.largest());
@@ -76,8 +89,8 @@ TEST(BodiesSlow, ALightBoxFloatsAtTheDraftItsWeightSets) {
 
 // A 1300 kg/m^3 box sinks and rests a layer of water off the floor (solids meet a layer apart:
 // BodyWorld), still.
-TEST(BodiesSlow, AHeavyBoxSinksAndRests) {
-  const BodyRun run = run_box(tank_with_box(1300, 0.25), 360);
+TEST_P(FloatingSlow, AHeavyBoxSinksAndRests) {
+  const BodyRun run = this->run(tank_with_box(1300, 0.25), 360);
   const double rest = mean_of_last(run.bottom, 60);
   std::printf("rests at %.4f m, speed %.4f m/s over the last second, energy %.4f\n", rest, run.speed, run.energy.largest());
   EXPECT_NEAR(rest, 0.02, 0.25 * 0.02);
@@ -87,8 +100,8 @@ TEST(BodiesSlow, AHeavyBoxSinksAndRests) {
 
 // A box of the water's density in a settled tank stays where it is: measured 6.7 mm (a third
 // of a spacing) down over the first 2 s, then still.
-TEST(BodiesSlow, ANeutralBoxAtRestStaysAtRest) {
-  const BodyRun run = run_box(tank_with_box(1000, 0.06), 180);
+TEST_P(FloatingSlow, ANeutralBoxAtRestStaysAtRest) {
+  const BodyRun run = this->run(tank_with_box(1000, 0.06), 180);
   double farthest = 0;
   for (double b : run.bottom) farthest = std::max(farthest, std::abs(b - 0.06));
   std::printf("moved at most %.4f m, speed %.4f m/s over the last second, energy %.4f\n", farthest, run.speed,
