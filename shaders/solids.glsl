@@ -183,7 +183,7 @@ float nearest_moving_solid(vec3 x, out vec3 normal, out vec3 velocity) {
   float nearest = 3.4e38;
   normal = velocity = vec3(0.0);
   for (int k = 0; MOVING && k < int(obstacle_data[0].x); ++k) {
-    if (obstacle_data[obstacle_header(k) + 2].y < 0.5) continue;  // it stands still
+    if (obstacle_data[obstacle_header(k) + 2].y < 0.5 || body_of(k) >= 0) continue;  // it stands still; a body's is no work
     vec3 n;
     float d = obstacle_surface(k, x, n);
     if (d < nearest) nearest = d, normal = n, velocity = obstacle_displacement(k, x) / sim.dt;

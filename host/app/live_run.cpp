@@ -105,6 +105,7 @@ std::vector<LiveSolid> seen_solids(const Scene& scene, const Pose& tank, const s
   for (size_t k = 0; k < scene.obstacles.size() && k < poses.size(); ++k) {
     LiveSolid s;
     s.centre = tank.world(poses[k].world(scene.obstacles[k].middle()));
+    s.body = scene.obstacles[k].body >= 0;
     const glm::dvec3 p = s.centre - camera.eye;
     const double depth = glm::dot(p, axes.forward);
     if (depth > 0 && !scene.obstacles[k].container) {  // the domain's mesh is not for dragging
@@ -560,10 +561,17 @@ void LiveRun::steer(Stage& stage, const Asked& asked) {
       if (c.refused) c.refused("obstacle " + std::to_string(c.obstacle) + " is the domain's mesh: shake the tank instead");
       continue;
     }
+    if (c.release) {
+      for (Lane& lane : stage.lanes) lane.solver->release(c.obstacle);
+      continue;
+    }
     // The page's point is in the world, the solids in the tank's frame.
     const glm::dvec3 shift = hand_shift(stage.scene, c.obstacle, stage.lanes[0].solver->tank_pose().body(c.position));
     for (Lane& lane : stage.lanes) lane.solver->drag(c.obstacle, shift);
   }
+  for (const std::optional<LiveCommand>* tank : {&asked.tilt, &asked.shake})
+    if (*tank && !stage.scene.bodies.empty() && (*tank)->refused) (*tank)->refused("bodies cannot ride a moving tank yet");
+  if (!stage.scene.bodies.empty()) return;
   if (asked.tilt) {
     stage.tilt = asked.tilt->tilt;
     for (Lane& lane : stage.lanes) lane.solver->tilt(glm::angleAxis(glm::radians(stage.tilt.degrees), stage.tilt.axis));

@@ -44,6 +44,7 @@ struct LiveSolid {
   glm::dvec3 centre{0.0};
   glm::dvec2 screen{0.0};
   double radius = 0, span = 0;
+  bool body = false;  // a rigid body: held while dragged, it falls when let go
 };
 
 // One panel of a frame: its setting and the measures of its solver.
@@ -99,7 +100,8 @@ struct LiveCommand {
   std::string scene;       // Scene: a built-in scene's name, checked with check_scene()
   double budget_ms = 0;    // Budget: 0 turns it off
   size_t obstacle = 0;     // Drag: the obstacle (scene order) ...
-  glm::dvec3 position{0.0};  // ... and where its middle should be, m (kept inside the domain)
+  glm::dvec3 position{0.0};  // ... and where its middle should be, m (kept inside the domain) ...
+  bool release = false;      // ... or, for a body, the hand letting it go
   glm::dvec3 axis{1, 0, 0};  // Shake: the direction, a unit vector ...
   double amplitude = 0;      // ... m (0: the tank comes to rest) ...
   double period = 0;         // ... s (0: the tank's first sloshing mode along the axis)

@@ -75,7 +75,7 @@ void add_solids(json& m, const LiveFrame& f) {
   m["solids"] = json::array();
   for (const LiveSolid& s : f.solids)
     m["solids"].push_back({{"centre", vector_json(s.centre)}, {"screen", {s.screen.x, s.screen.y}},
-                           {"radius", s.radius}, {"span", s.span}});
+                           {"radius", s.radius}, {"span", s.span}, {"body", s.body}});
   m["right"] = vector_json(f.right);
   m["up"] = vector_json(f.up);
   m["shake"] = f.shake.moves() ? json{{"axis", vector_json(f.shake.axis)}, {"amplitude", f.shake.amplitude},
@@ -628,7 +628,9 @@ void read_arguments(const json& message, const LiveRun& run, LiveCommand& c) {
     const double k = number(message, "obstacle", 0, 0, 1e6);
     if (k != std::floor(k)) throw InputError("'obstacle' must be an obstacle's index (0, 1, ...)");
     c.obstacle = size_t(k);
-    c.position = triple(message, "position", -1e6, 1e6);
+    if (message.contains("release") && !message["release"].is_boolean()) throw InputError("'release' must be true or false");
+    c.release = message.value("release", false);
+    if (!c.release) c.position = triple(message, "position", -1e6, 1e6);
   } else if (c.kind == Kind::Shake) {
     c.axis = direction(message);
     c.amplitude = number(message, "amplitude", 0, 0, 1);

@@ -570,7 +570,7 @@ void GpuSolver::record(const PlannedPass& p, const vk::Buffer* indirect) {
     case Pass::Adaptive: adaptive_iterations(); break;
     case Pass::Velocity:
       velocity_update(), density_current_ = false;
-      if (!solids_held_) BodyCoupling::finish(d_);
+      if (!solids_held_) bodies_.finish(d_);
       break;
     case Pass::Viscosity: viscosity_vorticity(), density_current_ = true, answer_bodies(p.pass); break;  // it sums rho at x
     case Pass::Vorticity: vorticity_force(); break;
@@ -719,6 +719,7 @@ FrameStats GpuSolver::advance(int steps) {
   ++frames_advanced_;
   finish();
   FrameStats s = read_measures();
+  s.solid_work += bodies_.take_hand_work();
   if (steps > 0) read_times(s, steps, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
   s.count_flow(flow, n_);
   return s;

@@ -99,7 +99,13 @@ void Derived::tilt(const glm::dquat& to, double now) {
 }
 
 void Derived::drag(size_t k, const glm::dvec3& shift) {
-  if (steerable && k < obstacles.size()) obstacles[k].shift_to = shift;
+  if (!steerable || k >= obstacles.size()) return;
+  obstacles[k].shift_to = shift;
+  obstacles[k].held = obstacles[k].body >= 0;
+}
+
+void Derived::release(size_t k) {
+  if (k < obstacles.size()) obstacles[k].held = false;
 }
 
 std::vector<Pose> Derived::obstacle_poses() const {
@@ -129,6 +135,11 @@ bool Derived::move_solids(double t) {
       Pose p = o.motion.at(t);
       p.translation += o.shift;
       o.move_to(p);
+    } else if (o.held) {  // after Bullet's step: the hand leads it from where it stood
+      const glm::dvec3 left = o.middle() + o.shift_to - o.previous.world(o.middle());
+      const double most = kSolidStep * spacing;
+      o.pose = o.previous;
+      o.pose.translation += glm::length(left) > most ? most * glm::normalize(left) : left;
     }
     if (o.pose == o.previous) continue;  // a draggable obstacle left where it is
     for (const Pose* p : {&o.previous, &o.pose}) near.push_back({p->world(o.middle()), o.extent()});
@@ -143,7 +154,7 @@ double Derived::nearest_moving_solid(const glm::dvec3& x, glm::dvec3& normal, gl
   normal = velocity = glm::dvec3(0.0);
   for (const Obstacle& o : obstacles) {
     glm::dvec3 n;
-    if (!o.moves() || o.body >= 0) continue;  // a body's work on the fluid is in its energy
+    if (!o.moves() || o.dynamic()) continue;  // a body's work on the fluid is in its energy
     if (const double d = o.grown(-keep_out).surface(x, n); d < nearest)
       nearest = d, normal = n, velocity = o.displacement(x) / dt;
   }

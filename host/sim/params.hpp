@@ -149,8 +149,10 @@ struct Derived {
   void make_steerable();
   bool moving() const;  // whether any obstacle moves, or the tank, or a viewer may move them
   // Obstacle k's placement shifted by `shift` (m, from where the scene places it), reached at
-  // most kSolidStep spacings a step less what its own motion takes (steerable only).
+  // most kSolidStep spacings a step less what its own motion takes (steerable only); a body is
+  // held by the hand (Obstacle::held) until released.
   void drag(size_t k, const glm::dvec3& shift);
+  void release(size_t k);  // a body the hand let go: its dynamics move it on from the hand's velocity
   // The tank shaken by m from the step's end `now`; a tilt under way is timed again beside it.
   void shake(const Motion& m, double now);
   // The tank turned to `to` from the step's end `now`, eased over a second or what keeps its walls

@@ -9,7 +9,7 @@ namespace pbflow {
 using glm::dvec3;
 
 bool ReferenceSolver::push_body(int b, const dvec3& x, const dvec3& dx) const {
-  if (b < 0) return false;
+  if (b < 0 || !d_.obstacles[d_.bodies[size_t(b)].obstacle].dynamic()) return false;  // a held body's is the hand's work
   const Body& body = d_.bodies[size_t(b)];
   if (!solids_held_) bodies_.pushes()[size_t(b)].add(body.world_centre(d_.obstacles[body.obstacle].pose), x, dx, d_.mass);
   return true;

@@ -398,14 +398,14 @@ void ReferenceSolver::run(const PlannedPass& p) {
     case Pass::Adaptive: adaptive_iterations(); break;
     case Pass::Velocity:
       velocity_update();
-      if (!solids_held_) BodyCoupling::finish(d_);
+      if (!solids_held_) bodies_.finish(d_);
       break;
     case Pass::Viscosity: viscosity_vorticity(), answer_bodies(true); break;
     case Pass::Vorticity: vorticity_force(); break;
     case Pass::Watch: watch_step(step_in_frame_++, watch_); break;
     case Pass::Measures:
       measured_ = measure();
-      measured_.solid_work = d_.mass * solid_work_;
+      measured_.solid_work = d_.mass * solid_work_ + bodies_.take_hand_work();
       measured_.body_energy = BodyCoupling::energy(d_);
       break;
     case Pass::Surface: drawn = smoothed_positions(); break;

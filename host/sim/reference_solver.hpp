@@ -29,6 +29,7 @@ class ReferenceSolver : public Solver {
   std::vector<Body> bodies() const override { return d_.bodies; }
   const TankMotion& tank() const override { return d_.tank; }
   void drag(size_t k, const glm::dvec3& shift) override { d_.drag(k, shift); }
+  void release(size_t k) override { d_.release(k); }
   void shake(const Motion& m) override { d_.shake(m, double(steps_moved_) * d_.dt); }
   void tilt(const glm::dquat& to) override { d_.tilt(to, double(steps_moved_) * d_.dt); }
   void set_emitting(bool on) override { d_.emitting = on; }

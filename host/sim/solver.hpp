@@ -253,6 +253,7 @@ class Solver {
   // (Derived::drag); the tank's motion from the last step's end, starting where it is; the tank
   // turned to `to` about its floor's centre (Derived::tilt).
   virtual void drag(size_t k, const glm::dvec3& shift) = 0;
+  virtual void release(size_t k) = 0;  // a body the hand held let go (Derived::release)
   virtual void shake(const Motion& m) = 0;
   virtual void tilt(const glm::dquat& to) = 0;
   // The emitters on or off from the next frame (a viewer's tap); off, every layer due is skipped.

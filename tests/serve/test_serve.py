@@ -180,6 +180,7 @@ class ServeTest(OneServer, unittest.TestCase):
                                 ({"cmd": "drag", "obstacle": 0.5, "position": [0, 0, 0]}, "'obstacle' must be"),
                                 ({"cmd": "drag", "obstacle": 0, "position": [0, 0]}, "'position' must be three numbers"),
                                 ({"cmd": "drag", "obstacle": 0, "position": [0, "up", 0]}, "'position'"),
+                                ({"cmd": "drag", "obstacle": 0, "release": "yes"}, "'release' must be true or false"),
                                 ({"cmd": "shake", "amplitude": 2}, "'amplitude' must be a number in [0, 1]"),
                                 ({"cmd": "shake", "amplitude": 0.01, "period": 0}, "'period' must be a number in [0.05, 60]"),
                                 ({"cmd": "shake", "amplitude": 0.01, "axis": [0, 0, 0]}, "'axis' must be a direction"),

@@ -244,7 +244,10 @@ void BodyWorld::separate(const std::vector<Body>& bodies, std::vector<Obstacle>&
   for (int m = 0; m < dispatcher.getNumManifolds(); ++m) {
     const btPersistentManifold& contact = *dispatcher.getManifoldByIndexInternal(m);
     const int a = contact.getBody0()->getUserIndex(), b = contact.getBody1()->getUserIndex();  // -1: standing
-    const double inv_a = a >= 0 ? 1.0 / bodies[size_t(a)].mass : 0.0, inv_b = b >= 0 ? 1.0 / bodies[size_t(b)].mass : 0.0;
+    auto inverse_mass = [&](int k) {  // a standing solid's and a held body's: none
+      return k >= 0 && obstacles[bodies[size_t(k)].obstacle].dynamic() ? 1.0 / bodies[size_t(k)].mass : 0.0;
+    };
+    const double inv_a = inverse_mass(a), inv_b = inverse_mass(b);
     glm::dvec3 deepest(0.0);  // B's normal times the overlap: A moves along it, B against it
     for (int p = 0; p < contact.getNumContacts(); ++p) {
       const btManifoldPoint& point = contact.getContactPoint(p);

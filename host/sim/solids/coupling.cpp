@@ -9,13 +9,16 @@ void BodyCoupling::predict(Derived& d) {
   // The solids grown by the keep-out margin meet at the particles' walls: a layer of fluid fits
   // between any two, so that none is squeezed out sideways at a speed no step carries.
   if (!world_) world_ = std::make_shared<BodyWorld>(d.bodies, d.obstacles, d.wall_min, d.wall_max, d.gravity);
+  held_energy_.assign(d.bodies.size(), 0.0);
+  for (size_t k = 0; k < d.bodies.size(); ++k)
+    if (const Obstacle& o = d.obstacles[d.bodies[k].obstacle]; o.held) held_energy_[k] = d.bodies[k].energy(o.pose, d.gravity, d.lowest());
   world_->predict(d.bodies, d.obstacles, d.dt);
 }
 
 void BodyCoupling::give_way(Derived& d) {
   for (size_t k = 0; k < d.bodies.size(); ++k) {
     Obstacle& o = d.obstacles[d.bodies[k].obstacle];
-    o.pose = pbflow::give_way(d.bodies[k], o.pose, pushes_[k]);
+    if (o.dynamic()) o.pose = pbflow::give_way(d.bodies[k], o.pose, pushes_[k]);
     pushes_[k] = {};
   }
   if (world_) world_->separate(d.bodies, d.obstacles);
@@ -23,13 +26,17 @@ void BodyCoupling::give_way(Derived& d) {
 
 void BodyCoupling::kick(Derived& d) {
   for (size_t k = 0; k < d.bodies.size(); ++k) {
-    d.bodies[k].kick(d.obstacles[d.bodies[k].obstacle].pose, pushes_[k]);
+    if (const Obstacle& o = d.obstacles[d.bodies[k].obstacle]; o.dynamic()) d.bodies[k].kick(o.pose, pushes_[k]);
     pushes_[k] = {};
   }
 }
 
 void BodyCoupling::finish(Derived& d) {
-  if (!d.bodies.empty()) finish_bodies(d.bodies, d.obstacles, d.dt);
+  if (d.bodies.empty()) return;
+  finish_bodies(d.bodies, d.obstacles, d.dt);
+  for (size_t k = 0; k < d.bodies.size() && k < held_energy_.size(); ++k)
+    if (const Obstacle& o = d.obstacles[d.bodies[k].obstacle]; o.held)
+      hand_work_ += d.bodies[k].energy(o.pose, d.gravity, d.lowest()) - held_energy_[k];
 }
 
 void BodyCoupling::add_buoyancy(const Derived& d, const std::vector<glm::dvec3>& grad, const std::vector<double>& lines) {

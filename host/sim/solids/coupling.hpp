@@ -5,6 +5,7 @@
 #include <glm/glm.hpp>
 
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "sim/params.hpp"
@@ -20,7 +21,10 @@ class BodyCoupling {
   void predict(Derived& d);  // Pass::Move, before the solids move: Bullet's step to the predicted poses
   void give_way(Derived& d);  // after a pass that pushed: each pose moved by its push, then overlaps parted
   void kick(Derived& d);      // after the dashpot: its momentum into the velocities
-  static void finish(Derived& d);  // after Pass::Velocity: the velocities, the poses' change over the step
+  void finish(Derived& d);    // after Pass::Velocity: the velocities, the poses' change over the step
+  // The work a viewer's hand did on the bodies it held (their energy's change while held, J) since
+  // the last call: solid work, as a dragged solid's on the fluid is.
+  double take_hand_work() { return std::exchange(hand_work_, 0.0); }
   // The coarse correction counts a solid as fluid at rest: the push it would give the fluid in a
   // body's place (rho0 strength grad phi per volume, `grad` at the coarse nodes) is the body's,
   // over its volume below its water line (`lines`: the height along up() of the highest particle
@@ -33,6 +37,8 @@ class BodyCoupling {
  private:
   std::vector<BodyPush> pushes_;
   std::shared_ptr<BodyWorld> world_;  // made at the first step
+  std::vector<double> held_energy_;   // each body's energy at the step's start (held ones' only)
+  double hand_work_ = 0;
 };
 
 glm::dvec3 up(const Derived& d);  // against g (+y without it): where a water line is measured along

@@ -206,7 +206,7 @@ std::vector<glm::vec4> pack_obstacle_header(const std::vector<Obstacle>& obstacl
       data.emplace_back(0.0f);
     }
     data.back().y = o.moves() ? 1.0f : 0.0f;
-    data.back().z = float(o.body + 1);  // 0: not a body (solids.glsl's body_of)
+    data.back().z = o.dynamic() ? float(o.body + 1) : 0.0f;  // 0: no body moves it (solids.glsl's body_of)
     pack_pose(o.pose, data);
     pack_pose(o.previous, data);
   }

@@ -34,6 +34,10 @@ struct Obstacle {
   bool draggable = false;
   glm::dvec3 shift{0.0}, shift_to{0.0};
   int body = -1;  // a rigid body's solid (sim/solids/bodies.hpp): its index in Derived::bodies
+  // A body a viewer's hand holds (pbflow serve, Derived::drag): it moves as a dragged solid does,
+  // its middle led to where the scene placed it plus `shift_to`, and its pushes are the hand's work.
+  bool held = false;
+  bool dynamic() const { return body >= 0 && !held; }  // a body its dynamics move now
 
   bool moves() const { return draggable || motion.moves() || body >= 0; }
 
