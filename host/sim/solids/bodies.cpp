@@ -234,7 +234,7 @@ void BodyWorld::predict(const std::vector<Body>& bodies, std::vector<Obstacle>& 
     obstacles[bodies[k].obstacle].move_to(pose_of(w.bodies[k]->getWorldTransform(), frame_of(bodies[k])));
 }
 
-void BodyWorld::separate(const std::vector<Body>& bodies, std::vector<Obstacle>& obstacles) {
+std::vector<glm::dvec3> BodyWorld::separate(const std::vector<Body>& bodies, std::vector<Obstacle>& obstacles) {
   World& w = *world_;
   for (size_t k = 0; k < bodies.size(); ++k)
     w.bodies[k]->setWorldTransform(transform(obstacles[bodies[k].obstacle].pose, frame_of(bodies[k])));
@@ -258,6 +258,7 @@ void BodyWorld::separate(const std::vector<Body>& bodies, std::vector<Obstacle>&
     if (b >= 0) shift[size_t(b)] -= deepest * inv_b / (inv_a + inv_b);
   }
   for (size_t k = 0; k < bodies.size(); ++k) obstacles[bodies[k].obstacle].pose.translation += shift[k];
+  return shift;
 }
 
 }  // namespace pbflow

@@ -76,8 +76,8 @@ class BodyWorld {
   // their inverse masses), along the contact's normal, its velocity untouched: the fluid's pushes
   // between Bullet's steps press bodies into the floor and each other, which Bullet undoes only
   // part of a step at a time, and its next step made the rest a velocity (a ball popped off a box
-  // at 0.8 m/s).
-  void separate(const std::vector<Body>& bodies, std::vector<Obstacle>& obstacles);
+  // at 0.8 m/s). Returns how far each was moved.
+  std::vector<glm::dvec3> separate(const std::vector<Body>& bodies, std::vector<Obstacle>& obstacles);
 
  private:
   struct World;

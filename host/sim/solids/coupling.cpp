@@ -1,8 +1,14 @@
 #include "sim/solids/coupling.hpp"
 
+#include <algorithm>
 #include <limits>
 
 namespace pbflow {
+
+namespace {
+// How far a body's centre moved from its pose at the step's start.
+glm::dvec3 centre_move(const Body& b, const Obstacle& o) { return b.world_centre(o.pose) - b.world_centre(o.previous); }
+}  // namespace
 
 void BodyCoupling::predict(Derived& d) {
   if (d.bodies.empty()) return;
@@ -13,15 +19,31 @@ void BodyCoupling::predict(Derived& d) {
   for (size_t k = 0; k < d.bodies.size(); ++k)
     if (const Obstacle& o = d.obstacles[d.bodies[k].obstacle]; o.held) held_energy_[k] = d.bodies[k].energy(o.pose, d.gravity, d.lowest());
   world_->predict(d.bodies, d.obstacles, d.dt);
+  moved_.clear();
+  for (const Body& b : d.bodies) moved_.push_back(centre_move(b, d.obstacles[b.obstacle]));
 }
 
 void BodyCoupling::give_way(Derived& d) {
   for (size_t k = 0; k < d.bodies.size(); ++k) {
-    Obstacle& o = d.obstacles[d.bodies[k].obstacle];
-    if (o.dynamic()) o.pose = pbflow::give_way(d.bodies[k], o.pose, pushes_[k]);
+    const Body& b = d.bodies[k];
+    Obstacle& o = d.obstacles[b.obstacle];
+    if (o.dynamic()) {
+      const glm::dvec3 before = b.world_centre(o.pose);
+      o.pose = pbflow::give_way(b, o.pose, pushes_[k]);
+      if (k < moved_.size()) moved_[k] += b.world_centre(o.pose) - before;
+    }
     pushes_[k] = {};
   }
-  if (world_) world_->separate(d.bodies, d.obstacles);
+  if (!world_) return;
+  // Parting overlaps is inelastic: it takes away the step's motion into what the body met, and
+  // the rest of it only moves the body, as Bullet's split impulse does. Made a velocity whole, it
+  // threw a ball driven into a light box and the box off the floor at 3.6 m/s.
+  const std::vector<glm::dvec3> shift = world_->separate(d.bodies, d.obstacles);
+  for (size_t k = 0; k < shift.size() && k < moved_.size(); ++k)
+    if (const double length = glm::length(shift[k]); length > 0) {
+      const glm::dvec3 normal = shift[k] / length;
+      moved_[k] += std::min(length, std::max(-glm::dot(moved_[k], normal), 0.0)) * normal;
+    }
 }
 
 void BodyCoupling::kick(Derived& d) {
@@ -31,9 +53,12 @@ void BodyCoupling::kick(Derived& d) {
   }
 }
 
+
 void BodyCoupling::finish(Derived& d) {
   if (d.bodies.empty()) return;
   finish_bodies(d.bodies, d.obstacles, d.dt);
+  for (size_t k = 0; k < d.bodies.size() && k < moved_.size(); ++k)
+    if (d.obstacles[d.bodies[k].obstacle].dynamic()) d.bodies[k].velocity = moved_[k] / d.dt;
   for (size_t k = 0; k < d.bodies.size() && k < held_energy_.size(); ++k)
     if (const Obstacle& o = d.obstacles[d.bodies[k].obstacle]; o.held)
       hand_work_ += d.bodies[k].energy(o.pose, d.gravity, d.lowest()) - held_energy_[k];

@@ -38,6 +38,9 @@ class BodyCoupling {
   std::vector<BodyPush> pushes_;
   std::shared_ptr<BodyWorld> world_;  // made at the first step
   std::vector<double> held_energy_;   // each body's energy at the step's start (held ones' only)
+  // How far each body's centre moved this step but for what parting its overlaps moved it past
+  // the step's own motion into what it met: its velocity at the step's end times dt.
+  std::vector<glm::dvec3> moved_;
   double hand_work_ = 0;
 };
 
