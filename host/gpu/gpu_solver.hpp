@@ -1,6 +1,7 @@
 #pragma once
 // The solver on Vulkan compute: every pass of docs/design.md's step is one shader, and a
-// whole frame (all its steps and the measures) is one command buffer.
+// whole frame (all its steps and the measures) is one command buffer; where the scene has bodies,
+// one up to each pass that pushes them (gpu_bodies.cpp).
 #include <array>
 #include <functional>
 #include <memory>
