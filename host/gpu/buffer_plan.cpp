@@ -85,7 +85,7 @@ uint64_t SolverBuffers::total() const {
                  x_lambda_spare + curl + partials + obstacles + work + watch + overflow_groups + 3 * adaptive_words +
                  coarse_sums + coarse_phi + coarse_grad + coarse_open + result + grid.cell + grid.rank + grid.order + shape +
                  white_water() + grid.scan.total() + drains + drained + drain_counts + drain_keep.total() +
-                 2 * body_push;
+                 2 * body_push + (body_push ? coarse_grad : 0);
   return sum;
 }
 

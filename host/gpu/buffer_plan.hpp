@@ -75,7 +75,7 @@ struct SolverBuffers {
   uint64_t drains = 0, drained = 0, drain_counts = 0;
   ScanBuffers drain_keep;
   // The bodies' push sums (contract.h's BODY_PUSH_WORDS a body), on the device and a host copy to
-  // read; none without bodies.
+  // read, and a host copy of the coarse gradient; none without bodies.
   uint64_t body_push = 0;
   GridBuffers grid;
 

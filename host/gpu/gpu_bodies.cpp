@@ -16,6 +16,7 @@ void GpuSolver::build_bodies() {
   body_line_ = particle_program("body_water_line");
   body_push_ = vk::Buffer(ctx_, plan_.body_push);
   body_read_ = vk::Buffer(ctx_, plan_.body_push, vk::Memory::Host);
+  if (plan_.coarse_grad) body_grad_read_ = vk::Buffer(ctx_, plan_.coarse_grad, vk::Memory::Host);  // for the buoyancy
   body_push_.upload(std::span<const uint32_t>(std::vector<uint32_t>(plan_.body_push / sizeof(uint32_t), 0u)));
   body_push_.upload(std::span<const uint32_t>(std::vector<uint32_t>(plan_.body_push / sizeof(uint32_t), 0u)));
   bodies_ = BodyCoupling(d_.bodies.size());
@@ -39,14 +40,19 @@ void GpuSolver::body_water_line() {
 // After `pass`: where it pushed bodies, the commands so far run, and the bodies' answer.
 void GpuSolver::answer_bodies(Pass pass) {
   if (d_.bodies.empty() || solids_held_) return;
-  const VkBufferCopy all{0, 0, body_push_.bytes()};
-  vkCmdCopyBuffer(cmd_.handle(), body_push_.handle(), body_read_.handle(), 1, &all);
+  auto copy = [&](const vk::Buffer& from, const vk::Buffer& to) {
+    const VkBufferCopy all{0, 0, from.bytes()};
+    vkCmdCopyBuffer(cmd_.handle(), from.handle(), to.handle(), 1, &all);
+  };
+  copy(body_push_, body_read_);
+  if (pass == Pass::Coarse) copy(coarse_grad_, body_grad_read_);
   vk::memory_barrier(cmd_.handle());
   finish();
   read_body_pushes();
   if (pass == Pass::Coarse) {
+    const auto* g = static_cast<const glm::vec4*>(body_grad_read_.mapped());
     std::vector<glm::dvec3> grad;
-    for (const glm::vec4& g : coarse_grad_.download<glm::vec4>(size_t(d_.coarse.count()))) grad.emplace_back(glm::vec3(g));
+    for (int k = 0; k < d_.coarse.count(); ++k) grad.emplace_back(glm::vec3(g[k]));
     bodies_.add_buoyancy(d_, grad, body_water_lines());
   }
   if (pass == Pass::Viscosity)

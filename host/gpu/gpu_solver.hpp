@@ -182,7 +182,7 @@ class GpuSolver : public Solver {
   GpuScan drain_keep_;
   // The bodies' program and push sums (SolverBuffers::body_push), where the scene has bodies.
   vk::Program body_line_;
-  vk::Buffer body_push_, body_read_;
+  vk::Buffer body_push_, body_read_, body_grad_read_;  // the sums, their host copy, the coarse gradient's
   BodyCoupling bodies_;
   vk::Buffer watch_buf_;  // watch.comp: flags, first step, counts, the step being watched
   uint32_t step_in_frame_ = 0;  // adaptive iterations: the last check's measures, dispatch arguments + count
