@@ -53,7 +53,6 @@ void BodyCoupling::kick(Derived& d) {
   }
 }
 
-
 void BodyCoupling::finish(Derived& d) {
   if (d.bodies.empty()) return;
   finish_bodies(d.bodies, d.obstacles, d.dt);
