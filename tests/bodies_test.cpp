@@ -292,6 +292,32 @@ TEST(Bodies, PartingOverlapsMakesNoEnergy) {
   }
 }
 
+// Two bodies parted keep their momentum: in zero gravity, away from the water, a box thrown at a
+// lighter one whose margins it overlaps at the start; what one loses the other gains.
+TEST(Bodies, PartingTwoBodiesKeepsTheirMomentum) {
+  const Scene scene = parse_scene(R"({"domain": {"min": [0, 0, 0], "max": [1, 0.6, 0.6]}, "particle_spacing": 0.02,
+    "gravity": [0, 0, 0], "fluid_spheres": [{"centre": [0.9, 0.5, 0.5], "radius": 0.04}],
+    "bodies": [{"type": "box", "min": [0.2, 0.25, 0.25], "max": [0.3, 0.35, 0.35], "density": 800, "velocity": [0.5, 0.05, 0]},
+               {"type": "box", "min": [0.305, 0.27, 0.25], "max": [0.365, 0.33, 0.35], "density": 300, "velocity": [-0.2, 0, 0]}]})",
+                                  "test", {});
+  ReferenceSolver solver(derive(scene), initial_particles(scene));
+  auto momentum = [&] {
+    glm::dvec3 p(0.0);
+    for (const Body& b : solver.bodies()) p += b.mass * b.velocity;
+    return p;
+  };
+  const glm::dvec3 before = momentum();
+  const double closing = solver.bodies()[0].velocity.x - solver.bodies()[1].velocity.x;
+  for (int frame = 0; frame < 10; ++frame) solver.advance(scene.solver.substeps);
+  const glm::dvec3 after = momentum();
+  const double apart = solver.bodies()[1].velocity.x - solver.bodies()[0].velocity.x;
+  std::printf("momentum (%.5f %.5f %.5f) before, (%.5f %.5f %.5f) after; closing at %.3f m/s, then parting at %.3f\n",
+              before.x, before.y, before.z, after.x, after.y, after.z, closing, apart);
+  EXPECT_LT(glm::length(after - before), 1e-6 * glm::length(before));
+  EXPECT_GE(apart, -1e-9) << "they still close: no contact met them";
+  EXPECT_LT(apart, closing) << "the contact is inelastic";
+}
+
 // A mesh body's mass, centre and inertia come from the points filling it: the ball mesh (an
 // icosphere, its volume 1 % under the sphere's) against the sphere, and it floats where the
 // sphere of its mass does.

@@ -234,12 +234,13 @@ void BodyWorld::predict(const std::vector<Body>& bodies, std::vector<Obstacle>& 
     obstacles[bodies[k].obstacle].move_to(pose_of(w.bodies[k]->getWorldTransform(), frame_of(bodies[k])));
 }
 
-std::vector<glm::dvec3> BodyWorld::separate(const std::vector<Body>& bodies, std::vector<Obstacle>& obstacles) {
+std::vector<BodyWorld::Parting> BodyWorld::separate(const std::vector<Body>& bodies, std::vector<Obstacle>& obstacles) {
   World& w = *world_;
   for (size_t k = 0; k < bodies.size(); ++k)
     w.bodies[k]->setWorldTransform(transform(obstacles[bodies[k].obstacle].pose, frame_of(bodies[k])));
   w.world.performDiscreteCollisionDetection();
   std::vector<glm::dvec3> shift(bodies.size(), glm::dvec3(0.0));
+  std::vector<Parting> parted;
   btDispatcher& dispatcher = *w.world.getDispatcher();
   for (int m = 0; m < dispatcher.getNumManifolds(); ++m) {
     const btPersistentManifold& contact = *dispatcher.getManifoldByIndexInternal(m);
@@ -256,9 +257,10 @@ std::vector<glm::dvec3> BodyWorld::separate(const std::vector<Body>& bodies, std
     if (inv_a + inv_b <= 0 || deepest == glm::dvec3(0.0)) continue;
     if (a >= 0) shift[size_t(a)] += deepest * inv_a / (inv_a + inv_b);
     if (b >= 0) shift[size_t(b)] -= deepest * inv_b / (inv_a + inv_b);
+    parted.push_back({a, b, deepest});
   }
   for (size_t k = 0; k < bodies.size(); ++k) obstacles[bodies[k].obstacle].pose.translation += shift[k];
-  return shift;
+  return parted;
 }
 
 }  // namespace pbflow

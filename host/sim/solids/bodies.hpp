@@ -76,8 +76,12 @@ class BodyWorld {
   // their inverse masses), along the contact's normal, its velocity untouched: the fluid's pushes
   // between Bullet's steps press bodies into the floor and each other, which Bullet undoes only
   // part of a step at a time, and its next step made the rest a velocity (a ball popped off a box
-  // at 0.8 m/s). Returns how far each was moved.
-  std::vector<glm::dvec3> separate(const std::vector<Body>& bodies, std::vector<Obstacle>& obstacles);
+  // at 0.8 m/s). Returns each overlap parted.
+  struct Parting {
+    int a = -1, b = -1;        // the bodies (-1: a standing solid, or none that moves)
+    glm::dvec3 overlap{0.0};  // b's outward normal times the depth: a moved along it, b against it
+  };
+  std::vector<Parting> separate(const std::vector<Body>& bodies, std::vector<Obstacle>& obstacles);
 
  private:
   struct World;

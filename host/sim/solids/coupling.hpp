@@ -35,6 +35,8 @@ class BodyCoupling {
   static double energy(const Derived& d);  // the bodies' kinetic and potential energy, J
 
  private:
+  void part(const Derived& d, const BodyWorld::Parting& p);  // an overlap parted: its velocity's share
+
   std::vector<BodyPush> pushes_;
   std::shared_ptr<BodyWorld> world_;  // made at the first step
   std::vector<double> held_energy_;   // each body's energy at the step's start (held ones' only)
