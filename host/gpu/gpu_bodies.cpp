@@ -18,7 +18,6 @@ void GpuSolver::build_bodies() {
   body_read_ = vk::Buffer(ctx_, plan_.body_push, vk::Memory::Host);
   if (plan_.coarse_grad) body_grad_read_ = vk::Buffer(ctx_, plan_.coarse_grad, vk::Memory::Host);  // for the buoyancy
   body_push_.upload(std::span<const uint32_t>(std::vector<uint32_t>(plan_.body_push / sizeof(uint32_t), 0u)));
-  body_push_.upload(std::span<const uint32_t>(std::vector<uint32_t>(plan_.body_push / sizeof(uint32_t), 0u)));
   bodies_ = BodyCoupling(d_.bodies.size());
 }
 
@@ -55,14 +54,14 @@ void GpuSolver::answer_bodies(Pass pass) {
     for (int k = 0; k < d_.coarse.count(); ++k) grad.emplace_back(glm::vec3(g[k]));
     bodies_.add_buoyancy(d_, grad, body_water_lines());
   }
-  if (pass == Pass::Viscosity)
-    bodies_.kick(d_);
-  else
-    bodies_.give_way(d_);
   begin();
   cmd_.fill(body_push_, 0);
-  const std::vector<glm::vec4> header = pack_obstacle_header(d_.obstacles, d_.keep_out, d_.tank_kick);
-  cmd_.update(obstacles_, header.data(), uint32_t(header.size() * sizeof(glm::vec4)));
+  if (pass == Pass::Viscosity) {
+    bodies_.kick(d_);  // velocities only: the poses stand
+  } else {
+    bodies_.give_way(d_);
+    update_obstacle_header();
+  }
 }
 
 // The device's sums into BodyCoupling's pushes: momentum times the step (a particle's mass per

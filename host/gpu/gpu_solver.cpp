@@ -605,9 +605,13 @@ void GpuSolver::move_solids() {
     d_.hold_solids();
   else
     bodies_.predict(d_), open_changed = d_.move_solids(double(++steps_moved_) * d_.dt);
+  update_obstacle_header();
+  if (open_changed) cmd_.update(coarse_open_, d_.coarse.open.data(), uint32_t(d_.coarse.open.size() * sizeof(float)));
+}
+
+void GpuSolver::update_obstacle_header() {
   const std::vector<glm::vec4> header = pack_obstacle_header(d_.obstacles, d_.keep_out, d_.tank_kick);
   cmd_.update(obstacles_, header.data(), uint32_t(header.size() * sizeof(glm::vec4)));
-  if (open_changed) cmd_.update(coarse_open_, d_.coarse.open.data(), uint32_t(d_.coarse.open.size() * sizeof(float)));
 }
 
 void GpuSolver::watch() {

@@ -70,6 +70,7 @@ class GpuSolver : public Solver {
   void viscosity_vorticity();
   void vorticity_force();
   void move_solids();  // Pass::Move: the solids to the step's end (Derived::move_solids)
+  void update_obstacle_header();  // the solids' poses now into the obstacles' header, in the commands
   FlowCount apply_flow();  // the frame's drains and emitters, before its steps (sim/flow.hpp)
   FlowCount drain();       // the drains' passes, submitted and read back: what they took
   void watch();  // flags non-finite, runaway and escaped particles of this step
