@@ -1,8 +1,8 @@
 #version 450
-// Each body's water line (host/sim/solids/coupling.hpp, add_buoyancy): the height along -g of
-// the highest particle within a spacing of its grown surface (where particle centres stop) and no
-// higher than its top (the host's BODY_TOP_WORD), as an ordered float by atomicMax: the largest
-// whatever the order.
+// Each body's water line (host/sim/solids/coupling.hpp, add_buoyancy): the height along up (the
+// host's, at BODY_UP_WORD) of the highest particle within a spacing of its grown surface (where
+// particle centres stop) and no higher than its top (the host's BODY_TOP_WORD), as an ordered
+// float by atomicMax: the largest whatever the order.
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x_id = 0) in;
 #include "common.glsl"
@@ -23,12 +23,13 @@ void main() {
   uint i = thread_index();
   if (i >= sim.count) return;
   vec3 x = x_pred[i].xyz;
-  vec3 up = length(sim.gravity) > 0.0 ? -normalize(sim.gravity) : vec3(0.0, 1.0, 0.0);
-  float height = dot(x, up), margin = obstacle_data[0].y, spacing = 2.0 * margin;  // the margin is half a spacing
+  float margin = obstacle_data[0].y, spacing = 2.0 * margin;  // the margin is half a spacing
   for (int k = 0; k < int(obstacle_data[0].x); ++k) {
     int b = body_of(k);
     if (b < 0) continue;
-    vec3 normal;
+    int words = b * BODY_PUSH_WORDS + BODY_UP_WORD;
+    vec3 normal, up = vec3(uintBitsToFloat(body_push[words]), uintBitsToFloat(body_push[words + 1]), uintBitsToFloat(body_push[words + 2]));
+    float height = dot(x, up);
     if (height <= uintBitsToFloat(body_push[b * BODY_PUSH_WORDS + BODY_TOP_WORD]) && obstacle_surface(k, x, normal) - margin < spacing)
       atomicMax(body_push[b * BODY_PUSH_WORDS + BODY_LINE_WORD], ordered(height));
   }

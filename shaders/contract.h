@@ -76,10 +76,12 @@
 // The bodies' push sums (solids.glsl's push_body, host/gpu/gpu_bodies.cpp): BODY_PUSH_WORDS words
 // a body, six 64-bit fixed-point sums (two words each, BODY_FIXED_UNIT to a metre or a square
 // metre: 2^-40 m, and 2^23 m at most), then at BODY_LINE_WORD its water line (an ordered float,
-// 0 for none) and at BODY_TOP_WORD its top (a float), both heights along -g.
-#define BODY_PUSH_WORDS 16
+// 0 for none), at BODY_TOP_WORD its top (a float), both heights along up, and at BODY_UP_WORD
+// that direction (three floats, the host's up()).
+#define BODY_PUSH_WORDS 20
 #define BODY_FIXED_UNIT 1099511627776.0
 #define BODY_LINE_WORD 12
 #define BODY_TOP_WORD 13
+#define BODY_UP_WORD 14
 
 #endif

@@ -156,7 +156,7 @@ TEST(Motion, WhiteWaterFallsByTheTanksGravity) {
   d.make_steerable();
   const glm::dquat to = glm::angleAxis(glm::radians(20.0), glm::dvec3(1, 0, 0));
   d.tilt(to, 0.0);
-  for (int step = 1; step <= int(3 / d.dt); ++step) d.move_solids(step * d.dt);
+  for (int step = 1; step <= int(3 / d.dt); ++step) d.step_tank(step * d.dt);
   EXPECT_NEAR(glm::length(d.tank_gravity() - glm::transpose(glm::dmat3(glm::mat3_cast(to))) * d.gravity), 0.0, 1e-9);
 }
 
@@ -173,7 +173,7 @@ TEST(Motion, ATiltMovesTheWallsNoFasterThanAStepKeepsSound) {
     double fastest = 0;
     int steps = 0;
     for (Pose before = d.tank.pose(); steps < int(20 / d.dt); ++steps) {
-      d.move_solids((steps + 1) * d.dt);
+      d.step_tank((steps + 1) * d.dt);
       for (int k = 0; k < 8; ++k) {
         const glm::dvec3 corner(k & 1 ? d.domain_max.x : d.domain_min.x, k & 2 ? d.domain_max.y : d.domain_min.y,
                                 k & 4 ? d.domain_max.z : d.domain_min.z);
@@ -202,7 +202,7 @@ TEST(Motion, AShakeDuringATiltKeepsTheWallsWithinAStep) {
   Pose before = d.tank.pose();
   for (int step = 1; step <= int(10 / d.dt); ++step) {
     if (step == int(0.25 / d.dt)) d.shake(shake, (step - 1) * d.dt);
-    d.move_solids(step * d.dt);
+    d.step_tank(step * d.dt);
     for (int k = 0; k < 8; ++k) {
       const glm::dvec3 corner = glm::mix(d.domain_min, d.domain_max, glm::dvec3(k & 1, (k >> 1) & 1, (k >> 2) & 1));
       fastest = std::max(fastest, glm::length(d.tank.pose().world(corner) - before.world(corner)));

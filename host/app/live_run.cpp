@@ -569,9 +569,6 @@ void LiveRun::steer(Stage& stage, const Asked& asked) {
     const glm::dvec3 shift = hand_shift(stage.scene, c.obstacle, stage.lanes[0].solver->tank_pose().body(c.position));
     for (Lane& lane : stage.lanes) lane.solver->drag(c.obstacle, shift);
   }
-  for (const std::optional<LiveCommand>* tank : {&asked.tilt, &asked.shake})
-    if (*tank && !stage.scene.bodies.empty() && (*tank)->refused) (*tank)->refused("bodies cannot ride a moving tank yet");
-  if (!stage.scene.bodies.empty()) return;
   if (asked.tilt) {
     stage.tilt = asked.tilt->tilt;
     for (Lane& lane : stage.lanes) lane.solver->tilt(glm::angleAxis(glm::radians(stage.tilt.degrees), stage.tilt.axis));

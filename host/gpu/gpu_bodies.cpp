@@ -21,13 +21,16 @@ void GpuSolver::build_bodies() {
   bodies_ = BodyCoupling(d_.bodies.size());
 }
 
-// Each body's top along up into its words, then the highest particle beside it at most that high.
+// Each body's top along up and up itself into its words, then the highest particle beside it at
+// most that high.
 void GpuSolver::body_water_line() {
+  static_assert(BODY_UP_WORD == BODY_TOP_WORD + 1);
   const glm::dvec3 lift = up(d_);
   for (size_t k = 0; k < d_.bodies.size(); ++k) {
-    const float top = float(body_top(d_.bodies[k], d_.obstacles[d_.bodies[k].obstacle], lift));
+    const float words[4] = {float(body_top(d_.bodies[k], d_.obstacles[d_.bodies[k].obstacle], lift)), float(lift.x),
+                            float(lift.y), float(lift.z)};
     const uint32_t at = uint32_t((k * BODY_PUSH_WORDS + BODY_TOP_WORD) * sizeof(uint32_t));
-    cmd_.update(body_push_, &top, sizeof top, at);
+    cmd_.update(body_push_, words, sizeof words, at);
   }
   bind_particle_pass(body_line_);
   cmd_.bind("x_pred", at(XPred));

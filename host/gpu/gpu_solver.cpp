@@ -601,10 +601,14 @@ void GpuSolver::relax() {
 // open shares, recorded into the frame's commands: the host knows every step's time.
 void GpuSolver::move_solids() {
   bool open_changed = false;
-  if (solids_held_)
+  if (solids_held_) {
     d_.hold_solids();
-  else
-    bodies_.predict(d_), open_changed = d_.move_solids(double(++steps_moved_) * d_.dt);
+  } else {
+    const double t = double(++steps_moved_) * d_.dt;
+    d_.step_tank(t);
+    bodies_.predict(d_);
+    open_changed = d_.move_solids(t);
+  }
   update_obstacle_header();
   if (open_changed) cmd_.update(coarse_open_, d_.coarse.open.data(), uint32_t(d_.coarse.open.size() * sizeof(float)));
 }
@@ -723,7 +727,7 @@ FrameStats GpuSolver::advance(int steps) {
   ++frames_advanced_;
   finish();
   FrameStats s = read_measures();
-  s.solid_work += bodies_.take_hand_work();
+  s.solid_work += bodies_.take_work();
   if (steps > 0) read_times(s, steps, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
   s.count_flow(flow, n_);
   return s;

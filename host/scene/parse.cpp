@@ -399,7 +399,6 @@ Obstacle body(const json& b, const std::string& path, Scene& s, const SceneFiles
 
 void read_bodies(const json& j, Scene& s, const SceneFiles& files) {
   const json& bodies = list(j, "bodies");
-  require(bodies.empty() || !s.tank_motion.moves(), "bodies cannot ride a moving tank (domain.motion) yet");
   for (size_t i = 0; i < bodies.size(); ++i) s.obstacles.push_back(body(bodies[i], "bodies[" + std::to_string(i) + "]", s, files));
 }
 

@@ -124,7 +124,6 @@ double hand_step(const Obstacle& o, double spacing, double dt) {
 }  // namespace
 
 bool Derived::move_solids(double t) {
-  tank_kick = tank.step_to(t, dt, gravity);
   std::vector<Reach> near;
   for (Obstacle& o : obstacles) {
     if (!o.moves()) continue;

@@ -163,6 +163,9 @@ struct Derived {
   // (Solver::carry), their open shares measured anew; kept steerable where this is.
   void carry_solids(const std::vector<Obstacle>& placed, const TankMotion& motion, const std::vector<Body>& moving);
   std::vector<Pose> obstacle_poses() const;  // where each stands now
+  // The tank to time t, the end of a step: the step's kick (tank_kick), which the fluid and the
+  // bodies (BodyCoupling::predict) take.
+  void step_tank(double t) { tank_kick = tank.step_to(t, dt, gravity); }
   // The obstacles moved to their poses at time t, the end of a step, and the coarse nodes'
   // open shares measured again where a moving one reaches (at its start pose or its end);
   // whether any were (the tank's shaking alone leaves them).

@@ -381,8 +381,10 @@ void ReferenceSolver::run(const PlannedPass& p) {
       if (solids_held_) {
         d_.hold_solids();
       } else {
+        const double t = double(++steps_moved_) * d_.dt;
+        d_.step_tank(t);
         bodies_.predict(d_);
-        d_.move_solids(double(++steps_moved_) * d_.dt);
+        d_.move_solids(t);
       }
       moved_since_lists_ = true;
       break;
@@ -405,7 +407,7 @@ void ReferenceSolver::run(const PlannedPass& p) {
     case Pass::Watch: watch_step(step_in_frame_++, watch_); break;
     case Pass::Measures:
       measured_ = measure();
-      measured_.solid_work = d_.mass * solid_work_ + bodies_.take_hand_work();
+      measured_.solid_work = d_.mass * solid_work_ + bodies_.take_work();
       measured_.body_energy = BodyCoupling::energy(d_);
       break;
     case Pass::Surface: drawn = smoothed_positions(); break;

@@ -1,13 +1,31 @@
 #include "sim/solids/coupling.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
+
+#include <glm/gtc/quaternion.hpp>
 
 namespace pbflow {
 
 namespace {
 // How far a body's centre moved from its pose at the step's start.
 glm::dvec3 centre_move(const Body& b, const Obstacle& o) { return b.world_centre(o.pose) - b.world_centre(o.previous); }
+
+// A body's spin after the tank's step, in the tank's frame, such that Bullet's step (the turn
+// exp(w dt) on the left) turns it as the world's step does, as the kick does for the fluid's
+// positions: with R-, R, R+ the tank's rotations at the last two step ends and this one, the
+// world's step exp(w_world dt), w_world the spin it had over the last step, is
+// (R+^T R) exp(w dt) (R-^T R) in the frame.
+glm::dvec3 spin_in_tank(const glm::dvec3& w, const TankKick& kick, double dt) {
+  const double rate = glm::length(w);
+  const glm::dquat own = rate > 0 ? glm::angleAxis(rate * dt, w / rate) : glm::dquat(1, 0, 0, 0);
+  glm::dquat turn = glm::quat_cast(kick.turn_now) * own * glm::quat_cast(glm::transpose(kick.turn_before) * kick.turn_now);
+  if (turn.w < 0) turn = -turn;  // the shorter way round
+  const glm::dvec3 axis(turn.x, turn.y, turn.z);
+  const double half = std::atan2(glm::length(axis), turn.w);
+  return half > 0 ? 2.0 * half / dt * glm::normalize(axis) : glm::dvec3(0.0);
+}
 }  // namespace
 
 void BodyCoupling::predict(Derived& d) {
@@ -16,8 +34,16 @@ void BodyCoupling::predict(Derived& d) {
   // between any two, so that none is squeezed out sideways at a speed no step carries.
   if (!world_) world_ = std::make_shared<BodyWorld>(d.bodies, d.obstacles, d.wall_min, d.wall_max, d.gravity);
   held_energy_.assign(d.bodies.size(), 0.0);
-  for (size_t k = 0; k < d.bodies.size(); ++k)
-    if (const Obstacle& o = d.obstacles[d.bodies[k].obstacle]; o.held) held_energy_[k] = d.bodies[k].energy(o.pose, d.gravity, d.lowest());
+  for (size_t k = 0; k < d.bodies.size(); ++k) {
+    Body& b = d.bodies[k];
+    const Obstacle& o = d.obstacles[b.obstacle];
+    if (o.held) held_energy_[k] = b.energy(o.pose, d.gravity, d.lowest());
+    if (!o.dynamic() || d.tank_kick.none()) continue;
+    const double before = b.energy(o.pose, d.gravity, d.lowest());
+    b.velocity += d.tank_kick.at(b.world_centre(o.pose), b.velocity);  // the centre's step, as a particle's
+    b.angular_velocity = spin_in_tank(b.angular_velocity, d.tank_kick, d.dt);
+    work_ += b.energy(o.pose, d.gravity, d.lowest()) - before;  // the kick's work, as the fluid's
+  }
   world_->predict(d.bodies, d.obstacles, d.dt);
   moved_.clear();
   for (const Body& b : d.bodies) moved_.push_back(centre_move(b, d.obstacles[b.obstacle]));
@@ -71,7 +97,7 @@ void BodyCoupling::finish(Derived& d) {
     if (d.obstacles[d.bodies[k].obstacle].dynamic()) d.bodies[k].velocity = moved_[k] / d.dt;
   for (size_t k = 0; k < d.bodies.size() && k < held_energy_.size(); ++k)
     if (const Obstacle& o = d.obstacles[d.bodies[k].obstacle]; o.held)
-      hand_work_ += d.bodies[k].energy(o.pose, d.gravity, d.lowest()) - held_energy_[k];
+      work_ += d.bodies[k].energy(o.pose, d.gravity, d.lowest()) - held_energy_[k];
 }
 
 void BodyCoupling::add_buoyancy(const Derived& d, const std::vector<glm::dvec3>& grad, const std::vector<double>& lines) {
@@ -96,7 +122,10 @@ double BodyCoupling::energy(const Derived& d) {
   return e;
 }
 
-glm::dvec3 up(const Derived& d) { return glm::length(d.gravity) > 0 ? -glm::normalize(d.gravity) : glm::dvec3(0, 1, 0); }
+glm::dvec3 up(const Derived& d) {
+  const glm::dvec3 g = glm::transpose(d.tank.pose().rotation) * d.gravity;
+  return glm::length(g) > 0 ? -glm::normalize(g) : glm::dvec3(0, 1, 0);
+}
 
 double body_top(const Body& b, const Obstacle& o, const glm::dvec3& up) {
   double top = -std::numeric_limits<double>::infinity();

@@ -18,13 +18,16 @@ class BodyCoupling {
   explicit BodyCoupling(size_t bodies) : pushes_(bodies) {}
   // What the running pass's pushes gave each body (Derived::bodies' order).
   std::vector<BodyPush>& pushes() { return pushes_; }
-  void predict(Derived& d);  // Pass::Move, before the solids move: Bullet's step to the predicted poses
+  // Pass::Move, after the tank's step and before the solids move: the tank's kick into the
+  // bodies' velocities, then Bullet's step to the predicted poses.
+  void predict(Derived& d);
   void give_way(Derived& d);  // after a pass that pushed: each pose moved by its push, then overlaps parted
   void kick(Derived& d);      // after the dashpot: its momentum into the velocities
   void finish(Derived& d);    // after Pass::Velocity: the velocities, the poses' change over the step
-  // The work a viewer's hand did on the bodies it held (their energy's change while held, J) since
-  // the last call: solid work, as a dragged solid's on the fluid is.
-  double take_hand_work() { return std::exchange(hand_work_, 0.0); }
+  // The work done on the bodies from outside the water since the last call, J: a viewer's hand's
+  // on those it held (their energy's change while held) and the tank's motion's (its kick's):
+  // solid work, as a dragged solid's or the tank's on the fluid is.
+  double take_work() { return std::exchange(work_, 0.0); }
   // The coarse correction counts a solid as fluid at rest: the push it would give the fluid in a
   // body's place (rho0 strength grad phi per volume, `grad` at the coarse nodes) is the body's,
   // over its volume below its water line (`lines`: the height along up() of the highest particle
@@ -43,10 +46,12 @@ class BodyCoupling {
   // How far each body's centre moved this step but for what parting its overlaps moved it past
   // the step's own motion into what it met: its velocity at the step's end times dt.
   std::vector<glm::dvec3> moved_;
-  double hand_work_ = 0;
+  double work_ = 0;
 };
 
-glm::dvec3 up(const Derived& d);  // against g (+y without it): where a water line is measured along
+// Against g turned into the tank's frame (+y without g), the tank's acceleration aside (a shake's
+// start is a kick, not a tilt): where a water line is measured along.
+glm::dvec3 up(const Derived& d);
 double body_top(const Body& b, const Obstacle& o, const glm::dvec3& up);  // its samples' highest, along up
 
 }  // namespace pbflow

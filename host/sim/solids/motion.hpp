@@ -110,7 +110,11 @@ inline Pose turn_about(const glm::dquat& turn, const glm::dvec3& pivot) {
 struct TankKick {
   glm::dvec3 linear{0.0};
   glm::dmat3 of_x{0.0}, of_v{0.0};
+  // The tank's turns over the step, in its frame at the step's end: R+^T R and R+^T R-, with
+  // R-, R and R+ its rotations at the last two step ends and this one (a body's spin, BodyCoupling).
+  glm::dmat3 turn_now{1.0}, turn_before{1.0};
   glm::dvec3 at(const glm::dvec3& x, const glm::dvec3& v) const { return linear + of_x * x + of_v * v; }
+  bool none() const { return linear == glm::dvec3(0.0) && of_x == glm::dmat3(0.0) && of_v == glm::dmat3(0.0); }
 };
 
 // The tank's pose P(t) under its motion and a viewer's tilt, either of which may change while it
@@ -142,6 +146,7 @@ class TankMotion {
     TankKick k;
     k.of_x = (2.0 * now - before - one) / dt;
     k.of_v = before - one;
+    k.turn_now = now, k.turn_before = before;
     k.linear = to_next * (2.0 * past_[0].translation - past_[1].translation - next.translation) / dt +
                dt * (to_next * g - g);
     past_ = {next, past_[0]};
