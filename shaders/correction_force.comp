@@ -62,9 +62,10 @@ void main() {
   vec3 kick = tank_kick(xi, vi);
   vi += sim.gravity * sim.dt + kick;
   v[i].xyz = vi;
-  // The images' force does work at the solid's velocity over the step; the tank's motion at the fluid's.
+  // The images' force does work at the solid's velocity over the step (the tank's motion's:
+  // velocity_update.comp's).
   vec3 f_images = (-k_i / sim.rho0) * f_solid;
-  float work = MOVING ? dot(kick, vi) : 0.0;
+  float work = 0.0;
   if (!push_body(mirrors.obstacle, xi, f_images * (sim.dt * sim.dt))) work += dot(f_images, mirrors.solid_velocity) * sim.dt;
   x_pred[i] = vec4(predicted_position(xi, vi, work), 0.0);
   add_work(i, work);

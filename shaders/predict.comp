@@ -19,7 +19,7 @@ void main() {
   vec3 kick = tank_kick(x[i].xyz, v[i].xyz);
   vec3 vi = v[i].xyz + sim.gravity * sim.dt + kick;
   v[i].xyz = vi;
-  float work = MOVING ? dot(kick, vi) : 0.0;  // the tank's motion's work, in its frame
+  float work = 0.0;  // the tank's motion's: velocity_update.comp's
   x_pred[i] = vec4(predicted_position(x[i].xyz, vi, work), 0.0);
   add_work(i, work);
 }

@@ -47,6 +47,14 @@ vec3 tank_kick(vec3 x, vec3 v) {
   mat3 of_v = mat3(obstacle_data[5].xyz, obstacle_data[6].xyz, obstacle_data[7].xyz);
   return MOVING ? obstacle_data[1].xyz + of_x * x + of_v * v : vec3(0.0);
 }
+// The kick a particle at x took this step, from its velocity after it (v + g dt + kick): I + of_v
+// is a turn, so v comes back through its transpose (TankKick::taken).
+vec3 tank_kick_taken(vec3 x, vec3 after) {
+  mat3 of_x = mat3(obstacle_data[2].xyz, obstacle_data[3].xyz, obstacle_data[4].xyz);
+  mat3 turn = mat3(1.0) + mat3(obstacle_data[5].xyz, obstacle_data[6].xyz, obstacle_data[7].xyz);
+  vec3 free = after - sim.gravity * sim.dt;  // v + kick
+  return MOVING ? free - transpose(turn) * (free - obstacle_data[1].xyz - of_x * x) : vec3(0.0);
+}
 // g as the tank's frame feels it over the last step: turned into the frame, less the tank's
 // acceleration; its rotation's terms left out (white water, Derived::tank_gravity).
 vec3 tank_gravity() { return sim.gravity + (MOVING ? obstacle_data[1].xyz / sim.dt : vec3(0.0)); }

@@ -137,8 +137,8 @@ double water_alone_gain(int frames, bool on_gpu, double tilt) {
 // A box of the water's density in a tank a viewer tilts by 10 degrees: the water flows to the low
 // side and takes the box along, then both stand, the box where the water left it. Without the
 // tank's kick on the box (BodyCoupling::predict) the water's push alone drove it up the slope,
-// 79 mm in the last 1.5 s. The water alone gains 1.01 % of its potential energy in this tilt
-// (found 2026-11-30, as before bodies rode a tank); the box adds no gain to it.
+// 79 mm in the last 1.5 s. The water alone gains 1.40 % of its potential energy in this tilt
+// (docs/physics.md, a small tank at the real-time step); the box adds no gain to it.
 TEST_P(FloatingSlow, ANeutralBoxStaysWhereATiltLeavesIt) {
   const BodyRun run = this->run(tank_with_box(1000, 0.06), 180, 10.0);
   const double drift = run.centre.back().x - run.centre[90].x;  // from 1.5 s, the tilt done

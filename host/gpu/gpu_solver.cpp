@@ -528,6 +528,8 @@ void GpuSolver::velocity_update() {
   cmd_.bind("x_pred", at(XPred));
   cmd_.bind("v", at(V));
   cmd_.bind("rho", rho_);  // into v's w, for viscosity_vorticity
+  cmd_.bind("obstacles", obstacles_);  // the tank's kick, for its work
+  cmd_.bind("work", work_);
   cmd_.dispatch(n_);
   swap_roles(X, XPred);  // x = x_pred, without a copy
 }

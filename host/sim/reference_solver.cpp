@@ -152,7 +152,6 @@ void ReferenceSolver::predict() {
   for (size_t i = 0; i < state.x.size(); ++i) {
     const glm::dvec3 kick = d_.tank_kick.at(state.x[i], state.v[i]);
     state.v[i] += d_.gravity * d_.dt + kick;
-    solid_work_ += glm::dot(kick, state.v[i]);  // the tank's motion's work, in its frame
     state.x_pred[i] = move_outside_solids(state.x[i], state.x[i] + state.v[i] * d_.dt, solid_work_);
   }
 }
@@ -323,7 +322,12 @@ std::vector<dvec3> ReferenceSolver::coarse_gradient(const std::vector<char>& flu
 
 void ReferenceSolver::velocity_update() {
   for (size_t i = 0; i < state.x.size(); ++i) {
+    // The tank's motion's work, in its frame: its kick times the particle's move over the step,
+    // as gravity's is (the predicted move, which the constraint may take back, credited water at
+    // rest in a held tilt with work it never did).
+    const glm::dvec3 kick = d_.tank_kick.taken(state.x[i], state.v[i], d_.gravity, d_.dt);
     state.v[i] = (state.x_pred[i] - state.x[i]) / d_.dt;
+    solid_work_ += glm::dot(kick, state.v[i]);
     state.x[i] = state.x_pred[i];
   }
 }

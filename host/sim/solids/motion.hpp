@@ -114,6 +114,12 @@ struct TankKick {
   // R-, R and R+ its rotations at the last two step ends and this one (a body's spin, BodyCoupling).
   glm::dmat3 turn_now{1.0}, turn_before{1.0};
   glm::dvec3 at(const glm::dvec3& x, const glm::dvec3& v) const { return linear + of_x * x + of_v * v; }
+  // The kick a particle at x took, from its velocity after it (v + g dt + kick): I + of_v is the
+  // turn R+^T R-, a rotation, so v comes back through its transpose.
+  glm::dvec3 taken(const glm::dvec3& x, const glm::dvec3& after, const glm::dvec3& g, double dt) const {
+    const glm::dvec3 free = after - g * dt;  // v + kick
+    return free - glm::transpose(turn_before) * (free - linear - of_x * x);
+  }
   bool none() const { return linear == glm::dvec3(0.0) && of_x == glm::dmat3(0.0) && of_v == glm::dmat3(0.0); }
 };
 
