@@ -26,6 +26,12 @@ glm::dvec3 spin_in_tank(const glm::dvec3& w, const TankKick& kick, double dt) {
   const double half = std::atan2(glm::length(axis), turn.w);
   return half > 0 ? 2.0 * half / dt * glm::normalize(axis) : glm::dvec3(0.0);
 }
+
+// The angular momentum a spin w gives a body at pose p, kg m^2/s.
+glm::dvec3 spin_momentum(const Body& b, const Pose& p, const glm::dvec3& w) {
+  const glm::dmat3 r = p.rotation * b.axes;
+  return r * (b.inertia * (glm::transpose(r) * w));
+}
 }  // namespace
 
 void BodyCoupling::predict(Derived& d) {
@@ -34,15 +40,17 @@ void BodyCoupling::predict(Derived& d) {
   // between any two, so that none is squeezed out sideways at a speed no step carries.
   if (!world_) world_ = std::make_shared<BodyWorld>(d.bodies, d.obstacles, d.wall_min, d.wall_max, d.gravity);
   held_energy_.assign(d.bodies.size(), 0.0);
+  tank_kicks_.assign(d.bodies.size(), {});
   for (size_t k = 0; k < d.bodies.size(); ++k) {
     Body& b = d.bodies[k];
     const Obstacle& o = d.obstacles[b.obstacle];
     if (o.held) held_energy_[k] = b.energy(o.pose, d.gravity, d.lowest());
     if (!o.dynamic() || d.tank_kick.none()) continue;
-    const double before = b.energy(o.pose, d.gravity, d.lowest());
-    b.velocity += d.tank_kick.at(b.world_centre(o.pose), b.velocity);  // the centre's step, as a particle's
-    b.angular_velocity = spin_in_tank(b.angular_velocity, d.tank_kick, d.dt);
-    work_ += b.energy(o.pose, d.gravity, d.lowest()) - before;  // the kick's work, as the fluid's
+    tank_kicks_[k].velocity = d.tank_kick.at(b.world_centre(o.pose), b.velocity);  // the centre's, as a particle's
+    b.velocity += tank_kicks_[k].velocity;
+    const glm::dvec3 spin = spin_in_tank(b.angular_velocity, d.tank_kick, d.dt);
+    tank_kicks_[k].spin = spin - b.angular_velocity;
+    b.angular_velocity = spin;
   }
   world_->predict(d.bodies, d.obstacles, d.dt);
   moved_.clear();
@@ -95,6 +103,13 @@ void BodyCoupling::finish(Derived& d) {
   finish_bodies(d.bodies, d.obstacles, d.dt);
   for (size_t k = 0; k < d.bodies.size() && k < moved_.size(); ++k)
     if (d.obstacles[d.bodies[k].obstacle].dynamic()) d.bodies[k].velocity = moved_[k] / d.dt;
+  // The tank's kick worked over the body's move in the step, as the fluid's does (a momentum
+  // kick times the centre's velocity, a spin kick's moment times the spin).
+  for (size_t k = 0; k < d.bodies.size() && k < tank_kicks_.size(); ++k) {
+    const Body& b = d.bodies[k];
+    work_ += b.mass * glm::dot(tank_kicks_[k].velocity, b.velocity) +
+             glm::dot(spin_momentum(b, d.obstacles[b.obstacle].pose, tank_kicks_[k].spin), b.angular_velocity);
+  }
   for (size_t k = 0; k < d.bodies.size() && k < held_energy_.size(); ++k)
     if (const Obstacle& o = d.obstacles[d.bodies[k].obstacle]; o.held)
       work_ += d.bodies[k].energy(o.pose, d.gravity, d.lowest()) - held_energy_[k];

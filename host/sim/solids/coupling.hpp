@@ -43,6 +43,10 @@ class BodyCoupling {
   std::vector<BodyPush> pushes_;
   std::shared_ptr<BodyWorld> world_;  // made at the first step
   std::vector<double> held_energy_;   // each body's energy at the step's start (held ones' only)
+  struct TankKicked {
+    glm::dvec3 velocity{0.0}, spin{0.0};
+  };
+  std::vector<TankKicked> tank_kicks_;  // what the tank's kick changed each body's velocities by this step
   // How far each body's centre moved this step but for what parting its overlaps moved it past
   // the step's own motion into what it met: its velocity at the step's end times dt.
   std::vector<glm::dvec3> moved_;
