@@ -3,8 +3,8 @@
 // project_out_of_solids), and every solid is a mirror for the neighbour passes (mirrors_near,
 // as host/sim/solids/mirrors.cpp). The includer defines OBSTACLES_BINDING.
 // Layout (pack_obstacles): obstacle_data[0] = (count, margin, 0, 0), [1-7] the tank's kick this
-// step (Derived::tank_kick, the tank's frame's velocity change: linear, of_x's and of_v's
-// columns); then per obstacle nine
+// step (Derived::tank_kick, the tank's frame's velocity change: linear with 1 in w where there is
+// any kick, of_x's and of_v's columns); then per obstacle nine
 // vec4: its shape in its body frame, box (min, 0) (max, 0) (0, moves), sphere (centre, 1) (radius,
 // 0, 0, 0) (0, moves), mesh (field origin, 2) (dims, voxel) (first value, moves, 0, 0), moves 1
 // where it has a motion; then its pose at the step's end and at its start, each three rows of
@@ -47,6 +47,8 @@ vec3 tank_kick(vec3 x, vec3 v) {
   mat3 of_v = mat3(obstacle_data[5].xyz, obstacle_data[6].xyz, obstacle_data[7].xyz);
   return MOVING ? obstacle_data[1].xyz + of_x * x + of_v * v : vec3(0.0);
 }
+// Whether the tank's frame kicks the fluid this step (a scene's moving obstacles alone do not).
+bool tank_kicks() { return MOVING && obstacle_data[1].w > 0.5; }
 // The kick a particle at x took this step, from its velocity after it (v + g dt + kick): I + of_v
 // is a turn, so v comes back through its transpose (TankKick::taken).
 vec3 tank_kick_taken(vec3 x, vec3 after) {

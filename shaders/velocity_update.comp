@@ -19,6 +19,6 @@ void main() {
   uint i = thread_index();
   if (i >= sim.count) return;
   vec3 moved = (x_pred[i].xyz - x[i].xyz) / sim.dt;
-  if (MOVING) add_work(i, dot(tank_kick_taken(x[i].xyz, v[i].xyz), moved));
+  if (tank_kicks()) add_work(i, dot(tank_kick_taken(x[i].xyz, v[i].xyz), moved));
   v[i] = vec4(moved, rho[i]);
 }
