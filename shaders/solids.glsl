@@ -41,21 +41,22 @@ void add_work(uint i, float w) {
 #endif
 
 int obstacle_header(int k) { return 1 + TANK_KICK_VEC4S + OBSTACLE_VEC4S * k; }
+// The kick's matrix whose columns start at `first`: of_x at 2, of_v at 5.
+mat3 kick_matrix(int first) {
+  return mat3(obstacle_data[first].xyz, obstacle_data[first + 1].xyz, obstacle_data[first + 2].xyz);
+}
 // The velocity a particle at x moving at v gains this step from the tank's motion, in its frame.
 vec3 tank_kick(vec3 x, vec3 v) {
-  mat3 of_x = mat3(obstacle_data[2].xyz, obstacle_data[3].xyz, obstacle_data[4].xyz);
-  mat3 of_v = mat3(obstacle_data[5].xyz, obstacle_data[6].xyz, obstacle_data[7].xyz);
-  return MOVING ? obstacle_data[1].xyz + of_x * x + of_v * v : vec3(0.0);
+  return MOVING ? obstacle_data[1].xyz + kick_matrix(2) * x + kick_matrix(5) * v : vec3(0.0);
 }
 // Whether the tank's frame kicks the fluid this step (a scene's moving obstacles alone do not).
 bool tank_kicks() { return MOVING && obstacle_data[1].w > 0.5; }
 // The kick a particle at x took this step, from its velocity after it (v + g dt + kick): I + of_v
 // is a turn, so v comes back through its transpose (TankKick::taken).
 vec3 tank_kick_taken(vec3 x, vec3 after) {
-  mat3 of_x = mat3(obstacle_data[2].xyz, obstacle_data[3].xyz, obstacle_data[4].xyz);
-  mat3 turn = mat3(1.0) + mat3(obstacle_data[5].xyz, obstacle_data[6].xyz, obstacle_data[7].xyz);
+  mat3 turn = mat3(1.0) + kick_matrix(5);
   vec3 free = after - sim.gravity * sim.dt;  // v + kick
-  return MOVING ? free - transpose(turn) * (free - obstacle_data[1].xyz - of_x * x) : vec3(0.0);
+  return MOVING ? free - transpose(turn) * (free - obstacle_data[1].xyz - kick_matrix(2) * x) : vec3(0.0);
 }
 // g as the tank's frame feels it over the last step: turned into the frame, less the tank's
 // acceleration; its rotation's terms left out (white water, Derived::tank_gravity).

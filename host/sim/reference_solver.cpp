@@ -321,11 +321,12 @@ std::vector<dvec3> ReferenceSolver::coarse_gradient(const std::vector<char>& flu
 }
 
 void ReferenceSolver::velocity_update() {
+  const bool kicked = !d_.tank_kick.none();
   for (size_t i = 0; i < state.x.size(); ++i) {
     // The tank's motion's work, in its frame: its kick times the particle's move over the step,
     // as gravity's is (the predicted move, which the constraint may take back, credited water at
     // rest in a held tilt with work it never did).
-    const glm::dvec3 kick = d_.tank_kick.taken(state.x[i], state.v[i], d_.gravity, d_.dt);
+    const glm::dvec3 kick = kicked ? d_.tank_kick.taken(state.x[i], state.v[i], d_.gravity, d_.dt) : glm::dvec3(0.0);
     state.v[i] = (state.x_pred[i] - state.x[i]) / d_.dt;
     solid_work_ += glm::dot(kick, state.v[i]);
     state.x[i] = state.x_pred[i];

@@ -61,9 +61,7 @@ std::unique_ptr<btCollisionShape> shape_of(const Obstacle& o, const Frame& f, st
 }  // namespace
 
 double Body::energy(const Pose& p, const glm::dvec3& g, const glm::dvec3& floor) const {
-  const glm::dmat3 r = p.rotation * axes;
-  const glm::dmat3 i_world = r * glm::dmat3(inertia.x, 0, 0, 0, inertia.y, 0, 0, 0, inertia.z) * glm::transpose(r);
-  return 0.5 * mass * glm::dot(velocity, velocity) + 0.5 * glm::dot(angular_velocity, i_world * angular_velocity) -
+  return 0.5 * mass * glm::dot(velocity, velocity) + 0.5 * glm::dot(angular_velocity, spin_momentum(p, angular_velocity)) -
          mass * glm::dot(g, world_centre(p) - floor);
 }
 

@@ -46,6 +46,11 @@ struct Body {
     const glm::dmat3 r = p.rotation * axes;
     return r * ((glm::transpose(r) * moment) / inertia);
   }
+  // The angular momentum (kg m^2/s) a spin w (rad/s, world axis) gives it at pose p: turn's inverse.
+  glm::dvec3 spin_momentum(const Pose& p, const glm::dvec3& w) const {
+    const glm::dmat3 r = p.rotation * axes;
+    return r * (inertia * (glm::transpose(r) * w));
+  }
   // Its velocities changed by a push of momentum (kg m/s) and its moment, at pose p.
   void kick(const Pose& p, const BodyPush& push);
   // Kinetic and potential energy, J, at pose p under gravity g (heights from `floor`).

@@ -20,18 +20,13 @@ glm::dvec3 centre_move(const Body& b, const Obstacle& o) { return b.world_centre
 glm::dvec3 spin_in_tank(const glm::dvec3& w, const TankKick& kick, double dt) {
   const double rate = glm::length(w);
   const glm::dquat own = rate > 0 ? glm::angleAxis(rate * dt, w / rate) : glm::dquat(1, 0, 0, 0);
-  glm::dquat turn = glm::quat_cast(kick.turn_now) * own * glm::quat_cast(glm::transpose(kick.turn_before) * kick.turn_now);
+  glm::dquat turn = glm::quat_cast(kick.turn_now) * own * glm::quat_cast(glm::transpose(kick.turn_before()) * kick.turn_now);
   if (turn.w < 0) turn = -turn;  // the shorter way round
   const glm::dvec3 axis(turn.x, turn.y, turn.z);
   const double half = std::atan2(glm::length(axis), turn.w);
   return half > 0 ? 2.0 * half / dt * glm::normalize(axis) : glm::dvec3(0.0);
 }
 
-// The angular momentum a spin w gives a body at pose p, kg m^2/s.
-glm::dvec3 spin_momentum(const Body& b, const Pose& p, const glm::dvec3& w) {
-  const glm::dmat3 r = p.rotation * b.axes;
-  return r * (b.inertia * (glm::transpose(r) * w));
-}
 }  // namespace
 
 void BodyCoupling::predict(Derived& d) {
@@ -108,7 +103,7 @@ void BodyCoupling::finish(Derived& d) {
   for (size_t k = 0; k < d.bodies.size() && k < tank_kicks_.size(); ++k) {
     const Body& b = d.bodies[k];
     work_ += b.mass * glm::dot(tank_kicks_[k].velocity, b.velocity) +
-             glm::dot(spin_momentum(b, d.obstacles[b.obstacle].pose, tank_kicks_[k].spin), b.angular_velocity);
+             glm::dot(b.spin_momentum(d.obstacles[b.obstacle].pose, tank_kicks_[k].spin), b.angular_velocity);
   }
   for (size_t k = 0; k < d.bodies.size() && k < held_energy_.size(); ++k)
     if (const Obstacle& o = d.obstacles[d.bodies[k].obstacle]; o.held)

@@ -110,15 +110,17 @@ inline Pose turn_about(const glm::dquat& turn, const glm::dvec3& pivot) {
 struct TankKick {
   glm::dvec3 linear{0.0};
   glm::dmat3 of_x{0.0}, of_v{0.0};
-  // The tank's turns over the step, in its frame at the step's end: R+^T R and R+^T R-, with
-  // R-, R and R+ its rotations at the last two step ends and this one (a body's spin, BodyCoupling).
-  glm::dmat3 turn_now{1.0}, turn_before{1.0};
+  // The tank's turn over the last step, R+^T R, with R and R+ its rotations at the last step's
+  // end and this one, in its frame at this one (a body's spin, BodyCoupling).
+  glm::dmat3 turn_now{1.0};
   glm::dvec3 at(const glm::dvec3& x, const glm::dvec3& v) const { return linear + of_x * x + of_v * v; }
-  // The kick a particle at x took, from its velocity after it (v + g dt + kick): I + of_v is the
-  // turn R+^T R-, a rotation, so v comes back through its transpose.
+  // Its turn over the last two steps, R+^T R-: of_v is that less the identity.
+  glm::dmat3 turn_before() const { return glm::dmat3(1.0) + of_v; }
+  // The kick a particle at x took, from its velocity after it (v + g dt + kick): turn_before is a
+  // rotation, so v comes back through its transpose.
   glm::dvec3 taken(const glm::dvec3& x, const glm::dvec3& after, const glm::dvec3& g, double dt) const {
     const glm::dvec3 free = after - g * dt;  // v + kick
-    return free - glm::transpose(turn_before) * (free - linear - of_x * x);
+    return free - glm::transpose(turn_before()) * (free - linear - of_x * x);
   }
   bool none() const { return linear == glm::dvec3(0.0) && of_x == glm::dmat3(0.0) && of_v == glm::dmat3(0.0); }
 };
@@ -152,7 +154,7 @@ class TankMotion {
     TankKick k;
     k.of_x = (2.0 * now - before - one) / dt;
     k.of_v = before - one;
-    k.turn_now = now, k.turn_before = before;
+    k.turn_now = now;
     k.linear = to_next * (2.0 * past_[0].translation - past_[1].translation - next.translation) / dt +
                dt * (to_next * g - g);
     past_ = {next, past_[0]};
