@@ -45,11 +45,11 @@
 #define COARSE_MAX_COMPRESSION 8.0
 #define COARSE_FLOOR 0.003
 
-// A move toward a mesh is sphere traced (obstacles.cpp's trace, solids.glsl's stop_at_solids):
-// each step as long as the distance to its surface, stopped within TRACE_STOP contacts of it or
-// after TRACE_STEPS (still outside).
-#define TRACE_STEPS 8
-#define TRACE_STOP 50.0
+// A move toward a mesh is marched (obstacles.cpp's trace, solids.glsl's stop_at_solids): its
+// surface is looked for at evenly spaced points a field voxel apart at most (up to TRACE_STEPS
+// of them), and the first met found to 1/2^TRACE_BISECTIONS of a step.
+#define TRACE_STEPS 32
+#define TRACE_BISECTIONS 6
 
 // The smoothed positions the fluid style draws (smoothed_positions.comp; the reference's
 // smoothed_positions): each particle moved this much of the way to its neighbourhood's mean

@@ -293,18 +293,26 @@ vec3 mirror_velocity(Mirrors m, int k, vec3 v) {
 // (obstacles.cpp, trace); 1 where it is not, 0 where `from` touches it.
 float trace(int k, vec3 from, vec3 d, float contact) {
   vec3 normal;
-  float margin = obstacle_data[0].y, len = length(d), t = 0.0;
+  float margin = obstacle_data[0].y, len = length(d);
   float start = body_surface(k, from, normal) - margin;
   if (start < contact) return 1.0;  // touching: the projection's
   float end = body_surface(k, from + d, normal) - margin;
   if (end > 0.0 && len <= start + end) return 1.0;  // the free spheres about its ends cover the move
-  for (int s = 0; len > 0.0 && s < TRACE_STEPS; ++s) {
-    float gap = body_surface(k, from + t * d, normal) - margin;
-    if (s > 0 && gap <= TRACE_STOP * contact) break;  // the first step always taken (obstacles.cpp)
-    t += gap / len;
-    if (t >= 1.0) return 1.0;
+  int steps = clamp(int(ceil(len / obstacle_data[obstacle_header(k) + 1].w)), 1, TRACE_STEPS);  // a voxel apart
+  float outside = 0.0;
+  for (int s = 1; s <= steps; ++s) {
+    float u = float(s) / float(steps);
+    if (body_surface(k, from + u * d, normal) - margin < 0.0) {
+      for (int b = 0; b < TRACE_BISECTIONS; ++b) {
+        float middle = 0.5 * (outside + u);
+        if (body_surface(k, from + middle * d, normal) - margin < 0.0) u = middle;
+        else outside = middle;
+      }
+      return outside;
+    }
+    outside = u;
   }
-  return t;
+  return 1.0;
 }
 
 // How far along the move from -> to, in obstacle k's body frame, its grown shape is first

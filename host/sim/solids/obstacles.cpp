@@ -112,22 +112,29 @@ glm::dvec3 project_out(const Obstacle& o, const glm::dvec3& x, const glm::dvec3&
 }
 
 namespace {
-// A mesh's move is sphere traced (shaders/contract.h, TRACE_STEPS): each step as long as the
-// free sphere about where it is, the first always taken, so that a particle beside a face is
-// never stopped where it stands (it was: wall particles rose at 0.075 m/s beside a mesh box).
+// A mesh's move is marched (shaders/contract.h, TRACE_STEPS): its surface looked for at points a
+// voxel apart and the first met bisected. A sphere trace, each step as long as the free sphere
+// about where it is, crawls along a face a particle slides beside and stopped it there: the
+// wall layer beside a mesh box stirred at twice the speed it does beside the same box as a box.
 // A move the free spheres about its two ends cover crosses no surface.
-glm::dvec3 trace(const Obstacle& o, const glm::dvec3& from, const glm::dvec3& d, double contact) {
-  const double length = glm::length(d);
+glm::dvec3 trace(const Obstacle& o, const glm::dvec3& from, const glm::dvec3& d) {
   glm::dvec3 normal;
-  if (const double end = o.surface(from + d, normal); end > 0 && length <= o.surface(from, normal) + end) return from + d;
-  double t = 0;
-  for (int k = 0; length > 0 && k < TRACE_STEPS; ++k) {
-    const double s = o.surface(from + t * d, normal);
-    if (k > 0 && s <= TRACE_STOP * contact) break;
-    t += s / length;
-    if (t >= 1) return from + d;
+  if (const double end = o.surface(from + d, normal); end > 0 && glm::length(d) <= o.surface(from, normal) + end)
+    return from + d;
+  const int steps = std::clamp(int(std::ceil(glm::length(d) / o.field->voxel)), 1, TRACE_STEPS);  // a voxel apart
+  double outside = 0;
+  for (int k = 1; k <= steps; ++k) {
+    double u = double(k) / steps;
+    if (o.surface(from + u * d, normal) < 0) {
+      for (int b = 0; b < TRACE_BISECTIONS; ++b) {
+        const double middle = 0.5 * (outside + u);
+        (o.surface(from + middle * d, normal) < 0 ? u : outside) = middle;
+      }
+      return from + outside * d;
+    }
+    outside = u;
   }
-  return from + t * d;
+  return from + d;
 }
 
 // stop_at for a solid at rest in its body frame.
@@ -135,7 +142,7 @@ glm::dvec3 stop_at_rest(const Obstacle& o, const glm::dvec3& from, const glm::dv
   if (o.grown(contact).contains(from)) return to;  // touching or inside: project_out handles it
   const glm::dvec3 d = to - from;
   double t_enter = 0, t_exit = 1;
-  if (o.kind == Obstacle::Kind::Mesh) return trace(o, from, d, contact);
+  if (o.kind == Obstacle::Kind::Mesh) return trace(o, from, d);
   if (o.kind == Obstacle::Kind::Sphere) {
     // |from + t d - c|^2 = r^2, the smaller root
     glm::dvec3 f = from - o.centre;
