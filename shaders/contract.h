@@ -27,8 +27,9 @@
 
 // The coarse correction (coarse_deposit, coarse_prepare, coarse_sweep, coarse_gradient and
 // coarse_apply.comp; the reference's coarse_correction): nodes COARSE_CELL spacings apart; a
-// node is fluid where the particles deposited there and the solids fill more than COARSE_FILL
-// of its cell (a solid is fluid at rest to the solve, Derived::Coarse::open says why);
+// node is fluid where the particles deposited there fill more than COARSE_FILL of its reach's
+// open part, or where a solid fills all but COARSE_FILL of it (fluid at rest to the solve,
+// Derived::Coarse::open says why);
 // COARSE_SWEEPS red-black Gauss-Seidel sweeps; the deposit's sums in fixed point, COARSE_UNIT
 // to a particle's whole weight, a particle's compression counted up to COARSE_MAX_COMPRESSION
 // (so the sums fit 32 bits) and past COARSE_FLOOR: a disordered packing's density reads a few

@@ -80,8 +80,8 @@ class FloatingSlow : public test::GpuTest, public ::testing::WithParamInterface<
 };
 INSTANTIATE_TEST_SUITE_P(Solvers, FloatingSlow, ::testing::Values("reference", "gpu"));
 
-// Archimedes: a 300 kg/m^3 box 0.06 m tall floats 0.018 m deep. Measured (2026-11-29): 0.0126 m
-// below the water beside it, 0.27 spacings short (the fine pushes' share at a free surface,
+// Archimedes: a 300 kg/m^3 box 0.06 m tall floats 0.018 m deep. Measured (2026-11-30): 0.0141 m
+// below the water beside it, 0.2 spacings short (the fine pushes' share at a free surface,
 // docs/physics.md "Bodies"); the bar is half a spacing.
 TEST_P(FloatingSlow, ALightBoxFloatsAtTheDraftItsWeightSets) {
   const BodyRun run = this->run(tank_with_box(300, 0.25), 300);

@@ -117,9 +117,10 @@ struct Derived {
     glm::dvec3 cell{0.0};
     double strength = 0;
     // Each node's share of its reach outside every obstacle (1 without them; open_fraction).
-    // The solve counts a solid as fluid at rest, as the mirrors do: as air it drew the fluid
-    // in and a ball stirred the settled tank (0.87 J in 1 s without the dashpot); as walls it
-    // left a void under the ball that never filled.
+    // The solve counts a node a solid fills (but for COARSE_FILL) as fluid at rest, as the mirrors
+    // do: as air it drew the fluid in and a ball stirred the settled tank (0.87 J in 1 s without
+    // the dashpot); as walls it left a void under the ball that never filled. A node beside a
+    // solid is fluid where the water fills its open part: above the water line it is air.
     std::vector<float> open;
     int count() const { return nodes.x * nodes.y * nodes.z; }
     int per_colour() const { return (nodes.x + 1) / 2 * nodes.y * nodes.z; }  // coarse_sweep.comp's threads

@@ -243,15 +243,15 @@ std::vector<char> ReferenceSolver::coarse_solve() {
       excess[k] += uint32_t(w * compression * COARSE_UNIT + 0.5);
     });
   }
-  // grad^2 phi = the excess volume per volume, phi = 0 at nodes without fluid (the solids count
-  // as fluid at rest), no flux through the walls: x_pred moves along grad phi, away from the
-  // compressed fluid.
+  // grad^2 phi = the excess volume per volume, phi = 0 at nodes without fluid (a node a solid
+  // fills counts as fluid at rest), no flux through the walls: x_pred moves along grad phi, away
+  // from the compressed fluid.
   const double volume = d_.mass / d_.rho0, cell_volume = c.cell.x * c.cell.y * c.cell.z;
   std::vector<char> fluid(count);
   std::vector<double>& phi = coarse_phi_;  // from the last step's (coarse_sweep.comp says why)
   phi.resize(count, 0.0);
   for (int k = 0; k < count; ++k) {
-    fluid[k] = filled[k] / COARSE_UNIT * volume + (1.0 - c.open[k]) * cell_volume > COARSE_FILL * cell_volume;
+    fluid[k] = filled[k] / COARSE_UNIT * volume > COARSE_FILL * c.open[k] * cell_volume || c.open[k] < COARSE_FILL;
     if (!fluid[k]) phi[k] = 0.0;
   }
   const glm::ivec3 n = c.nodes;
