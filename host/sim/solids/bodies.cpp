@@ -253,9 +253,10 @@ std::vector<BodyWorld::Parting> BodyWorld::separate(const std::vector<Body>& bod
       if (point.getDistance() < -glm::length(deepest)) deepest = -point.getDistance() * from_bt(point.m_normalWorldOnB);
     }
     if (inv_a + inv_b <= 0 || deepest == glm::dvec3(0.0)) continue;
-    if (a >= 0) shift[size_t(a)] += deepest * inv_a / (inv_a + inv_b);
-    if (b >= 0) shift[size_t(b)] -= deepest * inv_b / (inv_a + inv_b);
-    parted.push_back({a, b, deepest});
+    const Parting p{a, b, deepest, inv_a / (inv_a + inv_b), inv_b / (inv_a + inv_b)};
+    if (a >= 0) shift[size_t(a)] += p.share_a * deepest;
+    if (b >= 0) shift[size_t(b)] -= p.share_b * deepest;
+    parted.push_back(p);
   }
   for (size_t k = 0; k < bodies.size(); ++k) obstacles[bodies[k].obstacle].pose.translation += shift[k];
   return parted;

@@ -85,6 +85,7 @@ class BodyWorld {
   struct Parting {
     int a = -1, b = -1;        // the bodies (-1: a standing solid, or none that moves)
     glm::dvec3 overlap{0.0};  // b's outward normal times the depth: a moved along it, b against it
+    double share_a = 0, share_b = 0;  // each one's share of the parting: its inverse mass over the pair's
   };
   std::vector<Parting> separate(const std::vector<Body>& bodies, std::vector<Obstacle>& obstacles);
 

@@ -68,22 +68,21 @@ void BodyCoupling::give_way(Derived& d) {
 }
 
 // Parting an overlap is inelastic: it takes away the two solids' approach over the step along its
-// normal (up to its depth), shared by their inverse masses so that their momentum is kept, and the
-// rest of it only moves them, as Bullet's split impulse does. Made a velocity whole, it threw a
-// ball driven into a light box and the box off the floor at 3.6 m/s.
+// normal (up to its depth), shared by their inverse masses (BodyWorld::Parting's shares) so that
+// their momentum is kept, and the rest of it only moves them, as Bullet's split impulse does.
+// Made a velocity whole, it threw a ball driven into a light box and the box off the floor at 3.6 m/s.
 void BodyCoupling::part(const Derived& d, const BodyWorld::Parting& p) {
   auto dynamic = [&](int k) { return k >= 0 && size_t(k) < moved_.size() && d.obstacles[d.bodies[size_t(k)].obstacle].dynamic(); };
-  auto inverse_mass = [&](int k) { return dynamic(k) ? 1.0 / d.bodies[size_t(k)].mass : 0.0; };
   auto move = [&](int k) {  // a held body's is the hand's; a standing solid's none
     if (dynamic(k)) return moved_[size_t(k)];
     return k >= 0 ? centre_move(d.bodies[size_t(k)], d.obstacles[d.bodies[size_t(k)].obstacle]) : glm::dvec3(0.0);
   };
-  const double depth = glm::length(p.overlap), inv_a = inverse_mass(p.a), inv_b = inverse_mass(p.b);
-  if (depth <= 0 || inv_a + inv_b <= 0) return;
+  const double depth = glm::length(p.overlap);
+  if (depth <= 0) return;
   const glm::dvec3 normal = p.overlap / depth;
   const double cancel = std::min(depth, std::max(-glm::dot(move(p.a) - move(p.b), normal), 0.0));
-  if (dynamic(p.a)) moved_[size_t(p.a)] += cancel * inv_a / (inv_a + inv_b) * normal;
-  if (dynamic(p.b)) moved_[size_t(p.b)] -= cancel * inv_b / (inv_a + inv_b) * normal;
+  if (dynamic(p.a)) moved_[size_t(p.a)] += cancel * p.share_a * normal;
+  if (dynamic(p.b)) moved_[size_t(p.b)] -= cancel * p.share_b * normal;
 }
 
 void BodyCoupling::kick(Derived& d) {
