@@ -603,14 +603,10 @@ void GpuSolver::relax() {
 // open shares, recorded into the frame's commands: the host knows every step's time.
 void GpuSolver::move_solids() {
   bool open_changed = false;
-  if (solids_held_) {
+  if (solids_held_)
     d_.hold_solids();
-  } else {
-    const double t = double(++steps_moved_) * d_.dt;
-    d_.step_tank(t);
-    bodies_.predict(d_);
-    open_changed = d_.move_solids(t);
-  }
+  else
+    open_changed = step_solids(d_, bodies_, double(++steps_moved_) * d_.dt);
   update_obstacle_header();
   if (open_changed) cmd_.update(coarse_open_, d_.coarse.open.data(), uint32_t(d_.coarse.open.size() * sizeof(float)));
 }

@@ -383,14 +383,10 @@ void ReferenceSolver::relax() {
 void ReferenceSolver::run(const PlannedPass& p) {
   switch (p.pass) {
     case Pass::Move:
-      if (solids_held_) {
+      if (solids_held_)
         d_.hold_solids();
-      } else {
-        const double t = double(++steps_moved_) * d_.dt;
-        d_.step_tank(t);
-        bodies_.predict(d_);
-        d_.move_solids(t);
-      }
+      else
+        step_solids(d_, bodies_, double(++steps_moved_) * d_.dt);
       moved_since_lists_ = true;
       break;
     case Pass::Density: density_at_positions(); break;

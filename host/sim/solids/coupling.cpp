@@ -131,6 +131,12 @@ double BodyCoupling::energy(const Derived& d) {
   return e;
 }
 
+bool step_solids(Derived& d, BodyCoupling& bodies, double t) {
+  d.step_tank(t);
+  bodies.predict(d);
+  return d.move_solids(t);
+}
+
 glm::dvec3 up(const Derived& d) {
   const glm::dvec3 g = glm::transpose(d.tank.pose().rotation) * d.gravity;
   return glm::length(g) > 0 ? -glm::normalize(g) : glm::dvec3(0, 1, 0);

@@ -53,6 +53,11 @@ class BodyCoupling {
   double work_ = 0;
 };
 
+// Pass::Move's, to time t (a step's end), in the order each takes the last's: the tank (this
+// step's kick), the bodies' prediction (which takes the kick), then every solid to its pose;
+// whether the coarse nodes' open shares were measured again (Derived::move_solids).
+bool step_solids(Derived& d, BodyCoupling& bodies, double t);
+
 // Against g turned into the tank's frame (+y without g), the tank's acceleration aside (a shake's
 // start is a kick, not a tilt): where a water line is measured along.
 glm::dvec3 up(const Derived& d);
