@@ -35,7 +35,7 @@ void main() {
     vec3 d = xi - mirror(mirrors, image, xj.xyz);
     vec3 term = (lambda_i + xj.w) * spiky_grad(d, length(d));
     dp += term;
-    if (MOVING && (image & OBSTACLE_MIRROR) != 0) dp_solid += term;
+    if (MOVING && solid_image(mirrors, image)) dp_solid += term;
   }
   float scale = sim.relaxation * (sim.mass / sim.rho0);
   float work = MOVING && !push_body(mirrors.obstacle, xi, scale * dp_solid) ? dot(scale * dp_solid, mirrors.solid_velocity) / sim.dt : 0.0;

@@ -51,7 +51,7 @@ void main() {
     vec3 xj = mirror(mirrors, image, imageLoad(x, int(j)).xyz);
     vec3 term = (ldc_density(j) - rho_i) * pair_term(xj - xi);
     f += term;
-    if (MOVING && (image & OBSTACLE_MIRROR) != 0) f_solid += term;
+    if (MOVING && solid_image(mirrors, image)) f_solid += term;
   }
   // The force's stiffness grows with the neighbours inside h, by up to (rho/rho0)^2 on a
   // squeezed lattice (host/sim/stability.hpp): K, a fraction of what the step carries at rho0,

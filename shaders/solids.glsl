@@ -18,6 +18,8 @@ layout(std430, binding = OBSTACLES_BINDING) readonly buffer Obstacles { vec4 obs
 // The same buffer as words, for the fields' values: a component picked from a vec4 at a computed
 // index cost a CPU device four loads for one (docs/performance.md).
 layout(std430, binding = OBSTACLES_BINDING) readonly buffer ObstacleWords { float obstacle_words[]; };
+// And as bits, for the meshes' crease marks (near_crease).
+layout(std430, binding = OBSTACLES_BINDING) readonly buffer ObstacleBits { uint obstacle_bits[]; };
 // The shapes the scene's obstacles have, a bit each (1 << the shape's code: box 0, sphere 1,
 // mesh 2; gpu/key_constants.cpp). A CPU device runs every branch masked for every neighbour, so
 // each shape the scene lacks is compiled out: without obstacles their mirrors (3x the step on
@@ -122,6 +124,17 @@ vec3 obstacle_displacement(int k, vec3 x) { return MOVING ? x - to_world(k, POSE
 // The work per unit mass of a push dx by a solid whose surface moved by `moved` over the step:
 // its force m dx / dt^2 times its velocity moved / dt, for dt (push_work in sim/solids/mirrors.hpp).
 float push_work(vec3 dx, vec3 moved) { return MOVING ? dot(dx, moved) / (sim.dt * sim.dt) : 0.0; }
+// Whether mesh k's field marks a crease near the body-frame point b, at the node nearest it
+// (DistanceField::near_crease); the marks follow the field's values.
+bool near_crease(int k, vec3 b) {
+  vec4 a = obstacle_data[obstacle_header(k)], c = obstacle_data[obstacle_header(k) + 1];
+  ivec3 dims = ivec3(c.xyz), p = ivec3(floor((b - a.xyz) / c.w + 0.5));
+  if (any(lessThan(p, ivec3(0))) || any(greaterThanEqual(p, dims))) return false;
+  int node = (p.z * dims.y + p.y) * dims.x + p.x;
+  int first = int(obstacle_data[obstacle_header(k) + 2].x) + dims.x * dims.y * dims.z;
+  uint bits = obstacle_bits[4 * obstacle_header(int(obstacle_data[0].x)) + first + node / 32];
+  return ((bits >> uint(node % 32)) & 1u) != 0u;
+}
 float field_value(int first, ivec3 dims, ivec3 p) {
   int k = first + (p.z * dims.y + p.y) * dims.x + p.x;
   return obstacle_words[4 * obstacle_header(int(obstacle_data[0].x)) + k];
@@ -220,7 +233,73 @@ struct Mirrors {
   vec3 normal;     // and the obstacle's outward normal at the point nearest it
   vec3 solid_velocity;  // the velocity of that point over the step (0: it stands still)
   bool listed;     // the images come from a neighbour list, tested when it was built
+  // At a mesh's concave crease or corner (find_creases): the wall bits its other faces take,
+  // the nearest face's plane (normal, offset: n . y = offset) and theirs (faces[a] for bit a).
+  int creases;
+  vec4 first;
+  vec4 faces[3];
 };
+// y reflected across the plane (normal, offset).
+vec3 reflect_across(vec4 plane, vec3 y) { return y - 2.0 * (dot(plane.xyz, y) - plane.w) * plane.xyz; }
+// How far two faces part where they meet in a concave crease within h of x, 1 where they do not
+// (host/sim/solids/mirrors.cpp, parting).
+const float CREASE_COSINE = 0.7071;
+float parting(vec3 x, vec4 p, vec4 q, float in_front) {
+  float gap_p = dot(p.xyz, x) - p.w, gap_q = dot(q.xyz, x) - q.w, cosine = dot(p.xyz, q.xyz);
+  bool concave = gap_p > 0.0 && gap_q > 0.0 && max(gap_p, gap_q) < sim.h &&
+                 dot(x - gap_p * p.xyz, q.xyz) - q.w > in_front && dot(x - gap_q * q.xyz, p.xyz) - p.w > in_front;
+  return concave && cosine < CREASE_COSINE ? cosine : 1.0;
+}
+// A mesh's concave crease or corner near the particle, where its field marks one
+// (host/sim/solids/mirrors.cpp, crease_faces and find_creases, say how): the faces' planes from
+// the field at the particle and at CREASE_PROBES points h away along its nearest face; the pair
+// that parts most, and a third that parts from both, become mirrors, the nearest the obstacle's
+// and each other a wall bit the particle has free.
+const int CREASE_PROBES = 8;
+void find_creases(inout Mirrors m) {
+  int free = ~m.axes & 7;
+  if (free == 0 || obstacle_data[obstacle_header(m.obstacle)].w < 1.5 ||
+      !near_crease(m.obstacle, to_body(m.obstacle, POSE_NOW, m.at)))
+    return;
+  vec3 n = m.normal, side = abs(n.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
+  vec3 u = normalize(cross(n, side)), w = cross(n, u);
+  vec4 planes[CREASE_PROBES + 1];
+  planes[0] = vec4(n, dot(n, m.at) - m.distance);
+  for (int k = 0; k < CREASE_PROBES; ++k) {
+    float turn = float(k) * (6.283185307 / float(CREASE_PROBES));
+    vec3 q = m.at + sim.h * (cos(turn) * u + sin(turn) * w), normal;
+    float phi = obstacle_surface(m.obstacle, q, normal);
+    planes[k + 1] = vec4(normal, dot(normal, q) - phi);
+  }
+  float in_front = 0.5 * obstacle_data[0].y, best = 1.0;  // half the keep-out margin
+  ivec3 chosen = ivec3(-1);
+  for (int p = 0; p <= CREASE_PROBES; ++p)
+    for (int q = p + 1; q <= CREASE_PROBES; ++q) {
+      float c = parting(m.at, planes[p], planes[q], in_front);
+      if (c < best) best = c, chosen.xy = ivec2(p, q);
+    }
+  if (chosen.x < 0) return;
+  best = 1.0;
+  for (int c = 0; c <= CREASE_PROBES && bitCount(free) > 1; ++c) {
+    float worst = max(parting(m.at, planes[c], planes[chosen.x], in_front), parting(m.at, planes[c], planes[chosen.y], in_front));
+    if (worst < best) best = worst, chosen.z = c;
+  }
+  int faces = chosen.z < 0 ? 2 : 3;
+  vec3 gap = vec3(sim.h);
+  for (int f = 0; f < faces; ++f) gap[f] = dot(planes[chosen[f]].xyz, m.at) - planes[chosen[f]].w;
+  for (int pass = 0; pass < 2; ++pass)  // nearest first
+    for (int f = 0; f + 1 < faces; ++f)
+      if (gap[f + 1] < gap[f]) gap.xyz = f == 0 ? gap.yxz : gap.xzy, chosen.xyz = f == 0 ? chosen.yxz : chosen.xzy;
+  m.first = planes[chosen.x];
+  for (int f = 1; f < faces; ++f) {
+    int bit = free & -free;
+    free &= ~bit;
+    m.creases |= bit;
+    m.faces[findLSB(bit)] = planes[chosen[f]];
+  }
+  m.axes |= m.creases;
+}
+
 Mirrors mirrors_near(vec3 x) {
   Mirrors m;
   m.axes = 0;
@@ -239,15 +318,22 @@ Mirrors mirrors_near(vec3 x) {
     if (distance < m.distance) m.distance = distance, m.normal = normal, m.obstacle = k;
   }
   m.solid_velocity = vec3(0.0);
+  m.listed = false;
+  m.creases = 0;
+  m.first = vec4(0.0);
+  m.faces = vec4[3](vec4(0.0), vec4(0.0), vec4(0.0));
   if (m.obstacle >= 0) {
     m.axes |= OBSTACLE_MIRROR;
     m.solid_velocity = obstacle_displacement(m.obstacle, x - m.distance * m.normal) / sim.dt;
+    if (has_shape(MESH)) find_creases(m);
   }
-  m.listed = false;
   return m;
 }
 // For a pass that sees the fluid only: the cell walk then yields no images.
-Mirrors no_mirrors() { return Mirrors(0, vec3(0.0), -1, vec3(0.0), 0.0, vec3(0.0), vec3(0.0), false); }
+Mirrors no_mirrors() {
+  vec4 none = vec4(0.0);
+  return Mirrors(0, vec3(0.0), -1, vec3(0.0), 0.0, vec3(0.0), vec3(0.0), false, 0, none, vec4[3](none, none, none));
+}
 // Every image of a neighbour: for (int k = m.axes; k != 0; k = next_image(m.axes, k)) ...
 int next_image(int axes, int k) { return (k - 1) & axes; }
 bvec3 reflected(int k) { return bvec3((k & 1) != 0, (k & 2) != 0, (k & 4) != 0); }
@@ -264,6 +350,7 @@ vec3 pair_image(vec3 a, float phi_a, vec3 n_a, vec3 b, float phi_b) {
 // why); far away where the pair's images do not both lie inside the obstacle, which a listed
 // image was tested for when the list was built.
 vec3 obstacle_image(Mirrors m, vec3 x) {
+  if (has_shape(MESH) && m.creases != 0) return reflect_across(m.first, x);
   int o = max(m.obstacle, 0);
   vec3 normal, unused;
   float distance = obstacle_surface(o, x, normal);
@@ -276,8 +363,18 @@ vec3 obstacle_image(Mirrors m, vec3 x) {
   return inside ? image : vec3(FAR_AWAY);
 }
 
-// x reflected across the walls of image k.
-vec3 across_walls(Mirrors m, int k, vec3 x) { return mix(x, m.plane2 - x, reflected(k)); }
+// x reflected across the walls of image k, and across the faces of a mesh's crease that took
+// wall bits.
+vec3 across_walls(Mirrors m, int k, vec3 x) {
+  if (has_shape(MESH) && m.creases != 0) {
+    for (int a = 0; a < 3; ++a)
+      if (((k & m.creases) >> a & 1) != 0) x = reflect_across(m.faces[a], x);
+    k &= ~m.creases;
+  }
+  return mix(x, m.plane2 - x, reflected(k));
+}
+// Whether image k lies behind the obstacle (Mirrors::solid): its share of a push is the solid's.
+bool solid_image(Mirrors m, int k) { return (k & (OBSTACLE_MIRROR | m.creases)) != 0; }
 vec3 mirror(Mirrors m, int k, vec3 x) {
   if (OBSTACLES && (k & OBSTACLE_MIRROR) != 0) x = obstacle_image(m, x);
   return across_walls(m, k, x);
@@ -285,7 +382,15 @@ vec3 mirror(Mirrors m, int k, vec3 x) {
 // An image moves as its particle, mirrored; across an obstacle, relative to its surface
 // (Mirrors::velocity).
 vec3 mirror_velocity(Mirrors m, int k, vec3 v) {
-  if (OBSTACLES && (k & OBSTACLE_MIRROR) != 0) v -= 2.0 * dot(v - m.solid_velocity, m.normal) * m.normal;
+  if (OBSTACLES && (k & OBSTACLE_MIRROR) != 0) {
+    vec3 across = has_shape(MESH) && m.creases != 0 ? m.first.xyz : m.normal;
+    v -= 2.0 * dot(v - m.solid_velocity, across) * across;
+  }
+  if (has_shape(MESH) && m.creases != 0) {
+    for (int a = 0; a < 3; ++a)
+      if (((k & m.creases) >> a & 1) != 0) v -= 2.0 * dot(v - m.solid_velocity, m.faces[a].xyz) * m.faces[a].xyz;
+    k &= ~m.creases;
+  }
   return mix(v, -v, reflected(k));
 }
 

@@ -82,7 +82,7 @@ void main() {
     float c = min(SOLVER_DAMPING, DAMPING_LIMIT * sim.rho0 / max(rho_i, vj.w));
     vec3 pushed = dashpot(d, vij, c);
     damp += pushed;
-    if (MOVING && (image & OBSTACLE_MIRROR) != 0) damp_solid += pushed;
+    if (MOVING && solid_image(mirrors, image)) damp_solid += pushed;
   }
   float volume = sim.mass / sim.rho0;
   v_out[i] = vec4(vi + (SOLVER_XSPH * volume) * smooth_v + damp, 0.0);

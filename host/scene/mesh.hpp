@@ -38,7 +38,7 @@ TriangleMesh parse_mesh(const std::string& bytes, const std::string& extension, 
 
 // Its signed distance field (negative inside) on a grid `voxel` apart reaching `reach` past
 // the mesh on every side; an InputError where the grid would pass kMaxFieldValues.
-std::shared_ptr<const DistanceField> mesh_field(const TriangleMesh& mesh, double voxel, double reach,
+std::shared_ptr<DistanceField> mesh_field(const TriangleMesh& mesh, double voxel, double reach,
                                                 const std::string& what);
 
 }  // namespace pbflow

@@ -11,7 +11,7 @@
 
 namespace pbflow {
 
-std::shared_ptr<const DistanceField> mesh_field(const TriangleMesh& mesh, double voxel, double reach,
+std::shared_ptr<DistanceField> mesh_field(const TriangleMesh& mesh, double voxel, double reach,
                                                 const std::string& what) {
   static std::once_flag initialised;
   std::call_once(initialised, [] { openvdb::initialize(); });

@@ -13,6 +13,7 @@
 #include "scene/framing.hpp"
 #include "scene/keys.hpp"
 #include "scene/mesh.hpp"
+#include "sim/solids/mirrors.hpp"
 
 namespace pbflow {
 
@@ -242,13 +243,18 @@ TriangleMesh scene_mesh(const json& o, const std::string& path, const SceneFiles
 }
 
 // A mesh's solid for the solvers: its distance field half a spacing fine, reaching past every
-// kernel, and its triangles for drawing.
-Obstacle mesh_solid(const TriangleMesh& mesh, const Scene& s, const std::string& what) {
+// kernel, with its creases marked (negated first where the solid is outside the mesh), and its
+// triangles for drawing.
+Obstacle mesh_solid(const TriangleMesh& mesh, const Scene& s, const std::string& what, bool outside = false) {
   Obstacle ob;
   ob.kind = Obstacle::Kind::Mesh;
   ob.min = mesh.lo, ob.max = mesh.hi;
   const double reach = (s.solver.kernel_ratio + 1) * s.particle_spacing;  // h and the keep-out margin, with room
-  ob.field = mesh_field(mesh, 0.5 * s.particle_spacing, reach, what);
+  std::shared_ptr<DistanceField> field = mesh_field(mesh, 0.5 * s.particle_spacing, reach, what);
+  if (outside)
+    for (float& v : field->values) v = -v;
+  mark_creases(*field, s.solver.kernel_ratio * s.particle_spacing, 0.5 * s.particle_spacing);
+  ob.field = std::move(field);
   auto corners = std::make_shared<std::vector<glm::vec3>>();
   for (const glm::ivec3& t : mesh.triangles)
     for (int c = 0; c < 3; ++c) corners->push_back(glm::vec3(mesh.vertices[size_t(t[c])]));
@@ -264,10 +270,7 @@ void read_container(const json& domain, Scene& s, const SceneFiles& files) {
   require(glm::all(glm::lessThan(mesh.lo, s.domain.max)) && glm::all(glm::greaterThan(mesh.hi, s.domain.min)),
           "domain.mesh lies wholly outside the domain's box");
   mesh.lo = glm::min(mesh.lo, s.domain.min), mesh.hi = glm::max(mesh.hi, s.domain.max);  // the field covers the box
-  Obstacle ob = mesh_solid(mesh, s, "domain.mesh");
-  auto inverted = std::make_shared<DistanceField>(*ob.field);
-  for (float& v : inverted->values) v = -v;
-  ob.field = std::move(inverted);
+  Obstacle ob = mesh_solid(mesh, s, "domain.mesh", true);
   ob.min = s.domain.min, ob.max = s.domain.max;
   ob.container = true;
   s.obstacles.push_back(std::move(ob));

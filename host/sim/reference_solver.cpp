@@ -133,7 +133,7 @@ dvec3 ReferenceSolver::correction_force(size_t i, double* work) const {
     if (r <= 0 || r >= d_.h) return;
     const dvec3 term = difference * d_.h * (1 - r / d_.h) * (d / r);
     f += term;
-    if (work && (m.k & kObstacleMirror) && !push_body(m.mirrors->obstacle.body, xi, k * term * d_.dt * d_.dt))
+    if (work && m.mirrors->solid(m.k) && !push_body(m.mirrors->obstacle.body, xi, k * term * d_.dt * d_.dt))
       *work += glm::dot(k * term, m.mirrors->solid_velocity) * d_.dt;
   });
   return k * f;
@@ -222,7 +222,7 @@ void ReferenceSolver::constraint_apply(double relaxation) {
       dvec3 d = xi - m.of(state.x_pred[j]);
       const dvec3 term = (state.lambda[i] + state.lambda[j]) * kernels::spiky_grad(d, d_.h);
       dp += term;
-      if ((m.k & kObstacleMirror) && !push_body(m.mirrors->obstacle.body, xi, scale * term))
+      if (m.mirrors->solid(m.k) && !push_body(m.mirrors->obstacle.body, xi, scale * term))
         solid_work_ += push_work(scale * term, m.mirrors->solid_velocity * d_.dt, d_.dt);
     });
     next[i] = project_out_of_solids(xi + scale * dp, solid_work_);
@@ -351,7 +351,7 @@ void ReferenceSolver::viscosity_vorticity() {
       if (r2 <= 0 || r2 >= d_.h * d_.h) return;
       const dvec3 pushed = c * (1 - std::sqrt(r2) / d_.h) * glm::dot(vij, d) / r2 * d;
       damp += pushed;
-      if ((m.k & kObstacleMirror) && !push_body(m.mirrors->obstacle.body, state.x[i], pushed))  // the images' drag
+      if (m.mirrors->solid(m.k) && !push_body(m.mirrors->obstacle.body, state.x[i], pushed))  // the images' drag
         solid_work_ += glm::dot(pushed, m.mirrors->solid_velocity);
     });
     v_next[i] = state.v[i] + d_.solver.xsph * volume * smooth + damp;

@@ -4,6 +4,7 @@
 // (shaders/solids.glsl, field_distance) from the obstacles' buffer.
 #include <glm/glm.hpp>
 
+#include <cstdint>
 #include <vector>
 
 namespace pbflow {
@@ -13,6 +14,10 @@ struct DistanceField {
   double voxel = 0;        // the grid's spacing, m
   glm::ivec3 dims{0};      // values along each axis, at least 2
   std::vector<float> values;  // x fastest, then y, then z
+  // A bit per value, 32 a word: whether a concave crease or corner of the surface lies within
+  // a kernel of that node or its neighbours (mark_creases, sim/solids/mirrors.hpp); the
+  // mirrors look for one's faces only there.
+  std::vector<uint32_t> creases;
 
   float at(glm::ivec3 p) const { return values[size_t((p.z * dims.y + p.y) * dims.x + p.x)]; }
   glm::dvec3 extent() const { return origin + voxel * glm::dvec3(dims - 1); }
@@ -20,6 +25,8 @@ struct DistanceField {
   // point of the grid plus the distance to it (the grid reaches past every kernel: no more is
   // needed there).
   double sample(const glm::dvec3& x, glm::dvec3& gradient) const;
+  // Whether the node nearest x is marked in `creases` (none is beyond the grid).
+  bool near_crease(const glm::dvec3& x) const;
 };
 
 }  // namespace pbflow

@@ -1,5 +1,9 @@
 #include "sim/solids/mirrors.hpp"
 
+#include <algorithm>
+#include <bit>
+#include <cmath>
+
 namespace pbflow {
 
 namespace {
@@ -11,7 +15,118 @@ glm::dvec3 pair_image(const glm::dvec3& a, double phi_a, const glm::dvec3& n_a, 
   const double d2 = std::max(glm::dot(apart, apart) + 4 * phi_a * phi_b, 0.0);
   return a - std::sqrt(d2) * (glm::dot(along, along) > 0 ? glm::normalize(along) : n_a);
 }
+
+// The plane of the surface nearest q (phi from it along its normal n): n . y = n . q - phi.
+Plane plane_at(const glm::dvec3& q, double phi, const glm::dvec3& n) { return {n, glm::dot(n, q) - phi}; }
+
+// How far faces p and q part (the cosine between their normals) where they meet in a concave
+// crease within h of x: each foot of x lies `in_front` of the other's plane (at a convex edge
+// the feet meet on the edge), and their normals part by over 45 degrees; 1 where they do not.
+constexpr double kCreaseCosine = 0.7071;
+double parting(const glm::dvec3& x, const Plane& p, const Plane& q, double h, double in_front) {
+  const double gap_p = glm::dot(p.normal, x) - p.offset, gap_q = glm::dot(q.normal, x) - q.offset;
+  const double cosine = glm::dot(p.normal, q.normal);
+  const bool concave = gap_p > 0 && gap_q > 0 && std::max(gap_p, gap_q) < h &&
+                       glm::dot(x - gap_p * p.normal, q.normal) - q.offset > in_front &&
+                       glm::dot(x - gap_q * q.normal, p.normal) - p.offset > in_front;
+  return concave && cosine < kCreaseCosine ? cosine : 1.0;
+}
+
+// The faces of a concave crease or corner of a surface within h of x (Mirrors::creases), at
+// most `most` of them, nearest first, into `faces`; their count, 0 where there is none. The
+// faces' planes are read from the field at x (distance phi, normal n) and at kProbes points h
+// from x along that face, so that another face within h lies behind one of them and its own
+// normal is the field's there (on a crease's bisector x reads a blend of the two, but the probes
+// a spacing away read each face's own). The pair that parts most is a crease, a third parting
+// from both a corner. surface(q, normal) is the field's distance at q.
+constexpr int kProbes = 8;
+template <class Surface>
+int crease_faces(Surface&& surface, const glm::dvec3& x, double phi, const glm::dvec3& n, double h,
+                 double in_front, int most, Plane faces[3]) {
+  const glm::dvec3 side = std::abs(n.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+  const glm::dvec3 u = glm::normalize(glm::cross(n, side)), w = glm::cross(n, u);
+  Plane planes[kProbes + 1] = {plane_at(x, phi, n)};
+  for (int k = 0; k < kProbes; ++k) {
+    const double turn = k * (2 * M_PI / kProbes);
+    const glm::dvec3 q = x + h * (std::cos(turn) * u + std::sin(turn) * w);
+    glm::dvec3 normal;
+    const double at_q = surface(q, normal);
+    planes[k + 1] = plane_at(q, at_q, normal);
+  }
+  int chosen[3] = {-1, -1, -1};
+  double best = 1.0;
+  for (int a = 0; a <= kProbes; ++a)
+    for (int b = a + 1; b <= kProbes; ++b)
+      if (const double c = parting(x, planes[a], planes[b], h, in_front); c < best) best = c, chosen[0] = a, chosen[1] = b;
+  if (chosen[0] < 0 || most < 2) return 0;
+  best = 1.0;
+  for (int c = 0; c <= kProbes && most > 2; ++c) {
+    const double worst = std::max(parting(x, planes[c], planes[chosen[0]], h, in_front),
+                                  parting(x, planes[c], planes[chosen[1]], h, in_front));
+    if (worst < best) best = worst, chosen[2] = c;
+  }
+  const int count = chosen[2] < 0 ? 2 : 3;
+  auto gap = [&](int k) { return glm::dot(planes[k].normal, x) - planes[k].offset; };
+  std::sort(chosen, chosen + count, [&](int a, int b) { return gap(a) < gap(b); });
+  for (int f = 0; f < count; ++f) faces[f] = planes[chosen[f]];
+  return count;
+}
+
+// A particle's crease faces, where its field marks one near: the nearest is the obstacle's
+// mirror, each other takes a wall bit the particle has free.
+void find_creases(const Derived& d, Mirrors& m) {
+  int free = ~m.axes & 7;
+  if (!free || m.obstacle.kind != Obstacle::Kind::Mesh || !m.obstacle.field->near_crease(m.obstacle.pose.body(m.at)))
+    return;
+  Plane faces[3];
+  auto surface = [&](const glm::dvec3& q, glm::dvec3& normal) { return m.obstacle.surface(q, normal); };
+  const int count = crease_faces(surface, m.at, m.distance, m.normal, d.h, 0.5 * d.keep_out, 1 + std::popcount(unsigned(free)), faces);
+  if (count == 0) return;
+  m.first = faces[0];
+  for (int f = 1; f < count; ++f) {
+    const int bit = free & -free;
+    free &= ~bit;
+    m.creases |= bit;
+    m.faces[std::countr_zero(unsigned(bit))] = faces[f];
+  }
+  m.axes |= m.creases;
+}
 }  // namespace
+
+void mark_creases(DistanceField& field, double h, double keep_out) {
+  const glm::ivec3 dims = field.dims;
+  const size_t count = field.values.size();
+  std::vector<uint8_t> found(count, 0);
+  auto surface = [&](const glm::dvec3& q, glm::dvec3& normal) {
+    glm::dvec3 gradient;
+    const double phi = field.sample(q, gradient);
+    normal = glm::length(gradient) > 0 ? glm::normalize(gradient) : glm::dvec3(0, 1, 0);
+    return phi;
+  };
+  for (int z = 0; z < dims.z; ++z)
+    for (int y = 0; y < dims.y; ++y)
+      for (int x = 0; x < dims.x; ++x) {
+        const glm::dvec3 at = field.origin + field.voxel * glm::dvec3(x, y, z);
+        glm::dvec3 normal;
+        const double phi = surface(at, normal);
+        Plane faces[3];
+        if (phi > 0 && phi < h) found[size_t((z * dims.y + y) * dims.x + x)] = crease_faces(surface, at, phi, normal, h, 0.5 * keep_out, 2, faces) > 0;
+      }
+  // Each node's neighbours' too: a particle between nodes may see the crease its nearest misses.
+  field.creases.assign((count + 31) / 32, 0u);
+  for (int z = 0; z < dims.z; ++z)
+    for (int y = 0; y < dims.y; ++y)
+      for (int x = 0; x < dims.x; ++x) {
+        bool near = false;
+        for (int c = 0; c < 27 && !near; ++c) {
+          const glm::ivec3 p = glm::ivec3(x, y, z) + glm::ivec3(c % 3, c / 3 % 3, c / 9) - 1;
+          near = glm::all(glm::greaterThanEqual(p, glm::ivec3(0))) && glm::all(glm::lessThan(p, dims)) &&
+                 found[size_t((p.z * dims.y + p.y) * dims.x + p.x)];
+        }
+        const size_t k = size_t((z * dims.y + y) * dims.x + x);
+        if (near) field.creases[k / 32] |= 1u << (k % 32);
+      }
+}
 
 Mirrors mirrors_near(const Derived& d, const glm::dvec3& x) {
   Mirrors m;
@@ -32,11 +147,15 @@ Mirrors mirrors_near(const Derived& d, const glm::dvec3& x) {
       m.axes |= kObstacleMirror;
     }
   }
-  if (m.axes & kObstacleMirror) m.solid_velocity = m.obstacle.displacement(x - m.distance * m.normal) / d.dt;
+  if (m.axes & kObstacleMirror) {
+    m.solid_velocity = m.obstacle.displacement(x - m.distance * m.normal) / d.dt;
+    find_creases(d, m);
+  }
   return m;
 }
 
 glm::dvec3 Mirrors::obstacle_image(const glm::dvec3& x, bool listed) const {
+  if (creases) return first.reflect(x);
   glm::dvec3 n, unused;
   const double phi = obstacle.surface(x, n);
   const glm::dvec3 image = pair_image(at, distance, normal, x, phi);
@@ -50,15 +169,22 @@ glm::dvec3 Mirrors::obstacle_image(const glm::dvec3& x, bool listed) const {
 glm::dvec3 Mirrors::of(int k, const glm::dvec3& x, bool listed) const {
   glm::dvec3 y = k & kObstacleMirror ? obstacle_image(x, listed) : x;
   for (int a = 0; a < 3; ++a)
-    if (k >> a & 1) y[a] = plane2[a] - y[a];
+    if (k >> a & 1) y = creases >> a & 1 ? faces[a].reflect(y) : y;
+  for (int a = 0; a < 3; ++a)
+    if ((k & ~creases) >> a & 1) y[a] = plane2[a] - y[a];
   return y;
 }
 
 glm::dvec3 Mirrors::velocity(int k, const glm::dvec3& v) const {
   glm::dvec3 u = v;
-  if (k & kObstacleMirror) u -= 2 * glm::dot(u - solid_velocity, normal) * normal;
+  if (k & kObstacleMirror) {
+    const glm::dvec3 across = creases ? first.normal : normal;
+    u -= 2 * glm::dot(u - solid_velocity, across) * across;
+  }
   for (int a = 0; a < 3; ++a)
-    if (k >> a & 1) u[a] = -u[a];
+    if ((k & creases) >> a & 1) u -= 2 * glm::dot(u - solid_velocity, faces[a].normal) * faces[a].normal;
+  for (int a = 0; a < 3; ++a)
+    if ((k & ~creases) >> a & 1) u[a] = -u[a];
   return u;
 }
 

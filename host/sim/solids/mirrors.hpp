@@ -13,8 +13,16 @@
 namespace pbflow {
 
 // An image is a bit mask of mirrors: bits 0-2 the walls of each axis, this bit the obstacle.
+// At a mesh's concave crease or corner its other faces take wall bits the particle has free.
 constexpr int kObstacleMirror = 8;
 constexpr int kImages = 16;  // masks 0 (the neighbour itself) to 15
+
+// A mirror plane: the points y with dot(normal, y) = offset, normal out of the solid.
+struct Plane {
+  glm::dvec3 normal{0.0};
+  double offset = 0;
+  glm::dvec3 reflect(const glm::dvec3& y) const { return y - 2 * (glm::dot(normal, y) - offset) * normal; }
+};
 
 struct Mirrors {
   int axes = 0;               // the mirrors within h, as image bits
@@ -24,6 +32,14 @@ struct Mirrors {
   double distance = 0;        // its distance to that obstacle
   glm::dvec3 normal{0.0};     // and the obstacle's outward normal at the point nearest it
   glm::dvec3 solid_velocity{0.0};  // the velocity of that point over the step (0: it stands still)
+  // At a mesh's concave crease or corner (find_creases in mirrors.cpp): the wall bits its other
+  // faces take (0: none), the nearest face's plane (the obstacle's bit) and theirs (faces[a]
+  // for bit a). Each face is then a plane mirror, as walls meeting at an edge or corner are.
+  int creases = 0;
+  Plane first, faces[3];
+
+  // Whether image k lies behind the obstacle (its share of a pass's push is the solid's).
+  bool solid(int k) const { return (k & (kObstacleMirror | creases)) != 0; }
 
   // Neighbour x's image `k` (0: x itself); far away where an obstacle's image does not count.
   // A `listed` image was tested when the lists were built and counts until they are rebuilt.
@@ -55,6 +71,10 @@ inline double push_work(const glm::dvec3& dx, const glm::dvec3& moved, double dt
 
 // The mirrors seen from x: the walls within h and the nearest obstacle within h.
 Mirrors mirrors_near(const Derived& d, const glm::dvec3& x);
+
+// Marks field.creases (DistanceField) at the nodes within h of a concave crease or corner of
+// the field's surface, found as a particle's mirrors find one's faces, and at their neighbours.
+void mark_creases(DistanceField& field, double h, double keep_out);
 
 // One image of a neighbour, as a pass visits it.
 struct Image {

@@ -1,6 +1,7 @@
 #include "sim/solids/obstacles.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 
@@ -25,6 +26,13 @@ double DistanceField::sample(const glm::dvec3& x, glm::dvec3& gradient) const {
   const double out = glm::length(beyond);
   if (out > 0) gradient = beyond / out;
   return d + out;
+}
+
+bool DistanceField::near_crease(const glm::dvec3& x) const {
+  const glm::ivec3 p = glm::ivec3(glm::floor((x - origin) / voxel + 0.5));
+  if (creases.empty() || glm::any(glm::lessThan(p, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(p, dims))) return false;
+  const size_t k = size_t((p.z * dims.y + p.y) * dims.x + p.x);
+  return creases[k / 32] >> (k % 32) & 1;
 }
 
 bool Obstacle::contains(const glm::dvec3& x) const {
@@ -178,7 +186,7 @@ glm::dvec3 stop_at(const Obstacle& o, const glm::dvec3& from, const glm::dvec3& 
 size_t packed_obstacle_vec4s(const std::vector<Obstacle>& obstacles) {
   size_t values = 0;
   for (const Obstacle& o : obstacles)
-    if (o.kind == Obstacle::Kind::Mesh) values += o.field->values.size();
+    if (o.kind == Obstacle::Kind::Mesh) values += o.field->values.size() + o.field->creases.size();
   return obstacle_header_vec4s(obstacles.size()) + (values + 3) / 4;
 }
 
@@ -207,7 +215,7 @@ std::vector<glm::vec4> pack_obstacle_header(const std::vector<Obstacle>& obstacl
       data.emplace_back(glm::vec3(o.field->origin), 2.0f);
       data.emplace_back(glm::vec3(o.field->dims), float(o.field->voxel));
       data.emplace_back(float(first), 0.0f, 0.0f, 0.0f);
-      first += o.field->values.size();
+      first += o.field->values.size() + o.field->creases.size();
     } else {
       data.emplace_back(glm::vec3(o.min), 0.0f);
       data.emplace_back(glm::vec3(o.max), 0.0f);
@@ -224,9 +232,12 @@ std::vector<glm::vec4> pack_obstacle_header(const std::vector<Obstacle>& obstacl
 std::vector<glm::vec4> pack_obstacles(const std::vector<Obstacle>& obstacles, double margin, const TankKick& tank_kick) {
   std::vector<glm::vec4> data = pack_obstacle_header(obstacles, margin, tank_kick);
   data.reserve(packed_obstacle_vec4s(obstacles));
-  std::vector<float> values;  // the meshes' fields, after the header
+  std::vector<float> values;  // the meshes' fields, each's values and then its crease bits, after the header
   for (const Obstacle& o : obstacles)
-    if (o.kind == Obstacle::Kind::Mesh) values.insert(values.end(), o.field->values.begin(), o.field->values.end());
+    if (o.kind == Obstacle::Kind::Mesh) {
+      values.insert(values.end(), o.field->values.begin(), o.field->values.end());
+      for (uint32_t bits : o.field->creases) values.push_back(std::bit_cast<float>(bits));
+    }
   values.resize((values.size() + 3) / 4 * 4, 0.0f);
   for (size_t k = 0; k < values.size(); k += 4) data.emplace_back(values[k], values[k + 1], values[k + 2], values[k + 3]);
   return data;

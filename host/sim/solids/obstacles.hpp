@@ -84,8 +84,9 @@ double open_fraction(const std::vector<Obstacle>& solids, const glm::dvec3& cent
 // then kObstacleVec4s per obstacle: its shape, box (min, 0) (max, 0) (0, moves); sphere (centre, 1)
 // (radius, 0, 0, 0) (0, moves); mesh (field origin, 2) (dims, voxel) (first value, moves, 0, 0),
 // `moves` 1 where it has a motion; then its pose and previous pose, each as the rows of the body
-// transform (world to body, rotation | shift); then the meshes' field values, four a vec4, value 0
-// at vec4 obstacle_header_vec4s(count). The header (all but the field values) is what a step's
+// transform (world to body, rotation | shift); then the meshes' field values, four a vec4, each
+// mesh's followed by its crease bits (DistanceField::creases), value 0 at vec4
+// obstacle_header_vec4s(count). The header (all but the field values) is what a step's
 // move changes.
 constexpr size_t kObstacleVec4s = OBSTACLE_VEC4S, kTankKickVec4s = TANK_KICK_VEC4S;
 std::vector<glm::vec4> pack_obstacles(const std::vector<Obstacle>& obstacles, double margin,
