@@ -241,21 +241,24 @@ struct Mirrors {
 };
 // y reflected across the plane (normal, offset).
 vec3 reflect_across(vec4 plane, vec3 y) { return y - 2.0 * (dot(plane.xyz, y) - plane.w) * plane.xyz; }
-// How far two faces part where they meet in a concave crease within h of x, 1 where they do not
-// (host/sim/solids/mirrors.cpp, parting).
+// How far faces p and q part where they meet in a concave crease within h of x (at distance phi
+// from the surface), 1 where they do not (host/sim/solids/mirrors.cpp, parting). A face is its
+// plane (normal, offset: n . y = offset) and the surface point it was read from (its foot).
 const float CREASE_COSINE = 0.7071;
-float parting(vec3 x, vec4 p, vec4 q, float in_front) {
-  float gap_p = dot(p.xyz, x) - p.w, gap_q = dot(q.xyz, x) - q.w, cosine = dot(p.xyz, q.xyz);
-  bool concave = gap_p > 0.0 && gap_q > 0.0 && max(gap_p, gap_q) < sim.h &&
-                 dot(x - gap_p * p.xyz, q.xyz) - q.w > in_front && dot(x - gap_q * q.xyz, p.xyz) - p.w > in_front;
-  return concave && cosine < CREASE_COSINE ? cosine : 1.0;
+float height(vec4 plane, vec3 y) { return dot(plane.xyz, y) - plane.w; }
+float parting(vec4 p, vec3 foot_p, vec4 q, vec3 foot_q, vec3 x, float phi, float in_front) {
+  float gap_p = height(p, x), gap_q = height(q, x);
+  bool concave = gap_p > 0.0 && gap_q > 0.0 && max(gap_p, gap_q) < sim.h && abs(min(gap_p, gap_q) - phi) < in_front &&
+                 height(p, foot_q) > in_front && height(q, foot_p) > in_front;
+  return concave && dot(p.xyz, q.xyz) < CREASE_COSINE ? dot(p.xyz, q.xyz) : 1.0;
 }
 // A mesh's concave crease or corner near the particle, where its field marks one
 // (host/sim/solids/mirrors.cpp, crease_faces and find_creases, say how): the faces' planes from
-// the field at the particle and at CREASE_PROBES points h away along its nearest face; the pair
+// the field at CREASE_PROBES points h away along its nearest face; the pair
 // that parts most, and a third that parts from both, become mirrors, the nearest the obstacle's
 // and each other a wall bit the particle has free.
 const int CREASE_PROBES = 8;
+const float CREASE_STEEP = 0.97;
 void find_creases(inout Mirrors m) {
   int free = ~m.axes & 7;
   if (free == 0 || obstacle_data[obstacle_header(m.obstacle)].w < 1.5 ||
@@ -263,30 +266,35 @@ void find_creases(inout Mirrors m) {
     return;
   vec3 n = m.normal, side = abs(n.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
   vec3 u = normalize(cross(n, side)), w = cross(n, u);
-  vec4 planes[CREASE_PROBES + 1];
-  planes[0] = vec4(n, dot(n, m.at) - m.distance);
+  vec4 planes[CREASE_PROBES];
+  vec3 feet[CREASE_PROBES];
   for (int k = 0; k < CREASE_PROBES; ++k) {
     float turn = float(k) * (6.283185307 / float(CREASE_PROBES));
-    vec3 q = m.at + sim.h * (cos(turn) * u + sin(turn) * w), normal;
-    float phi = obstacle_surface(m.obstacle, q, normal);
-    planes[k + 1] = vec4(normal, dot(normal, q) - phi);
+    vec3 q = m.at + sim.h * (cos(turn) * u + sin(turn) * w), gradient;
+    float phi = field_distance(m.obstacle, to_body(m.obstacle, POSE_NOW, q), gradient), steep = length(gradient);
+    vec3 normal = steep > 0.0 ? to_world_direction(m.obstacle, POSE_NOW, gradient / steep) : vec3(0.0);
+    feet[k] = q - phi * normal;
+    // A blend of two faces' normals (within a voxel of a crease's bisector) is neither's:
+    // its plane is put beyond h, where it parts from none (CREASE_STEEP, as mirrors.cpp's kSteep).
+    planes[k] = vec4(normal, steep > CREASE_STEEP ? dot(normal, feet[k]) : -3.4e38);
   }
   float in_front = 0.5 * obstacle_data[0].y, best = 1.0;  // half the keep-out margin
   ivec3 chosen = ivec3(-1);
-  for (int p = 0; p <= CREASE_PROBES; ++p)
-    for (int q = p + 1; q <= CREASE_PROBES; ++q) {
-      float c = parting(m.at, planes[p], planes[q], in_front);
+  for (int p = 0; p < CREASE_PROBES; ++p)
+    for (int q = p + 1; q < CREASE_PROBES; ++q) {
+      float c = parting(planes[p], feet[p], planes[q], feet[q], m.at, m.distance, in_front);
       if (c < best) best = c, chosen.xy = ivec2(p, q);
     }
   if (chosen.x < 0) return;
   best = 1.0;
-  for (int c = 0; c <= CREASE_PROBES && bitCount(free) > 1; ++c) {
-    float worst = max(parting(m.at, planes[c], planes[chosen.x], in_front), parting(m.at, planes[c], planes[chosen.y], in_front));
+  for (int c = 0; c < CREASE_PROBES && bitCount(free) > 1; ++c) {
+    float worst = max(parting(planes[c], feet[c], planes[chosen.x], feet[chosen.x], m.at, m.distance, in_front),
+                      parting(planes[c], feet[c], planes[chosen.y], feet[chosen.y], m.at, m.distance, in_front));
     if (worst < best) best = worst, chosen.z = c;
   }
   int faces = chosen.z < 0 ? 2 : 3;
   vec3 gap = vec3(sim.h);
-  for (int f = 0; f < faces; ++f) gap[f] = dot(planes[chosen[f]].xyz, m.at) - planes[chosen[f]].w;
+  for (int f = 0; f < faces; ++f) gap[f] = height(planes[chosen[f]], m.at);
   for (int pass = 0; pass < 2; ++pass)  // nearest first
     for (int f = 0; f + 1 < faces; ++f)
       if (gap[f + 1] < gap[f]) gap.xyz = f == 0 ? gap.yxz : gap.xzy, chosen.xyz = f == 0 ? chosen.yxz : chosen.xzy;

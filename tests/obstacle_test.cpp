@@ -12,6 +12,7 @@
 #include <random>
 
 #include "gpu/gpu_solver.hpp"
+#include "sim/reference_solver.hpp"
 #include "sim/solids/mirrors.hpp"
 #include "sim/settle.hpp"
 #include "support.hpp"
@@ -270,6 +271,43 @@ TEST_F(ObstacleTest, ALatticeAtRestReadsRho0BesideABox) {
   ASSERT_GT(edges, 10);
   EXPECT_LT(face, 1e-4);  // float sums
   EXPECT_LT(edge, 1e-4);
+}
+
+// A box-shaped mesh as the tank (domain.mesh), its faces half a spacing from the lattice's
+// layers: its bottom edges and corners are concave creases, where each face is a plane mirror
+// as the tank's own walls are (Mirrors::creases), so the lattice reads rho0 there as beside a
+// face. With the nearest face's images alone an edge read 17 % thin.
+TEST_F(ObstacleTest, ALatticeAtRestReadsRho0InAMeshTanksCreases) {
+  const std::string mesh = test::box_mesh(glm::dvec3(0.02), glm::dvec3(0.46));
+  const Scene scene = load_scene("hydrostatic", {"particle_spacing=0.02",
+      R"(domain={"min": [0, 0, 0], "max": [0.48, 0.48, 0.48], "mesh": {"file": ")" + mesh + R"("}})",
+      R"(fluid_blocks=[{"min": [0, 0, 0], "max": [0.48, 0.32, 0.48]}])"});
+  Derived d = derive(scene);
+  std::vector<glm::dvec3> lattice;  // the tank's lattice inside the mesh, up to 0.3 m
+  for (const glm::dvec3& x : lattice_particles(load_scene("hydrostatic", {"particle_spacing=0.02"})))
+    if (glm::all(glm::greaterThan(x, glm::dvec3(0.025))) && glm::all(glm::lessThan(x, glm::dvec3(0.455))) && x.y < 0.3)
+      lattice.push_back(x);
+  ReferenceSolver reference(d, lattice);
+  GpuSolver gpu(test::gpu(), d, lattice);
+  for (Solver* solver : {static_cast<Solver*>(&reference), static_cast<Solver*>(&gpu)}) {
+    solver->advance(0);
+    const ParticleState s = solver->download();
+    double worst[4] = {0, 0, 0, 0};  // by the faces within h: one, two (an edge), three (a corner)
+    int count[4] = {0, 0, 0, 0};
+    for (size_t i = 0; i < s.x.size(); ++i) {
+      const glm::dvec3 x = s.x[i];
+      if (x.y > 0.3 - d.h) continue;  // the free surface
+      int faces = x.y - 0.02 < d.h;
+      for (int a : {0, 2}) faces += std::min(x[a] - 0.02, 0.46 - x[a]) < d.h;
+      worst[faces] = std::max(worst[faces], std::abs(s.rho[i] / d.rho0 - 1));
+      ++count[faces];
+    }
+    std::printf("  %s: |rho/rho0 - 1| at most beside a face %.2e (%d particles), an edge %.2e (%d), a corner %.2e (%d)\n",
+                solver == &gpu ? "GPU" : "reference", worst[1], count[1], worst[2], count[2], worst[3], count[3]);
+    ASSERT_GT(count[2], 100);
+    ASSERT_GT(count[3], 10);
+    for (int f = 1; f <= 3; ++f) EXPECT_LT(worst[f], 1e-4) << f << " faces";  // float sums
+  }
 }
 
 // An obstacle's image lies at one distance seen from either particle of a pair (what makes

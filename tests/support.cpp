@@ -148,6 +148,20 @@ std::filesystem::path fresh_dir(const std::string& name) {
   return dir;
 }
 
+std::string box_mesh(const glm::dvec3& lo, const glm::dvec3& hi) {
+  std::ostringstream name;
+  name << "pbflow_box_" << getpid() << "_" << lo.x << "_" << lo.y << "_" << lo.z << "_" << hi.x << "_" << hi.y << "_" << hi.z << ".obj";
+  const std::filesystem::path path = std::filesystem::temp_directory_path() / name.str();
+  std::ofstream obj(path);
+  for (int c = 0; c < 8; ++c)  // corner c: bit 0 x, bit 1 y, bit 2 z at hi
+    obj << "v " << (c & 1 ? hi : lo).x << ' ' << (c & 2 ? hi : lo).y << ' ' << (c & 4 ? hi : lo).z << '\n';
+  // Each face's corners counter-clockwise seen from outside, two triangles a face.
+  const int faces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+  for (const auto& f : faces)
+    obj << "f " << f[0] + 1 << ' ' << f[1] + 1 << ' ' << f[2] + 1 << "\nf " << f[0] + 1 << ' ' << f[2] + 1 << ' ' << f[3] + 1 << '\n';
+  return path.string();
+}
+
 std::vector<std::vector<double>> read_csv(const std::filesystem::path& path, std::string* header) {
   std::ifstream in(path);
   std::getline(in, *header);

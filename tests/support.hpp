@@ -74,6 +74,10 @@ bool python_has(const std::string& module);
 // An empty path under the temporary directory: pbflow_test_NAME, removed if it exists.
 std::filesystem::path fresh_dir(const std::string& name);
 
+// A box's surface from lo to hi as an OBJ file (wound outward), written under the temporary
+// directory for this process: a mesh with concave creases and corners where it is a container.
+std::string box_mesh(const glm::dvec3& lo, const glm::dvec3& hi);
+
 }  // namespace pbflow::test
 
 // At a test's start: skips it, with one line saying why, where Debian's python3 cannot import

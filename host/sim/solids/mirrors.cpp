@@ -16,59 +16,73 @@ glm::dvec3 pair_image(const glm::dvec3& a, double phi_a, const glm::dvec3& n_a, 
   return a - std::sqrt(d2) * (glm::dot(along, along) > 0 ? glm::normalize(along) : n_a);
 }
 
-// The plane of the surface nearest q (phi from it along its normal n): n . y = n . q - phi.
-Plane plane_at(const glm::dvec3& q, double phi, const glm::dvec3& n) { return {n, glm::dot(n, q) - phi}; }
+// A face as the field shows it from a point q at distance phi, gradient g: the surface point
+// nearest q (its foot) and the plane there. Where the field blends two faces (|g| short of 1,
+// within a voxel of a crease's bisector) it shows neither: such a face is never one of a crease.
+constexpr double kSteep = 0.97;
+struct Face {
+  glm::dvec3 foot;
+  Plane plane;
+  bool clean;
+  double gap(const glm::dvec3& x) const { return glm::dot(plane.normal, x) - plane.offset; }  // x's height above it
+};
+Face face_at(const glm::dvec3& q, double phi, const glm::dvec3& g) {
+  const double steep = glm::length(g);
+  const glm::dvec3 n = steep > 0 ? g / steep : glm::dvec3(0.0);
+  return {q - phi * n, {n, glm::dot(n, q) - phi}, steep > kSteep};
+}
 
 // How far faces p and q part (the cosine between their normals) where they meet in a concave
-// crease within h of x: each foot of x lies `in_front` of the other's plane (at a convex edge
-// the feet meet on the edge), and their normals part by over 45 degrees; 1 where they do not.
+// crease within h of x (at distance phi from the surface), 1 where they do not. They do where
+// their normals part by over 45 degrees, each face's foot lies `in_front` of the other's plane
+// (at a convex edge the feet lie on the edge, or behind) and the nearer plane is as far from x
+// as the surface is (within `in_front`: inside a sphere tangent planes apart are farther).
 constexpr double kCreaseCosine = 0.7071;
-double parting(const glm::dvec3& x, const Plane& p, const Plane& q, double h, double in_front) {
-  const double gap_p = glm::dot(p.normal, x) - p.offset, gap_q = glm::dot(q.normal, x) - q.offset;
-  const double cosine = glm::dot(p.normal, q.normal);
-  const bool concave = gap_p > 0 && gap_q > 0 && std::max(gap_p, gap_q) < h &&
-                       glm::dot(x - gap_p * p.normal, q.normal) - q.offset > in_front &&
-                       glm::dot(x - gap_q * q.normal, p.normal) - p.offset > in_front;
+double parting(const Face& p, const Face& q, const glm::dvec3& x, double phi, double h, double in_front) {
+  const double gap_p = p.gap(x), gap_q = q.gap(x), cosine = glm::dot(p.plane.normal, q.plane.normal);
+  const bool concave = p.clean && q.clean && gap_p > 0 && gap_q > 0 && std::max(gap_p, gap_q) < h &&
+                       std::abs(std::min(gap_p, gap_q) - phi) < in_front && p.gap(q.foot) > in_front &&
+                       q.gap(p.foot) > in_front;
   return concave && cosine < kCreaseCosine ? cosine : 1.0;
 }
 
 // The faces of a concave crease or corner of a surface within h of x (Mirrors::creases), at
 // most `most` of them, nearest first, into `faces`; their count, 0 where there is none. The
-// faces' planes are read from the field at x (distance phi, normal n) and at kProbes points h
-// from x along that face, so that another face within h lies behind one of them and its own
-// normal is the field's there (on a crease's bisector x reads a blend of the two, but the probes
-// a spacing away read each face's own). The pair that parts most is a crease, a third parting
-// from both a corner. surface(q, normal) is the field's distance at q.
+// faces' planes are read from the field at kProbes points h from x along its nearest face (x
+// at distance phi, normal n), so that every face within h lies behind or beside one of them and
+// its own normal is the field's there: on a crease's bisector x's own normal blends the two
+// faces' (or, on the field's kink, is none), but the probes a spacing away read each face's
+// own. The pair that parts most is a crease, a third parting from both a corner.
+// surface(q, gradient) is the field's distance at q and its gradient (not normalised).
 constexpr int kProbes = 8;
 template <class Surface>
 int crease_faces(Surface&& surface, const glm::dvec3& x, double phi, const glm::dvec3& n, double h,
                  double in_front, int most, Plane faces[3]) {
   const glm::dvec3 side = std::abs(n.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
   const glm::dvec3 u = glm::normalize(glm::cross(n, side)), w = glm::cross(n, u);
-  Plane planes[kProbes + 1] = {plane_at(x, phi, n)};
+  Face seen[kProbes];
   for (int k = 0; k < kProbes; ++k) {
     const double turn = k * (2 * M_PI / kProbes);
     const glm::dvec3 q = x + h * (std::cos(turn) * u + std::sin(turn) * w);
-    glm::dvec3 normal;
-    const double at_q = surface(q, normal);
-    planes[k + 1] = plane_at(q, at_q, normal);
+    glm::dvec3 gradient;
+    const double at_q = surface(q, gradient);
+    seen[k] = face_at(q, at_q, gradient);
   }
   int chosen[3] = {-1, -1, -1};
   double best = 1.0;
-  for (int a = 0; a <= kProbes; ++a)
-    for (int b = a + 1; b <= kProbes; ++b)
-      if (const double c = parting(x, planes[a], planes[b], h, in_front); c < best) best = c, chosen[0] = a, chosen[1] = b;
+  for (int a = 0; a < kProbes; ++a)
+    for (int b = a + 1; b < kProbes; ++b)
+      if (const double c = parting(seen[a], seen[b], x, phi, h, in_front); c < best) best = c, chosen[0] = a, chosen[1] = b;
   if (chosen[0] < 0 || most < 2) return 0;
   best = 1.0;
-  for (int c = 0; c <= kProbes && most > 2; ++c) {
-    const double worst = std::max(parting(x, planes[c], planes[chosen[0]], h, in_front),
-                                  parting(x, planes[c], planes[chosen[1]], h, in_front));
+  for (int c = 0; c < kProbes && most > 2; ++c) {
+    const double worst = std::max(parting(seen[c], seen[chosen[0]], x, phi, h, in_front),
+                                  parting(seen[c], seen[chosen[1]], x, phi, h, in_front));
     if (worst < best) best = worst, chosen[2] = c;
   }
   const int count = chosen[2] < 0 ? 2 : 3;
-  auto gap = [&](int k) { return glm::dot(planes[k].normal, x) - planes[k].offset; };
-  std::sort(chosen, chosen + count, [&](int a, int b) { return gap(a) < gap(b); });
-  for (int f = 0; f < count; ++f) faces[f] = planes[chosen[f]];
+  std::sort(chosen, chosen + count, [&](int a, int b) { return seen[a].gap(x) < seen[b].gap(x); });
+  for (int f = 0; f < count; ++f) faces[f] = seen[chosen[f]].plane;
   return count;
 }
 
@@ -79,7 +93,7 @@ void find_creases(const Derived& d, Mirrors& m) {
   if (!free || m.obstacle.kind != Obstacle::Kind::Mesh || !m.obstacle.field->near_crease(m.obstacle.pose.body(m.at)))
     return;
   Plane faces[3];
-  auto surface = [&](const glm::dvec3& q, glm::dvec3& normal) { return m.obstacle.surface(q, normal); };
+  auto surface = [&](const glm::dvec3& q, glm::dvec3& gradient) { return m.obstacle.mesh_surface(q, gradient); };
   const int count = crease_faces(surface, m.at, m.distance, m.normal, d.h, 0.5 * d.keep_out, 1 + std::popcount(unsigned(free)), faces);
   if (count == 0) return;
   m.first = faces[0];
@@ -97,20 +111,17 @@ void mark_creases(DistanceField& field, double h, double keep_out) {
   const glm::ivec3 dims = field.dims;
   const size_t count = field.values.size();
   std::vector<uint8_t> found(count, 0);
-  auto surface = [&](const glm::dvec3& q, glm::dvec3& normal) {
-    glm::dvec3 gradient;
-    const double phi = field.sample(q, gradient);
-    normal = glm::length(gradient) > 0 ? glm::normalize(gradient) : glm::dvec3(0, 1, 0);
-    return phi;
-  };
+  auto surface = [&](const glm::dvec3& q, glm::dvec3& gradient) { return field.sample(q, gradient); };
   for (int z = 0; z < dims.z; ++z)
     for (int y = 0; y < dims.y; ++y)
       for (int x = 0; x < dims.x; ++x) {
         const glm::dvec3 at = field.origin + field.voxel * glm::dvec3(x, y, z);
-        glm::dvec3 normal;
-        const double phi = surface(at, normal);
+        glm::dvec3 gradient;
+        const double phi = surface(at, gradient);
+        const glm::dvec3 normal = glm::length(gradient) > 0 ? glm::normalize(gradient) : glm::dvec3(0, 1, 0);  // as Obstacle::surface's
         Plane faces[3];
-        if (phi > 0 && phi < h) found[size_t((z * dims.y + y) * dims.x + x)] = crease_faces(surface, at, phi, normal, h, 0.5 * keep_out, 2, faces) > 0;
+        if (phi > 0 && phi < h)
+          found[size_t((z * dims.y + y) * dims.x + x)] = crease_faces(surface, at, phi, normal, h, 0.5 * keep_out, 2, faces) > 0;
       }
   // Each node's neighbours' too: a particle between nodes may see the crease its nearest misses.
   field.creases.assign((count + 31) / 32, 0u);

@@ -55,6 +55,12 @@ double Obstacle::surface(const glm::dvec3& x, glm::dvec3& normal) const {
   return d;
 }
 
+double Obstacle::mesh_surface(const glm::dvec3& x, glm::dvec3& gradient) const {
+  const double d = field->sample(pose.body(x), gradient) - margin;
+  gradient = pose.rotation * gradient;
+  return d;
+}
+
 double Obstacle::body_surface(const glm::dvec3& x, glm::dvec3& normal) const {
   if (kind == Kind::Sphere) {
     const glm::dvec3 d = x - centre;

@@ -46,6 +46,9 @@ struct Obstacle {
   // The signed distance from x to the surface (negative inside) and the outward normal at
   // the surface point nearest x; inside a box, the nearest face's.
   double surface(const glm::dvec3& x, glm::dvec3& normal) const;
+  // A mesh's signed distance at x and its field's gradient there, not normalised: a unit vector
+  // where one face is nearest, shorter within a voxel of where two meet (a crease's bisector).
+  double mesh_surface(const glm::dvec3& x, glm::dvec3& gradient) const;
   // How far the solid's point now at x moved over the step (0 for a solid that stands still).
   glm::dvec3 displacement(const glm::dvec3& x) const { return x - previous.world(pose.body(x)); }
   // The body-frame sphere holding the shape: its centre and radius (where motion may reach).
