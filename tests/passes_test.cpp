@@ -354,6 +354,10 @@ constexpr const char* kDamBreakDomain = R"({"min": [0, 0, 0], "max": [1.6, 1.0, 
 // The column standing in the mixer's bowl as the domain's mesh: the fluid inside it, the walls no mirror.
 constexpr const char* kBowlDomain =
     R"({"min": [0, 0, 0], "max": [1.6, 1.0, 0.4], "mesh": {"file": "meshes/bowl.obj", "position": [0.2, 0, 0.2]}})";
+// The tank as a box-shaped mesh: its edges and corners are concave creases, each face a plane
+// mirror there (Mirrors::creases).
+const std::string kBoxTankDomain = R"({"min": [0, 0, 0], "max": [1.6, 1.0, 0.4], "mesh": {"file": ")" +
+                                   test::box_mesh({0, 0, 0}, {1.6, 1.0, 0.4}) + R"("}})";
 
 // Whole steps of both methods from the lattice: positions drift apart only by float
 // rounding, a few micrometres over 4 steps (spacing 40 mm).
@@ -434,7 +438,8 @@ INSTANTIATE_TEST_SUITE_P(Methods, StepTest,
                                            StepCase{"pbf_shaken", "pbf", "[]", kShakenTank},
                                            StepCase{"ldc_turning", "ldc", "[]", kTurningTank},
                                            StepCase{"ldc_steered", "ldc", kObstaclesInTheColumn, kDamBreakDomain, true},
-                                           StepCase{"pbf_bowl", "pbf", "[]", kBowlDomain}),
+                                           StepCase{"pbf_bowl", "pbf", "[]", kBowlDomain},
+                                           StepCase{"ldc_box_tank", "ldc", "[]", kBoxTankDomain.c_str()}),
                          [](const auto& info) { return std::string(info.param.name); });
 
 class ProfileTest : public test::GpuTest {};
