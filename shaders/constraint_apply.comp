@@ -17,6 +17,7 @@ layout(std430, binding = 2) writeonly buffer XOut { vec4 x_out[]; };
 #define BODY_PUSH_BINDING 7
 #include "solids.glsl"
 #define NEIGHBOUR_BINDING 4
+#define CREASES_BINDING 8
 #define NEIGHBOUR_CAPACITY_ID 2
 #include "neighbours.glsl"
 
@@ -25,7 +26,7 @@ void main() {
   if (!neighbour_pass_particle(i)) return;
   vec4 own = imageLoad(x_lambda, int(i));
   vec3 xi = own.xyz;
-  Mirrors mirrors = neighbour_mirrors(xi);
+  Mirrors mirrors = neighbour_mirrors(i, xi);
   float lambda_i = own.w;
   vec3 dp = vec3(0.0), dp_solid = vec3(0.0);  // and the obstacle's images' share
   int image;

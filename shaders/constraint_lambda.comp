@@ -14,6 +14,7 @@ layout(std430, binding = 2) writeonly buffer XLambda { vec4 x_lambda[]; };
 layout(std430, binding = 3) writeonly buffer Rho { float rho_out[]; };
 #define OBSTACLES_BINDING 6
 #define NEIGHBOUR_BINDING 4
+#define CREASES_BINDING 7
 #define NEIGHBOUR_CAPACITY_ID 1
 #include "neighbours.glsl"
 
@@ -21,7 +22,7 @@ void main() {
   uint i;
   if (!neighbour_pass_particle(i)) return;
   vec3 xi = imageLoad(x_pred, int(i)).xyz;
-  Mirrors mirrors = neighbour_mirrors(xi);
+  Mirrors mirrors = neighbour_mirrors(i, xi);
   // m/rho0 goes into every gradient term before it is squared: the squares alone, ~1/h^8,
   // leave float's range at the ends of particle_spacing's (tests/scale_test.cpp).
   const float s = sim.mass / sim.rho0;

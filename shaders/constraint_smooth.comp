@@ -20,6 +20,7 @@ layout(binding = 1, rgba32f) uniform readonly imageBuffer x_lambda_in;  // (x*, 
 layout(std430, binding = 2) writeonly buffer XLambdaOut { vec4 x_lambda_out[]; };
 #define OBSTACLES_BINDING 5
 #define NEIGHBOUR_BINDING 3
+#define CREASES_BINDING 6
 #define NEIGHBOUR_CAPACITY_ID 1
 #include "neighbours.glsl"
 
@@ -27,7 +28,7 @@ void main() {
   uint i;
   if (!neighbour_pass_particle(i)) return;
   vec3 xi = imageLoad(x_lambda_in, int(i)).xyz;
-  Mirrors mirrors = neighbour_mirrors(xi);
+  Mirrors mirrors = neighbour_mirrors(i, xi);
   float sum = 0.0, total = 0.0;
   int image;
   FOR_EACH_NEIGHBOUR(i, xi, mirrors, j, image) {  // an image carries its particle's lambda

@@ -23,6 +23,7 @@ layout(std430, binding = 6) writeonly buffer XPred { vec4 x_pred[]; };
 layout(constant_id = 100) const bool SOLVER_LDC_CLAMP = false;  // the scene's key (gpu/key_constants.hpp)
 layout(constant_id = 2) const float LDC_ROOM = 1.8;  // Derived::ldc_room
 #define NEIGHBOUR_BINDING 4
+#define CREASES_BINDING 10
 #define NEIGHBOUR_CAPACITY_ID 3
 #include "neighbours.glsl"
 
@@ -41,7 +42,7 @@ void main() {
   uint i;
   if (!neighbour_pass_particle(i)) return;
   vec3 xi = imageLoad(x, int(i)).xyz;
-  Mirrors mirrors = neighbour_mirrors(xi);
+  Mirrors mirrors = neighbour_mirrors(i, xi);
   mirrors.listed = mirrors.listed && !MOVING;  // the last step's lists, and Move came since
   // Differences keep the float sum exact at uniform density.
   float rho_i = ldc_density(i);

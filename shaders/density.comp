@@ -8,6 +8,7 @@ layout(binding = 1, rgba32f) uniform readonly imageBuffer x;
 layout(std430, binding = 2) writeonly buffer Rho { float rho[]; };
 #define OBSTACLES_BINDING 5
 #define NEIGHBOUR_BINDING 3
+#define CREASES_BINDING 6
 #define NEIGHBOUR_CAPACITY_ID 1
 #include "neighbours.glsl"
 
@@ -15,7 +16,7 @@ void main() {
   uint i;
   if (!neighbour_pass_particle(i)) return;
   vec3 xi = imageLoad(x, int(i)).xyz;
-  Mirrors mirrors = neighbour_mirrors(xi);
+  Mirrors mirrors = neighbour_mirrors(i, xi);
   float sum = 0.0;
   int image;
   FOR_EACH_NEIGHBOUR(i, xi, mirrors, j, image) {

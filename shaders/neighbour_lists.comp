@@ -31,6 +31,8 @@ layout(std430, binding = 3) buffer NeighbourList { uvec4 neighbour_list[]; };
 // The cell walkers' VkDispatchIndirectCommand, reset by the host to (0, 1, 1). The
 // readers run this pass's workgroup size; a count past the device's x limit folds into y.
 layout(std430, binding = 4) buffer OverflowGroups { uint overflow_groups[3]; };
+// Each particle's crease record (solids.glsl, crease_record), for the passes of the step.
+layout(std430, binding = 6) writeonly buffer CreaseRecords { vec4 crease_records[]; };
 layout(constant_id = 1) const uint NEIGHBOUR_CAPACITY = 64;  // Derived::neighbour_capacity (groups rounded up: list_words)
 layout(constant_id = 2) const uint MAX_GROUPS_X = 65535;     // maxComputeWorkGroupCount[0]
 
@@ -57,6 +59,13 @@ void main() {
   uint i = thread_index();
   if (i >= sim.count) return;
   vec3 xi = imageLoad(x, int(i)).xyz;
+  // A mesh's creases near i, once a step (a probe of the field is costly: every pass reads them).
+  Mirrors mirrors = mirrors_near(xi);
+  if (has_shape(MESH)) {
+    find_creases(mirrors);
+    for (int slot = 0; slot < 4; ++slot) crease_records[4u * i + uint(slot)] = crease_record(mirrors, slot);
+  }
+  if (NEIGHBOUR_CAPACITY == 0u) return;  // no lists: run for the creases alone
   uint listed = 0u, word = 4u * i;  // entry 0: group 0, texel i, its first word
   // Each row of three cells is tested in chunks of up to 32 candidates, the hits kept as
   // bits, and only then stored: a CPU device stores to a storage buffer lane by lane, testing
@@ -83,7 +92,6 @@ void main() {
   // a word: bit 16q + 15 - k for image k of the pair's entry q, so that storing them in bit
   // order lists each neighbour's images together, in next_image's order (that of the cell
   // walkers). An image that does not count lies far away (solids.glsl), never within h.
-  Mirrors mirrors = mirrors_near(xi);
   uint neighbours = mirrors.axes != 0 && listed <= NEIGHBOUR_CAPACITY ? listed : 0u;
   for (uint k = 0u; k < neighbours; k += 4u) {
     uvec4 group = neighbour_list[entry_group(i, k)];

@@ -11,7 +11,8 @@
 //
 // The includer defines NEIGHBOUR_BINDING (the counts; the list is the next binding) and
 // NEIGHBOUR_CAPACITY_ID (its last specialisation constant; WALK_CELLS is the next).
-// It also defines OBSTACLES_BINDING: every solid is a mirror (solids.glsl).
+// It also defines OBSTACLES_BINDING: every solid is a mirror (solids.glsl); and
+// CREASES_BINDING, the particles' crease records.
 // Binding 0 is the grid's cell_start (grid_walk.glsl). All three are read-only storage
 // texel buffers (vk/program.hpp): counts and cell_start R32_UINT, the list
 // R32G32B32A32_UINT, four entries a fetch.
@@ -22,10 +23,16 @@ layout(constant_id = NEIGHBOUR_CAPACITY_ID + 1) const bool WALK_CELLS = false;
 layout(binding = NEIGHBOUR_BINDING, r32ui) uniform readonly uimageBuffer neighbour_count;
 layout(binding = NEIGHBOUR_BINDING + 1, rgba32ui) uniform readonly uimageBuffer neighbour_list;
 
-// i's mirrors for a reader: a list's obstacle images were tested when it was built.
-Mirrors neighbour_mirrors(vec3 xi) {
+// Each particle's creases, found when the lists were built (neighbour_lists.comp, take_creases).
+layout(std430, binding = CREASES_BINDING) readonly buffer CreaseRecords { vec4 crease_records[]; };
+
+// i's mirrors for a reader: a list's obstacle images were tested when it was built, and i's
+// creases found then.
+Mirrors neighbour_mirrors(uint i, vec3 xi) {
   Mirrors m = mirrors_near(xi);
   m.listed = !WALK_CELLS && NEIGHBOUR_CAPACITY > 0u;
+  if (has_shape(MESH))
+    take_creases(m, crease_records[4u * i], crease_records[4u * i + 1u], crease_records[4u * i + 2u], crease_records[4u * i + 3u]);
   return m;
 }
 

@@ -21,6 +21,7 @@ layout(std430, binding = 2) writeonly buffer XSmooth { vec4 x_smooth[]; };
 layout(std430, binding = 3) writeonly buffer Shape { vec4 shape[]; };  // two a particle
 #define OBSTACLES_BINDING 6
 #define NEIGHBOUR_BINDING 4
+#define CREASES_BINDING 7
 #define NEIGHBOUR_CAPACITY_ID 1
 #include "neighbours.glsl"
 
@@ -77,7 +78,7 @@ void main() {
   uint i;
   if (!neighbour_pass_particle(i)) return;
   vec3 xi = imageLoad(x, int(i)).xyz;
-  Mirrors mirrors = neighbour_mirrors(xi);
+  Mirrors mirrors = neighbour_mirrors(i, xi);
   // The position's mean weighs the nearest most (position_weight); the covariance weighs the
   // neighbourhood nearly flat to h (smoothing_weight), so that it sees a sheet's rows pulled
   // 1.75 spacings apart. Offsets in units of h keep the second moments near 1 in float. No

@@ -278,32 +278,43 @@ void find_creases(inout Mirrors m) {
     // its plane is put beyond h, where it parts from none (CREASE_STEEP, as mirrors.cpp's kSteep).
     planes[k] = vec4(normal, steep > CREASE_STEEP ? dot(normal, feet[k]) : -3.4e38);
   }
+  // The pairs' loops run over constant indices (unrolled): an array indexed at run time lives
+  // in memory on a CPU device, which slowed every pass that inlines this.
   float in_front = 0.5 * obstacle_data[0].y, best = 1.0;  // half the keep-out margin
-  ivec3 chosen = ivec3(-1);
+  vec4 first = vec4(0.0), second = vec4(0.0), third = vec4(0.0);
+  vec3 first_foot = vec3(0.0), second_foot = vec3(0.0);
   for (int p = 0; p < CREASE_PROBES; ++p)
     for (int q = p + 1; q < CREASE_PROBES; ++q) {
       float c = parting(planes[p], feet[p], planes[q], feet[q], m.at, m.distance, in_front);
-      if (c < best) best = c, chosen.xy = ivec2(p, q);
+      if (c < best) best = c, first = planes[p], first_foot = feet[p], second = planes[q], second_foot = feet[q];
     }
-  if (chosen.x < 0) return;
+  if (best >= 1.0) return;
   best = 1.0;
   for (int c = 0; c < CREASE_PROBES && bitCount(free) > 1; ++c) {
-    float worst = max(parting(planes[c], feet[c], planes[chosen.x], feet[chosen.x], m.at, m.distance, in_front),
-                      parting(planes[c], feet[c], planes[chosen.y], feet[chosen.y], m.at, m.distance, in_front));
-    if (worst < best) best = worst, chosen.z = c;
+    float worst = max(parting(planes[c], feet[c], first, first_foot, m.at, m.distance, in_front),
+                      parting(planes[c], feet[c], second, second_foot, m.at, m.distance, in_front));
+    if (worst < best) best = worst, third = planes[c];
   }
-  int faces = chosen.z < 0 ? 2 : 3;
-  vec3 gap = vec3(sim.h);
-  for (int f = 0; f < faces; ++f) gap[f] = height(planes[chosen[f]], m.at);
-  for (int pass = 0; pass < 2; ++pass)  // nearest first
-    for (int f = 0; f + 1 < faces; ++f)
-      if (gap[f + 1] < gap[f]) gap.xyz = f == 0 ? gap.yxz : gap.xzy, chosen.xyz = f == 0 ? chosen.yxz : chosen.xzy;
-  m.first = planes[chosen.x];
+  int faces = best < 1.0 ? 3 : 2;
+  // Nearest first: the obstacle's mirror; the others take the free wall bits in order.
+  if (height(second, m.at) < height(first, m.at)) {
+    vec4 t = first;
+    first = second, second = t;
+  }
+  if (faces == 3 && height(third, m.at) < height(second, m.at)) {
+    vec4 t = second;
+    second = third, third = t;
+    if (height(second, m.at) < height(first, m.at)) t = first, first = second, second = t;
+  }
+  m.first = first;
   for (int f = 1; f < faces; ++f) {
     int bit = free & -free;
     free &= ~bit;
     m.creases |= bit;
-    m.faces[findLSB(bit)] = planes[chosen[f]];
+    vec4 face = f == 1 ? second : third;
+    if (bit == 1) m.faces[0] = face;
+    else if (bit == 2) m.faces[1] = face;
+    else m.faces[2] = face;
   }
   m.axes |= m.creases;
 }
@@ -333,7 +344,6 @@ Mirrors mirrors_near(vec3 x) {
   if (m.obstacle >= 0) {
     m.axes |= OBSTACLE_MIRROR;
     m.solid_velocity = obstacle_displacement(m.obstacle, x - m.distance * m.normal) / sim.dt;
-    if (has_shape(MESH)) find_creases(m);
   }
   return m;
 }
@@ -341,6 +351,21 @@ Mirrors mirrors_near(vec3 x) {
 Mirrors no_mirrors() {
   vec4 none = vec4(0.0);
   return Mirrors(0, vec3(0.0), -1, vec3(0.0), 0.0, vec3(0.0), vec3(0.0), false, 0, none, vec4[3](none, none, none));
+}
+// A particle's creases as a record of four vec4 (the lists pass writes it, every pass of the
+// step reads it: Creases in host/sim/solids/mirrors.hpp): the nearest face's plane, then the
+// face of each wall bit, (0, 0, 0, 0) where none.
+vec4 crease_record(Mirrors m, int slot) {
+  if (slot == 0) return m.creases != 0 ? m.first : vec4(0.0);
+  return ((m.creases >> (slot - 1)) & 1) != 0 ? m.faces[slot - 1] : vec4(0.0);
+}
+// Takes a particle's record where it is within h of the obstacle (Mirrors::take).
+void take_creases(inout Mirrors m, vec4 first, vec4 face0, vec4 face1, vec4 face2) {
+  if (m.obstacle < 0 || first.xyz == vec3(0.0)) return;
+  m.first = first;
+  m.faces = vec4[3](face0, face1, face2);
+  m.creases = (face0.xyz != vec3(0.0) ? 1 : 0) | (face1.xyz != vec3(0.0) ? 2 : 0) | (face2.xyz != vec3(0.0) ? 4 : 0);
+  m.axes |= m.creases;
 }
 // Every image of a neighbour: for (int k = m.axes; k != 0; k = next_image(m.axes, k)) ...
 int next_image(int axes, int k) { return (k - 1) & axes; }

@@ -40,6 +40,7 @@ layout(std430, binding = 5) writeonly buffer Rho { float rho[]; };
 #define WORK_BINDING 9
 #define BODY_PUSH_BINDING 10
 #define NEIGHBOUR_BINDING 6
+#define CREASES_BINDING 11
 #define NEIGHBOUR_CAPACITY_ID 4
 #include "neighbours.glsl"
 
@@ -62,7 +63,7 @@ void main() {
   vec3 damp = vec3(0.0), damp_solid = vec3(0.0);  // and the obstacle's images' share
   float density = 0.0;
   float rho_i = max(own.w, sim.rho0);
-  Mirrors mirrors = neighbour_mirrors(xi);
+  Mirrors mirrors = neighbour_mirrors(i, xi);
   int image;
   FOR_EACH_NEIGHBOUR(i, xi, mirrors, j, image) {
     vec3 xj = imageLoad(x, int(j)).xyz, d = xi - mirror(mirrors, image, xj);

@@ -12,6 +12,7 @@ layout(binding = 2, rgba32f) uniform readonly imageBuffer curl;
 layout(std430, binding = 3) buffer V { vec4 v[]; };
 #define OBSTACLES_BINDING 6
 #define NEIGHBOUR_BINDING 4
+#define CREASES_BINDING 7
 #define NEIGHBOUR_CAPACITY_ID 1
 #include "neighbours.glsl"
 

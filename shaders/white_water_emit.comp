@@ -14,6 +14,7 @@ layout(std430, binding = 3) readonly buffer Id { uint id[]; };
 layout(std430, binding = 4) writeonly buffer Births { uint births[]; };  // zeroed before
 #define OBSTACLES_BINDING 9
 #define NEIGHBOUR_BINDING 7
+#define CREASES_BINDING 10
 #define NEIGHBOUR_CAPACITY_ID 1
 #include "neighbours.glsl"
 
@@ -27,7 +28,7 @@ void main() {
   vec3 xi = imageLoad(x, int(i)).xyz, vi = imageLoad(v, int(i)).xyz;
   float unit = FLOW_SPEED;
   if (length(vi) / unit <= WHITE_SPEED_MIN) return;  // too slow to make any: most of a calm fluid skips the walk
-  Mirrors mirrors = neighbour_mirrors(xi);
+  Mirrors mirrors = neighbour_mirrors(i, xi);
   float trapped = 0.0, weights = 0.0;
   vec3 towards = vec3(0.0);
   int image;

@@ -32,7 +32,7 @@ const ShaderLayout::Binding* find(const ShaderLayout& layout, const std::string&
 
 TEST(ShaderLayout, ANeighbourPassReadsItsSlotsTypesAndConstantsFromTheSpirv) {
   const ShaderLayout density = vk::reflect_layout(shaders::spirv("density"));
-  ASSERT_EQ(density.bindings.size(), 6u);  // the obstacles' two views (solids.glsl) are one slot
+  ASSERT_EQ(density.bindings.size(), 7u);  // the obstacles' three views (solids.glsl) are one slot
   const struct {
     const char* name;
     uint32_t slot;
@@ -42,7 +42,8 @@ TEST(ShaderLayout, ANeighbourPassReadsItsSlotsTypesAndConstantsFromTheSpirv) {
                   {"rho", 2, VK_FORMAT_UNDEFINED},
                   {"neighbour_count", 3, VK_FORMAT_R32_UINT},
                   {"neighbour_list", 4, VK_FORMAT_R32G32B32A32_UINT},
-                  {"obstacles", 5, VK_FORMAT_UNDEFINED}};
+                  {"obstacles", 5, VK_FORMAT_UNDEFINED},
+                  {"crease_records", 6, VK_FORMAT_UNDEFINED}};
   for (const auto& e : expected) {
     const auto* b = find(density, e.name);
     ASSERT_NE(b, nullptr) << e.name;

@@ -58,6 +58,7 @@ struct SolverBuffers {
   uint64_t x_lambda_spare = 0, curl = 0;             // 0 where the scene has no smoothing, no vorticity
   uint64_t partials = 0, obstacles = 0, watch = 0, overflow_groups = 0;
   uint64_t work = 0;  // the moving solids' work per particle slot (a word where none moves)
+  uint64_t crease_records = 0;  // four vec4 a particle where a mesh is among the solids, else one record
   uint64_t adaptive_words = 0;  // each of check_converged's three buffers; 0 without adaptive iterations
   uint64_t coarse_sums = 0, coarse_phi = 0, coarse_grad = 0, coarse_open = 0;  // the coarse correction's nodes; 0 where it is off
   uint64_t result = sizeof(FrameResult);

@@ -89,7 +89,7 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
       partials_(ctx, plan_.partials),
       result_(ctx, plan_.result, vk::Memory::Host),
       obstacles_(ctx, plan_.obstacles),
-      work_(ctx, plan_.work),
+      work_(ctx, plan_.work), crease_records_(ctx, plan_.crease_records),
       overflow_groups_(ctx, plan_.overflow_groups),
       watch_buf_(ctx, plan_.watch),
       cmd_(ctx),
@@ -305,6 +305,7 @@ void GpuSolver::bind_particle_pass(const vk::Program& p) {
 
 // Every neighbour pass reads the grid and the lists (shaders/neighbours.glsl).
 void GpuSolver::bind_neighbours() {
+  if (cmd_.reads("crease_records")) cmd_.bind("crease_records", crease_records_);  // not a pass blind to the solids
   cmd_.bind("cell_start", grid_.cell_start());
   cmd_.bind("neighbour_count", neighbour_count_);
   cmd_.bind("neighbour_list", neighbour_list_);
@@ -341,7 +342,8 @@ void GpuSolver::run_neighbour_pass(const NeighbourPass& pass, const vk::Buffer* 
 }
 
 void GpuSolver::neighbour_lists(const vk::Buffer& x) {
-  if (d_.neighbour_capacity == 0) return;  // no lists: every pass walks the cells
+  // No lists: every pass walks the cells; the pass runs only for a mesh's creases, if any.
+  if (d_.neighbour_capacity == 0 && !any_mesh(d_.obstacles)) return;
   const uint32_t none[4] = {0, 1, 1, 0};     // the cell walkers' groups (x, y, z)
   cmd_.update(overflow_groups_, none, sizeof none);
   const uint32_t zero = 0;  // the overflow list's length
@@ -353,6 +355,7 @@ void GpuSolver::neighbour_lists(const vk::Buffer& x) {
   cmd_.bind("neighbour_list", neighbour_list_);
   cmd_.bind("overflow_groups", overflow_groups_);
   cmd_.bind("obstacles", obstacles_);
+  cmd_.bind("crease_records", crease_records_);
   cmd_.dispatch(n_);
 }
 

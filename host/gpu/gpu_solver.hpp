@@ -171,6 +171,7 @@ class GpuSolver : public Solver {
   vk::Buffer x_lambda_, x_lambda_spare_;  // (x_pred, lambda) and its smoothing spare (constraint_lambda.comp)
   vk::Buffer curl_, partials_, result_, obstacles_;
   vk::Buffer work_;  // solids.glsl's work: per slot, summed by reduce_stats
+  vk::Buffer crease_records_;  // each particle's creases, from the lists pass (solids.glsl)
   vk::Buffer shape_;  // the drawn shapes, two vec4s a particle, where smoothed positions are asked for
   vk::Buffer check_, indirect_;
   // The cell walkers' dispatch (neighbour_lists.comp), and its copy for an adaptive

@@ -75,6 +75,7 @@ void ReferenceSolver::build_neighbours(const std::vector<dvec3>& at) {
   const size_t capacity = d_.neighbour_capacity;
   neighbour_count_.assign(at.size(), 0);
   neighbour_list_.resize(at.size() * capacity);
+  creases_.assign(at.size(), Creases{});
   for (size_t i = 0; i < at.size(); ++i) {
     Neighbour* list = neighbour_list_.data() + i * capacity;
     uint32_t count = 0;
@@ -87,7 +88,9 @@ void ReferenceSolver::build_neighbours(const std::vector<dvec3>& at) {
       if (glm::dot(d, d) < d_.h * d_.h) add(j, 0);
     });
     // An image lies farther than its particle: only the neighbours' can be within h.
-    const Mirrors mirrors = mirrors_near(d_, at[i]);
+    Mirrors mirrors = mirrors_near(d_, at[i]);
+    creases_[i] = find_creases(d_, mirrors);
+    mirrors.take(creases_[i]);
     for (uint32_t n = count, k = 0; n <= capacity && k < n; ++k)
       for (int image = 1; image < kImages; ++image) {  // past the neighbour itself
         if ((image & mirrors.axes) != image) continue;

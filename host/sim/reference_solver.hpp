@@ -138,6 +138,7 @@ class ReferenceSolver : public Solver {
   // built, and their count (past the capacity: overflowed, walk the cells).
   std::vector<Neighbour> neighbour_list_;
   std::vector<uint32_t> neighbour_count_;
+  std::vector<Creases> creases_;  // each particle's, found when the lists were built
   bool neighbours_current_ = false;              // built since the last build_grid
   bool neighbours_built_ = false;                // built since the particles were set (GpuSolver::lists_built_)
   // The solids moved since the lists were built (LDC's correction comes after Move): their
@@ -161,7 +162,8 @@ void ReferenceSolver::for_each_candidate(const glm::dvec3& xi, F&& visit) const 
 template <class F>
 void ReferenceSolver::for_each_neighbour(size_t i, const glm::dvec3& xi, F&& visit) const {
   const uint32_t count = neighbour_count_.at(i);
-  const Mirrors mirrors = mirrors_near(d_, xi);
+  Mirrors mirrors = mirrors_near(d_, xi);
+  mirrors.take(creases_.at(i));
   if (count > d_.neighbour_capacity) {
     for_each_candidate(xi, [&](size_t j) {
       for (int k = 0; k < kImages; ++k)

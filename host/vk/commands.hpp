@@ -28,6 +28,9 @@ class CommandList {
   // Binds `buffer` to the current program's binding that the shader names `name`
   // (vk/spirv_layout.hpp), as a storage buffer or a texel view as the shader declares it.
   void bind(std::string_view name, const Buffer& buffer);
+  // Whether the current program reads a binding named `name`: a shader that never reads what
+  // an include declares has no such binding.
+  bool reads(std::string_view name) const;
   template <class T>
   void push(const T& constants) { push_bytes(&constants, sizeof(T)); }
   // Runs the program over `invocations` threads (gl_GlobalInvocationID folded to 1D by

@@ -86,25 +86,6 @@ int crease_faces(Surface&& surface, const glm::dvec3& x, double phi, const glm::
   return count;
 }
 
-// A particle's crease faces, where its field marks one near: the nearest is the obstacle's
-// mirror, each other takes a wall bit the particle has free.
-void find_creases(const Derived& d, Mirrors& m) {
-  int free = ~m.axes & 7;
-  if (!free || m.obstacle.kind != Obstacle::Kind::Mesh || !m.obstacle.field->near_crease(m.obstacle.pose.body(m.at)))
-    return;
-  Plane faces[3];
-  auto surface = [&](const glm::dvec3& q, glm::dvec3& gradient) { return m.obstacle.mesh_surface(q, gradient); };
-  const int count = crease_faces(surface, m.at, m.distance, m.normal, d.h, 0.5 * d.keep_out, 1 + std::popcount(unsigned(free)), faces);
-  if (count == 0) return;
-  m.first = faces[0];
-  for (int f = 1; f < count; ++f) {
-    const int bit = free & -free;
-    free &= ~bit;
-    m.creases |= bit;
-    m.faces[std::countr_zero(unsigned(bit))] = faces[f];
-  }
-  m.axes |= m.creases;
-}
 }  // namespace
 
 void mark_creases(DistanceField& field, double h, double keep_out) {
@@ -160,9 +141,36 @@ Mirrors mirrors_near(const Derived& d, const glm::dvec3& x) {
   }
   if (m.axes & kObstacleMirror) {
     m.solid_velocity = m.obstacle.displacement(x - m.distance * m.normal) / d.dt;
-    find_creases(d, m);
   }
   return m;
+}
+
+Creases find_creases(const Derived& d, const Mirrors& m) {
+  Creases c;
+  int free = ~m.axes & 7;
+  if (!(m.axes & kObstacleMirror) || !free || m.obstacle.kind != Obstacle::Kind::Mesh ||
+      !m.obstacle.field->near_crease(m.obstacle.pose.body(m.at)))
+    return c;
+  Plane faces[3];
+  auto surface = [&](const glm::dvec3& q, glm::dvec3& gradient) { return m.obstacle.mesh_surface(q, gradient); };
+  const int count = crease_faces(surface, m.at, m.distance, m.normal, d.h, 0.5 * d.keep_out, 1 + std::popcount(unsigned(free)), faces);
+  if (count == 0) return c;
+  c.first = faces[0];
+  for (int f = 1; f < count; ++f) {
+    const int bit = free & -free;
+    free &= ~bit;
+    c.bits |= bit;
+    c.faces[std::countr_zero(unsigned(bit))] = faces[f];
+  }
+  return c;
+}
+
+void Mirrors::take(const Creases& c) {
+  if (!(axes & kObstacleMirror) || !c.bits) return;
+  creases = c.bits;
+  first = c.first;
+  for (int a = 0; a < 3; ++a) faces[a] = c.faces[a];
+  axes |= creases;
 }
 
 glm::dvec3 Mirrors::obstacle_image(const glm::dvec3& x, bool listed) const {

@@ -24,6 +24,14 @@ struct Plane {
   glm::dvec3 reflect(const glm::dvec3& y) const { return y - 2 * (glm::dot(normal, y) - offset) * normal; }
 };
 
+// A mesh's concave crease or corner near a particle (find_creases): the wall bits its faces
+// other than the nearest take (0: none), the nearest face's plane and theirs (faces[a] for bit
+// a). Found once a step, when the neighbour lists are built, and taken by every pass of it.
+struct Creases {
+  int bits = 0;
+  Plane first, faces[3];
+};
+
 struct Mirrors {
   int axes = 0;               // the mirrors within h, as image bits
   glm::dvec3 plane2{0.0};     // twice the nearer wall's coordinate on each wall axis
@@ -32,11 +40,11 @@ struct Mirrors {
   double distance = 0;        // its distance to that obstacle
   glm::dvec3 normal{0.0};     // and the obstacle's outward normal at the point nearest it
   glm::dvec3 solid_velocity{0.0};  // the velocity of that point over the step (0: it stands still)
-  // At a mesh's concave crease or corner (find_creases in mirrors.cpp): the wall bits its other
-  // faces take (0: none), the nearest face's plane (the obstacle's bit) and theirs (faces[a]
-  // for bit a). Each face is then a plane mirror, as walls meeting at an edge or corner are.
+  // At a mesh's concave crease or corner (Creases, taken): each face is a plane mirror, as walls
+  // meeting at an edge or corner are, the nearest the obstacle's bit.
   int creases = 0;
   Plane first, faces[3];
+  void take(const Creases& c);  // where the particle is within h of the obstacle
 
   // Whether image k lies behind the obstacle (its share of a pass's push is the solid's).
   bool solid(int k) const { return (k & (kObstacleMirror | creases)) != 0; }
@@ -71,6 +79,11 @@ inline double push_work(const glm::dvec3& dx, const glm::dvec3& moved, double dt
 
 // The mirrors seen from x: the walls within h and the nearest obstacle within h.
 Mirrors mirrors_near(const Derived& d, const glm::dvec3& x);
+
+// The creases of the mesh among mirrors `m` near its particle, where its field marks one near
+// (DistanceField::creases): the faces' planes read from the field at points h from the particle
+// along its nearest face (mirrors.cpp, crease_faces, says how). shaders/solids.glsl runs the same.
+Creases find_creases(const Derived& d, const Mirrors& m);
 
 // Marks field.creases (DistanceField) at the nodes within h of a concave crease or corner of
 // the field's surface, found as a particle's mirrors find one's faces, and at their neighbours.

@@ -189,6 +189,10 @@ glm::dvec3 stop_at(const Obstacle& o, const glm::dvec3& from, const glm::dvec3& 
   return hit == b ? to : o.pose.world(hit);
 }
 
+bool any_mesh(const std::vector<Obstacle>& solids) {
+  return std::ranges::any_of(solids, [](const Obstacle& o) { return o.kind == Obstacle::Kind::Mesh; });
+}
+
 size_t packed_obstacle_vec4s(const std::vector<Obstacle>& obstacles) {
   size_t values = 0;
   for (const Obstacle& o : obstacles)

@@ -63,6 +63,9 @@ struct Obstacle {
   double body_surface(const glm::dvec3& x, glm::dvec3& normal) const;  // surface() in the body frame
 };
 
+// Whether any of the solids is a mesh (a mesh's creases need a record per particle on the GPU).
+bool any_mesh(const std::vector<Obstacle>& solids);
+
 // x moved onto the nearest surface of `o` if it is inside. For a box, only faces that leave
 // x between the walls are candidates, so that the walls' clamp cannot push the particle
 // back in (a box standing on the floor pushes up or sideways, never down).
