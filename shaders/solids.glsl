@@ -241,24 +241,37 @@ struct Mirrors {
 };
 // y reflected across the plane (normal, offset).
 vec3 reflect_across(vec4 plane, vec3 y) { return y - 2.0 * (dot(plane.xyz, y) - plane.w) * plane.xyz; }
-// How far faces p and q part where they meet in a concave crease within h of x (at distance phi
-// from the surface), 1 where they do not (host/sim/solids/mirrors.cpp, parting). A face is its
-// plane (normal, offset: n . y = offset) and the surface point it was read from (its foot).
-const float CREASE_COSINE = 0.7071;
+// How far from x the farther of faces p and q lies where they meet in a concave crease within h
+// of x (at distance phi from the surface), h where they do not (host/sim/solids/mirrors.cpp,
+// crease_reach). A face is its plane (normal, offset: n . y = offset) and the surface point it
+// was read from (its foot).
+const float CREASE_COSINE = 0.25;
 float height(vec4 plane, vec3 y) { return dot(plane.xyz, y) - plane.w; }
-float parting(vec4 p, vec3 foot_p, vec4 q, vec3 foot_q, vec3 x, float phi, float in_front) {
-  float gap_p = height(p, x), gap_q = height(q, x);
-  bool concave = gap_p > 0.0 && gap_q > 0.0 && max(gap_p, gap_q) < sim.h && abs(min(gap_p, gap_q) - phi) < in_front &&
-                 height(p, foot_q) > in_front && height(q, foot_p) > in_front;
-  return concave && dot(p.xyz, q.xyz) < CREASE_COSINE ? dot(p.xyz, q.xyz) : 1.0;
+float crease_reach(vec4 p, vec3 foot_p, vec4 q, vec3 foot_q, vec3 x, float phi, float in_front) {
+  float gap_p = height(p, x), gap_q = height(q, x), reach = max(gap_p, gap_q);
+  bool crease = dot(p.xyz, q.xyz) < CREASE_COSINE && gap_p > 0.0 && gap_q > 0.0 && reach < sim.h &&
+                abs(min(gap_p, gap_q) - phi) < in_front && height(p, foot_q) > in_front && height(q, foot_p) > in_front;
+  return crease ? reach : sim.h;
 }
 // A mesh's concave crease or corner near the particle, where its field marks one
 // (host/sim/solids/mirrors.cpp, crease_faces and find_creases, say how): the faces' planes from
-// the field at CREASE_PROBES points h away along its nearest face; the pair
-// that parts most, and a third that parts from both, become mirrors, the nearest the obstacle's
-// and each other a wall bit the particle has free.
+// the field at CREASE_PROBES points h away along its nearest face; the nearest pair that meets
+// in a crease, and the nearest face meeting both, become mirrors, the nearest the obstacle's and
+// each other a wall bit the particle has free.
 const int CREASE_PROBES = 8;
 const float CREASE_STEEP = 0.97;
+// Whether the particle moved `depth` behind a face's plane lies inside the obstacle.
+bool behind_face(Mirrors m, vec4 plane, float depth) {
+  vec3 unused;
+  return obstacle_surface(m.obstacle, m.at - (height(plane, m.at) + depth) * plane.xyz, unused) < 0.0;
+}
+// Whether two faces' planes meet on the surface (within `tolerance`), at their line's point
+// nearest the particle: two tangent planes of a round wall meet behind it.
+bool faces_meet(Mirrors m, vec4 p, vec4 q, float tolerance) {
+  float k = dot(p.xyz, q.xyz), gp = height(p, m.at), gq = height(q, m.at);
+  vec3 line = m.at - ((gp - k * gq) * p.xyz + (gq - k * gp) * q.xyz) / (1.0 - k * k), unused;
+  return abs(obstacle_surface(m.obstacle, line, unused)) < tolerance;
+}
 void find_creases(inout Mirrors m) {
   int free = ~m.axes & 7;
   if (free == 0 || obstacle_data[obstacle_header(m.obstacle)].w < 1.5 ||
@@ -280,22 +293,28 @@ void find_creases(inout Mirrors m) {
   }
   // The pairs' loops run over constant indices (unrolled): an array indexed at run time lives
   // in memory on a CPU device, which slowed every pass that inlines this.
-  float in_front = 0.5 * obstacle_data[0].y, best = 1.0;  // half the keep-out margin
+  float in_front = 0.5 * obstacle_data[0].y, best = sim.h;  // half the keep-out margin
   vec4 first = vec4(0.0), second = vec4(0.0), third = vec4(0.0);
   vec3 first_foot = vec3(0.0), second_foot = vec3(0.0);
   for (int p = 0; p < CREASE_PROBES; ++p)
     for (int q = p + 1; q < CREASE_PROBES; ++q) {
-      float c = parting(planes[p], feet[p], planes[q], feet[q], m.at, m.distance, in_front);
-      if (c < best) best = c, first = planes[p], first_foot = feet[p], second = planes[q], second_foot = feet[q];
+      float r = crease_reach(planes[p], feet[p], planes[q], feet[q], m.at, m.distance, in_front);
+      if (r < best) best = r, first = planes[p], first_foot = feet[p], second = planes[q], second_foot = feet[q];
     }
-  if (best >= 1.0) return;
-  best = 1.0;
+  // Where a surface curves the tests above can pass two planes that are no crease's: a crease's
+  // faces lie behind the particle's moves behind them and meet on the surface (mirrors.cpp,
+  // crease_faces).
+  if (best >= sim.h || !behind_face(m, first, 2.0 * in_front) || !behind_face(m, second, 2.0 * in_front) ||
+      !faces_meet(m, first, second, in_front))
+    return;
+  best = sim.h;
   for (int c = 0; c < CREASE_PROBES && bitCount(free) > 1; ++c) {
-    float worst = max(parting(planes[c], feet[c], first, first_foot, m.at, m.distance, in_front),
-                      parting(planes[c], feet[c], second, second_foot, m.at, m.distance, in_front));
-    if (worst < best) best = worst, third = planes[c];
+    float r = max(crease_reach(planes[c], feet[c], first, first_foot, m.at, m.distance, in_front),
+                  crease_reach(planes[c], feet[c], second, second_foot, m.at, m.distance, in_front));
+    if (r < best) best = r, third = planes[c];
   }
-  int faces = best < 1.0 ? 3 : 2;
+  int faces = best < sim.h && behind_face(m, third, 2.0 * in_front) && faces_meet(m, first, third, in_front) &&
+                      faces_meet(m, second, third, in_front) ? 3 : 2;
   // Nearest first: the obstacle's mirror; the others take the free wall bits in order.
   if (height(second, m.at) < height(first, m.at)) {
     vec4 t = first;

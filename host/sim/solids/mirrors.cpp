@@ -32,18 +32,20 @@ Face face_at(const glm::dvec3& q, double phi, const glm::dvec3& g) {
   return {q - phi * n, {n, glm::dot(n, q) - phi}, steep > kSteep};
 }
 
-// How far faces p and q part (the cosine between their normals) where they meet in a concave
-// crease within h of x (at distance phi from the surface), 1 where they do not. They do where
-// their normals part by over 45 degrees, each face's foot lies `in_front` of the other's plane
-// (at a convex edge the feet lie on the edge, or behind) and the nearer plane is as far from x
-// as the surface is (within `in_front`: inside a sphere tangent planes apart are farther).
-constexpr double kCreaseCosine = 0.7071;
-double parting(const Face& p, const Face& q, const glm::dvec3& x, double phi, double h, double in_front) {
-  const double gap_p = p.gap(x), gap_q = q.gap(x), cosine = glm::dot(p.plane.normal, q.plane.normal);
-  const bool concave = p.clean && q.clean && gap_p > 0 && gap_q > 0 && std::max(gap_p, gap_q) < h &&
-                       std::abs(std::min(gap_p, gap_q) - phi) < in_front && p.gap(q.foot) > in_front &&
-                       q.gap(p.foot) > in_front;
-  return concave && cosine < kCreaseCosine ? cosine : 1.0;
+// How far from x the farther of faces p and q lies where they meet in a concave crease within h
+// of x (at distance phi from the surface), h where they do not. They do where their normals part
+// by over 75 degrees (a crease about square: at wider ones, and inside a cup's round wall, the
+// probes' tangent planes and blends of two faces passed as faces and squeezed the fluid there;
+// there the obstacle's pair image stands), each face's foot lies `in_front` of the other's
+// plane (at a convex edge the feet lie on the edge, or behind) and the nearer plane is as far
+// from x as the surface is (within `in_front`: inside a sphere tangent planes apart are farther).
+constexpr double kCreaseCosine = 0.25;
+double crease_reach(const Face& p, const Face& q, const glm::dvec3& x, double phi, double h, double in_front) {
+  const double gap_p = p.gap(x), gap_q = q.gap(x), reach = std::max(gap_p, gap_q);
+  const bool crease = p.clean && q.clean && glm::dot(p.plane.normal, q.plane.normal) < kCreaseCosine && gap_p > 0 &&
+                      gap_q > 0 && reach < h && std::abs(std::min(gap_p, gap_q) - phi) < in_front &&
+                      p.gap(q.foot) > in_front && q.gap(p.foot) > in_front;
+  return crease ? reach : h;
 }
 
 // The faces of a concave crease or corner of a surface within h of x (Mirrors::creases), at
@@ -52,7 +54,8 @@ double parting(const Face& p, const Face& q, const glm::dvec3& x, double phi, do
 // at distance phi, normal n), so that every face within h lies behind or beside one of them and
 // its own normal is the field's there: on a crease's bisector x's own normal blends the two
 // faces' (or, on the field's kink, is none), but the probes a spacing away read each face's
-// own. The pair that parts most is a crease, a third parting from both a corner.
+// own. The nearest pair that meets in a crease is one (inside a cup's round wall the probes
+// also see its tangent planes farther round), the nearest face meeting both a corner.
 // surface(q, gradient) is the field's distance at q and its gradient (not normalised).
 constexpr int kProbes = 8;
 template <class Surface>
@@ -69,17 +72,30 @@ int crease_faces(Surface&& surface, const glm::dvec3& x, double phi, const glm::
     seen[k] = face_at(q, at_q, gradient);
   }
   int chosen[3] = {-1, -1, -1};
-  double best = 1.0;
+  double best = h;
   for (int a = 0; a < kProbes; ++a)
     for (int b = a + 1; b < kProbes; ++b)
-      if (const double c = parting(seen[a], seen[b], x, phi, h, in_front); c < best) best = c, chosen[0] = a, chosen[1] = b;
-  if (chosen[0] < 0 || most < 2) return 0;
-  best = 1.0;
+      if (const double r = crease_reach(seen[a], seen[b], x, phi, h, in_front); r < best) best = r, chosen[0] = a, chosen[1] = b;
+  // Where a surface curves the tests above can pass two planes that are no crease's. At a
+  // crease x moved just behind a face lies in the solid, behind a convex edge's (a cup's rim) in
+  // the fluid beside it; and the faces' line of meeting is on the surface, where two tangent
+  // planes of a round wall (a cup's inside) meet behind it.
+  glm::dvec3 unused;
+  auto behind = [&](int k) { return surface(x - (seen[k].gap(x) + 2 * in_front) * seen[k].plane.normal, unused) < 0; };
+  auto meet = [&](int a, int b) {
+    const glm::dvec3 &np = seen[a].plane.normal, &nq = seen[b].plane.normal;
+    const double k = glm::dot(np, nq), gp = seen[a].gap(x), gq = seen[b].gap(x);
+    const glm::dvec3 line = x - ((gp - k * gq) * np + (gq - k * gp) * nq) / (1 - k * k);  // the line's point nearest x
+    return std::abs(surface(line, unused)) < in_front;
+  };
+  if (chosen[0] < 0 || most < 2 || !behind(chosen[0]) || !behind(chosen[1]) || !meet(chosen[0], chosen[1])) return 0;
+  best = h;
   for (int c = 0; c < kProbes && most > 2; ++c) {
-    const double worst = std::max(parting(seen[c], seen[chosen[0]], x, phi, h, in_front),
-                                  parting(seen[c], seen[chosen[1]], x, phi, h, in_front));
-    if (worst < best) best = worst, chosen[2] = c;
+    const double r = std::max(crease_reach(seen[c], seen[chosen[0]], x, phi, h, in_front),
+                              crease_reach(seen[c], seen[chosen[1]], x, phi, h, in_front));
+    if (r < best) best = r, chosen[2] = c;
   }
+  if (chosen[2] >= 0 && (!behind(chosen[2]) || !meet(chosen[0], chosen[2]) || !meet(chosen[1], chosen[2]))) chosen[2] = -1;
   const int count = chosen[2] < 0 ? 2 : 3;
   std::sort(chosen, chosen + count, [&](int a, int b) { return seen[a].gap(x) < seen[b].gap(x); });
   for (int f = 0; f < count; ++f) faces[f] = seen[chosen[f]].plane;
