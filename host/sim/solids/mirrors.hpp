@@ -1,7 +1,8 @@
 #pragma once
 // Every solid is a mirror (shaders/solids.glsl runs the same): behind each wall within h of a
 // particle, behind each pair and the triple of them at edges and corners, and behind the
-// nearest obstacle within h (obstacle_image) lies the reflection of its neighbours. Ghost particles made this way continue
+// nearest obstacle within h (obstacle_image; at a mesh's square crease or corner behind each of
+// its faces, as at walls: Creases) lies the reflection of its neighbours. Ghost particles made this way continue
 // any lattice exactly across a plane, so walls and flat faces read rho0 at faces, edges and
 // corners alike; and they mirror the fluid that is really there, so a solid next to a free
 // surface does not add density that is not there (the earlier wall term counted a full
