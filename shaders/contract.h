@@ -51,6 +51,13 @@
 // of them), and the first met found to 1/2^TRACE_BISECTIONS of a step.
 #define TRACE_STEPS 32
 #define TRACE_BISECTIONS 6
+// A mesh's square creases (host/sim/solids/mirrors.cpp, crease_faces): its faces are read from
+// the field at CREASE_PROBES points about the particle, where the field's gradient is longer than
+// CREASE_STEEP (shorter, it blends two faces), and two are a crease's where the cosine between
+// their normals is under CREASE_COSINE.
+#define CREASE_PROBES 8
+#define CREASE_STEEP 0.97
+#define CREASE_COSINE 0.25
 
 // The smoothed positions the fluid style draws (smoothed_positions.comp; the reference's
 // smoothed_positions): each particle moved this much of the way to its neighbourhood's mean

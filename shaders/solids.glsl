@@ -245,7 +245,6 @@ vec3 reflect_across(vec4 plane, vec3 y) { return y - 2.0 * (dot(plane.xyz, y) - 
 // of x (at distance phi from the surface), h where they do not (host/sim/solids/mirrors.cpp,
 // crease_reach). A face is its plane (normal, offset: n . y = offset) and the surface point it
 // was read from (its foot).
-const float CREASE_COSINE = 0.25;
 float height(vec4 plane, vec3 y) { return dot(plane.xyz, y) - plane.w; }
 float crease_reach(vec4 p, vec3 foot_p, vec4 q, vec3 foot_q, vec3 x, float phi, float in_front) {
   float gap_p = height(p, x), gap_q = height(q, x), reach = max(gap_p, gap_q);
@@ -253,13 +252,6 @@ float crease_reach(vec4 p, vec3 foot_p, vec4 q, vec3 foot_q, vec3 x, float phi, 
                 abs(min(gap_p, gap_q) - phi) < in_front && height(p, foot_q) > in_front && height(q, foot_p) > in_front;
   return crease ? reach : sim.h;
 }
-// A mesh's concave crease or corner near the particle, where its field marks one
-// (host/sim/solids/mirrors.cpp, crease_faces and find_creases, say how): the faces' planes from
-// the field at CREASE_PROBES points h away along its nearest face; the nearest pair that meets
-// in a crease, and the nearest face meeting both, become mirrors, the nearest the obstacle's and
-// each other a wall bit the particle has free.
-const int CREASE_PROBES = 8;
-const float CREASE_STEEP = 0.97;
 // Whether the particle moved `depth` behind a face's plane lies inside the obstacle.
 bool behind_face(Mirrors m, vec4 plane, float depth) {
   vec3 unused;
@@ -272,6 +264,11 @@ bool faces_meet(Mirrors m, vec4 p, vec4 q, float tolerance) {
   vec3 line = m.at - ((gp - k * gq) * p.xyz + (gq - k * gp) * q.xyz) / (1.0 - k * k), unused;
   return abs(obstacle_surface(m.obstacle, line, unused)) < tolerance;
 }
+// A mesh's concave crease or corner near the particle, where its field marks one, once a step
+// in the lists pass (host/sim/solids/mirrors.cpp, crease_faces and find_creases, say how): the
+// faces' planes from the field at CREASE_PROBES points h away along its nearest face; the
+// nearest pair that meets in a crease, and the nearest face meeting both, become mirrors, the
+// nearest the obstacle's and each other a wall bit the particle has free.
 void find_creases(inout Mirrors m) {
   int free = ~m.axes & 7;
   if (free == 0 || obstacle_data[obstacle_header(m.obstacle)].w < 1.5 ||
@@ -288,11 +285,11 @@ void find_creases(inout Mirrors m) {
     vec3 normal = steep > 0.0 ? to_world_direction(m.obstacle, POSE_NOW, gradient / steep) : vec3(0.0);
     feet[k] = q - phi * normal;
     // A blend of two faces' normals (within a voxel of a crease's bisector) is neither's:
-    // its plane is put beyond h, where it parts from none (CREASE_STEEP, as mirrors.cpp's kSteep).
+    // its plane is put beyond h, where it meets none (CREASE_STEEP).
     planes[k] = vec4(normal, steep > CREASE_STEEP ? dot(normal, feet[k]) : -3.4e38);
   }
-  // The pairs' loops run over constant indices (unrolled): an array indexed at run time lives
-  // in memory on a CPU device, which slowed every pass that inlines this.
+  // The chosen faces are kept as values, not indices: an array indexed at run time lives in
+  // memory on a CPU device.
   float in_front = 0.5 * obstacle_data[0].y, best = sim.h;  // half the keep-out margin
   vec4 first = vec4(0.0), second = vec4(0.0), third = vec4(0.0);
   vec3 first_foot = vec3(0.0), second_foot = vec3(0.0);

@@ -4,6 +4,8 @@
 #include <bit>
 #include <cmath>
 
+#include "shaders/contract.h"
+
 namespace pbflow {
 
 namespace {
@@ -19,7 +21,6 @@ glm::dvec3 pair_image(const glm::dvec3& a, double phi_a, const glm::dvec3& n_a, 
 // A face as the field shows it from a point q at distance phi, gradient g: the surface point
 // nearest q (its foot) and the plane there. Where the field blends two faces (|g| short of 1,
 // within a voxel of a crease's bisector) it shows neither: such a face is never one of a crease.
-constexpr double kSteep = 0.97;
 struct Face {
   glm::dvec3 foot;
   Plane plane;
@@ -29,7 +30,7 @@ struct Face {
 Face face_at(const glm::dvec3& q, double phi, const glm::dvec3& g) {
   const double steep = glm::length(g);
   const glm::dvec3 n = steep > 0 ? g / steep : glm::dvec3(0.0);
-  return {q - phi * n, {n, glm::dot(n, q) - phi}, steep > kSteep};
+  return {q - phi * n, {n, glm::dot(n, q) - phi}, steep > CREASE_STEEP};
 }
 
 // How far from x the farther of faces p and q lies where they meet in a concave crease within h
@@ -39,10 +40,9 @@ Face face_at(const glm::dvec3& q, double phi, const glm::dvec3& g) {
 // there the obstacle's pair image stands), each face's foot lies `in_front` of the other's
 // plane (at a convex edge the feet lie on the edge, or behind) and the nearer plane is as far
 // from x as the surface is (within `in_front`: inside a sphere tangent planes apart are farther).
-constexpr double kCreaseCosine = 0.25;
 double crease_reach(const Face& p, const Face& q, const glm::dvec3& x, double phi, double h, double in_front) {
   const double gap_p = p.gap(x), gap_q = q.gap(x), reach = std::max(gap_p, gap_q);
-  const bool crease = p.clean && q.clean && glm::dot(p.plane.normal, q.plane.normal) < kCreaseCosine && gap_p > 0 &&
+  const bool crease = p.clean && q.clean && glm::dot(p.plane.normal, q.plane.normal) < CREASE_COSINE && gap_p > 0 &&
                       gap_q > 0 && reach < h && std::abs(std::min(gap_p, gap_q) - phi) < in_front &&
                       p.gap(q.foot) > in_front && q.gap(p.foot) > in_front;
   return crease ? reach : h;
@@ -57,7 +57,7 @@ double crease_reach(const Face& p, const Face& q, const glm::dvec3& x, double ph
 // own. The nearest pair that meets in a crease is one (inside a cup's round wall the probes
 // also see its tangent planes farther round), the nearest face meeting both a corner.
 // surface(q, gradient) is the field's distance at q and its gradient (not normalised).
-constexpr int kProbes = 8;
+constexpr int kProbes = CREASE_PROBES;
 template <class Surface>
 int crease_faces(Surface&& surface, const glm::dvec3& x, double phi, const glm::dvec3& n, double h,
                  double in_front, int most, Plane faces[3]) {
