@@ -239,13 +239,13 @@ struct Mirrors {
   vec4 first;
   vec4 faces[3];
 };
-// y reflected across the plane (normal, offset).
-vec3 reflect_across(vec4 plane, vec3 y) { return y - 2.0 * (dot(plane.xyz, y) - plane.w) * plane.xyz; }
+// y's height above the plane (normal, offset: n . y = offset), and y reflected across it.
+float height(vec4 plane, vec3 y) { return dot(plane.xyz, y) - plane.w; }
+vec3 reflect_across(vec4 plane, vec3 y) { return y - 2.0 * height(plane, y) * plane.xyz; }
 // How far from x the farther of faces p and q lies where they meet in a concave crease within h
 // of x (at distance phi from the surface), h where they do not (host/sim/solids/mirrors.cpp,
 // crease_reach). A face is its plane (normal, offset: n . y = offset) and the surface point it
 // was read from (its foot).
-float height(vec4 plane, vec3 y) { return dot(plane.xyz, y) - plane.w; }
 float crease_reach(vec4 p, vec3 foot_p, vec4 q, vec3 foot_q, vec3 x, float phi, float in_front) {
   float gap_p = height(p, x), gap_q = height(q, x), reach = max(gap_p, gap_q);
   bool crease = dot(p.xyz, q.xyz) < CREASE_COSINE && gap_p > 0.0 && gap_q > 0.0 && reach < sim.h &&

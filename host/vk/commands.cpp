@@ -1,6 +1,5 @@
 #include "vk/commands.hpp"
 
-#include <algorithm>
 #include <string>
 
 #include "vk/buffer.hpp"
@@ -58,9 +57,7 @@ void CommandList::set_program(const Program& program) {
   vkCmdBindPipeline(cb_, VK_PIPELINE_BIND_POINT_COMPUTE, program.pipeline());
 }
 
-bool CommandList::reads(std::string_view name) const {
-  return program_ && std::ranges::find(program_->bindings(), name, &ShaderLayout::Binding::name) != program_->bindings().end();
-}
+bool CommandList::reads(std::string_view name) const { return program_ && program_->reads(name); }
 
 void CommandList::bind(std::string_view name, const Buffer& buffer) {
   if (!program_) throw Error("bind(" + std::string(name) + ") without a program");

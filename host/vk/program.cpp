@@ -117,6 +117,10 @@ Program& Program::operator=(Program&& o) noexcept {
   return *this;
 }
 
+bool Program::reads(std::string_view name) const {
+  return std::ranges::find(bindings_, name, &ShaderLayout::Binding::name) != bindings_.end();
+}
+
 size_t Program::binding(std::string_view name) const {
   auto b = std::ranges::find(bindings_, name, &ShaderLayout::Binding::name);
   if (b == bindings_.end()) throw Error("program " + name_ + " has no binding named " + std::string(name));

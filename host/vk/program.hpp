@@ -60,6 +60,8 @@ class Program {
   const std::vector<ShaderLayout::Binding>& bindings() const { return bindings_; }
   // The index in bindings() of the binding the shader names `name`; throws if it has none.
   size_t binding(std::string_view name) const;
+  // Whether the shader has a binding named `name` (one it declares but never reads has none).
+  bool reads(std::string_view name) const;
   uint32_t push_bytes() const { return push_bytes_; }
   uint32_t workgroup_size() const { return workgroup_size_; }
   const std::string& name() const { return name_; }

@@ -19,7 +19,8 @@ struct DistanceField {
   // mirrors look for one's faces only there.
   std::vector<uint32_t> creases;
 
-  float at(glm::ivec3 p) const { return values[size_t((p.z * dims.y + p.y) * dims.x + p.x)]; }
+  size_t index(glm::ivec3 p) const { return size_t((p.z * dims.y + p.y) * dims.x + p.x); }  // node p's value's
+  float at(glm::ivec3 p) const { return values[index(p)]; }
   glm::dvec3 extent() const { return origin + voxel * glm::dvec3(dims - 1); }
   // The trilinear distance at x and its gradient; outside the grid, the value at the nearest
   // point of the grid plus the distance to it (the grid reaches past every kernel: no more is

@@ -25,7 +25,7 @@ struct Face {
   glm::dvec3 foot;
   Plane plane;
   bool clean;
-  double gap(const glm::dvec3& x) const { return glm::dot(plane.normal, x) - plane.offset; }  // x's height above it
+  double gap(const glm::dvec3& x) const { return plane.height(x); }
 };
 Face face_at(const glm::dvec3& q, double phi, const glm::dvec3& g) {
   const double steep = glm::length(g);
@@ -118,7 +118,7 @@ void mark_creases(DistanceField& field, double h, double keep_out) {
         const glm::dvec3 normal = glm::length(gradient) > 0 ? glm::normalize(gradient) : glm::dvec3(0, 1, 0);  // as Obstacle::surface's
         Plane faces[3];
         if (phi > 0 && phi < h)
-          found[size_t((z * dims.y + y) * dims.x + x)] = crease_faces(surface, at, phi, normal, h, 0.5 * keep_out, 2, faces) > 0;
+          found[field.index({x, y, z})] = crease_faces(surface, at, phi, normal, h, 0.5 * keep_out, 2, faces) > 0;
       }
   // Each node's neighbours' too: a particle between nodes may see the crease its nearest misses.
   field.creases.assign((count + 31) / 32, 0u);
@@ -129,9 +129,9 @@ void mark_creases(DistanceField& field, double h, double keep_out) {
         for (int c = 0; c < 27 && !near; ++c) {
           const glm::ivec3 p = glm::ivec3(x, y, z) + glm::ivec3(c % 3, c / 3 % 3, c / 9) - 1;
           near = glm::all(glm::greaterThanEqual(p, glm::ivec3(0))) && glm::all(glm::lessThan(p, dims)) &&
-                 found[size_t((p.z * dims.y + p.y) * dims.x + p.x)];
+                 found[field.index(p)];
         }
-        const size_t k = size_t((z * dims.y + y) * dims.x + x);
+        const size_t k = field.index({x, y, z});
         if (near) field.creases[k / 32] |= 1u << (k % 32);
       }
 }
@@ -183,14 +183,12 @@ Creases find_creases(const Derived& d, const Mirrors& m) {
 
 void Mirrors::take(const Creases& c) {
   if (!(axes & kObstacleMirror) || !c.bits) return;
-  creases = c.bits;
-  first = c.first;
-  for (int a = 0; a < 3; ++a) faces[a] = c.faces[a];
-  axes |= creases;
+  creases = c;
+  axes |= c.bits;
 }
 
 glm::dvec3 Mirrors::obstacle_image(const glm::dvec3& x, bool listed) const {
-  if (creases) return first.reflect(x);
+  if (creases.bits) return creases.first.reflect(x);
   glm::dvec3 n, unused;
   const double phi = obstacle.surface(x, n);
   const glm::dvec3 image = pair_image(at, distance, normal, x, phi);
@@ -204,22 +202,20 @@ glm::dvec3 Mirrors::obstacle_image(const glm::dvec3& x, bool listed) const {
 glm::dvec3 Mirrors::of(int k, const glm::dvec3& x, bool listed) const {
   glm::dvec3 y = k & kObstacleMirror ? obstacle_image(x, listed) : x;
   for (int a = 0; a < 3; ++a)
-    if (k >> a & 1) y = creases >> a & 1 ? faces[a].reflect(y) : y;
+    if ((k & creases.bits) >> a & 1) y = creases.faces[a].reflect(y);
   for (int a = 0; a < 3; ++a)
-    if ((k & ~creases) >> a & 1) y[a] = plane2[a] - y[a];
+    if ((k & ~creases.bits) >> a & 1) y[a] = plane2[a] - y[a];
   return y;
 }
 
 glm::dvec3 Mirrors::velocity(int k, const glm::dvec3& v) const {
   glm::dvec3 u = v;
-  if (k & kObstacleMirror) {
-    const glm::dvec3 across = creases ? first.normal : normal;
-    u -= 2 * glm::dot(u - solid_velocity, across) * across;
-  }
+  auto across = [&](const glm::dvec3& n) { u -= 2 * glm::dot(u - solid_velocity, n) * n; };
+  if (k & kObstacleMirror) across(creases.bits ? creases.first.normal : normal);
   for (int a = 0; a < 3; ++a)
-    if ((k & creases) >> a & 1) u -= 2 * glm::dot(u - solid_velocity, faces[a].normal) * faces[a].normal;
+    if ((k & creases.bits) >> a & 1) across(creases.faces[a].normal);
   for (int a = 0; a < 3; ++a)
-    if ((k & ~creases) >> a & 1) u[a] = -u[a];
+    if ((k & ~creases.bits) >> a & 1) u[a] = -u[a];
   return u;
 }
 

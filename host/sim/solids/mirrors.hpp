@@ -22,7 +22,8 @@ constexpr int kImages = 16;  // masks 0 (the neighbour itself) to 15
 struct Plane {
   glm::dvec3 normal{0.0};
   double offset = 0;
-  glm::dvec3 reflect(const glm::dvec3& y) const { return y - 2 * (glm::dot(normal, y) - offset) * normal; }
+  double height(const glm::dvec3& y) const { return glm::dot(normal, y) - offset; }  // y's above it
+  glm::dvec3 reflect(const glm::dvec3& y) const { return y - 2 * height(y) * normal; }
 };
 
 // A mesh's concave crease or corner near a particle (find_creases): the wall bits its faces
@@ -41,14 +42,13 @@ struct Mirrors {
   double distance = 0;        // its distance to that obstacle
   glm::dvec3 normal{0.0};     // and the obstacle's outward normal at the point nearest it
   glm::dvec3 solid_velocity{0.0};  // the velocity of that point over the step (0: it stands still)
-  // At a mesh's concave crease or corner (Creases, taken): each face is a plane mirror, as walls
-  // meeting at an edge or corner are, the nearest the obstacle's bit.
-  int creases = 0;
-  Plane first, faces[3];
+  // At a mesh's concave crease or corner (taken from the step's record): each face is a plane
+  // mirror, as walls meeting at an edge or corner are, the nearest the obstacle's bit.
+  Creases creases;
   void take(const Creases& c);  // where the particle is within h of the obstacle
 
   // Whether image k lies behind the obstacle (its share of a pass's push is the solid's).
-  bool solid(int k) const { return (k & (kObstacleMirror | creases)) != 0; }
+  bool solid(int k) const { return (k & (kObstacleMirror | creases.bits)) != 0; }
 
   // Neighbour x's image `k` (0: x itself); far away where an obstacle's image does not count.
   // A `listed` image was tested when the lists were built and counts until they are rebuilt.

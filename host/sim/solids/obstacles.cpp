@@ -31,7 +31,7 @@ double DistanceField::sample(const glm::dvec3& x, glm::dvec3& gradient) const {
 bool DistanceField::near_crease(const glm::dvec3& x) const {
   const glm::ivec3 p = glm::ivec3(glm::floor((x - origin) / voxel + 0.5));
   if (creases.empty() || glm::any(glm::lessThan(p, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(p, dims))) return false;
-  const size_t k = size_t((p.z * dims.y + p.y) * dims.x + p.x);
+  const size_t k = index(p);
   return creases[k / 32] >> (k % 32) & 1;
 }
 
