@@ -2,10 +2,10 @@
 """What `pbflow serve` holds live on this machine (docs/serve.md). A benchmark, not a test: it
 reports, it asserts nothing.
 
-1. Real time at 30 fps: the dam break with the scene's clock at 30 fps (`--param fps=30`: 4
-   substeps a frame, dt 1/120 s as at 60 fps), 640x360, fluid style, one viewer, at a row of
-   spacings: the real-time factor, frames a second shown, and a frame's cost split into
-   simulate, draw, encode and send (wall clock, medians); the largest size that holds 0.95.
+1. Real time: the dam break with the scene's clock at --fps (default 30: `--param fps=30`, 4
+   substeps a frame, dt 1/120 s as at 60 fps), --size (default 640x360), fluid style, one viewer,
+   at a row of spacings: the real-time factor, frames a second shown, and a frame's cost split
+   into simulate, draw, encode and send (wall clock, medians); the largest size that holds 0.95.
 2. Viewers: one server at one spacing, its real-time factor with 0, 1 and 8 viewers and with 8
    and a stalled one, in rounds that take each condition in turn (one sitting, the machine's
    drift shared). The factor is read by a probe that connects for one frame every few seconds:
@@ -14,8 +14,8 @@ reports, it asserts nothing.
 4. The stream's bytes at 1280x720, H.264 and JPEG.
 
 Usage: bench/serve.py [--binary build/pbflow] [--seconds 8] [--spacings 0.08,0.06,0.05,0.045,0.04]
-                      [--viewers-at 0.03] [--rounds 3] [--budgets 25,50,100]
-                      [--out bench/results/serve_lavapipe.md]"""
+                      [--fps 30] [--size 640x360] [--codec jpeg] [--viewers-at 0.03] [--rounds 3] [--budgets 25,50,100]
+                      [--parts real_time,viewers,budgets,stream] [--out bench/results/serve_lavapipe.md]"""
 import argparse
 import datetime
 import json
@@ -70,18 +70,21 @@ def probe(port):
     return rtf
 
 
-def real_time_at_30_fps(a, lines):
-    lines += ["## Real time at 30 fps", "",
-              "The dam break at `--param fps=30` (4 substeps a frame), 640x360, fluid style, one viewer on loopback; "
-              f"{a.seconds:g} s measured after 3 s. A real-time factor of 1 is 30 frames a second of simulated time "
-              "each second. Costs are wall-clock medians per frame.", "",
+def real_time(a, lines):
+    substeps = round(120 / a.fps)  # the scene's 2 substeps at 60 fps: dt 1/120 s at any clock
+    lines += [f"## Real time at {a.fps} fps, {a.size}", "",
+              f"The dam break at `--param fps={a.fps}` ({substeps} substeps a frame), {a.size}, fluid style, one viewer "
+              f"on loopback, {a.codec}; {a.seconds:g} s measured after 3 s. A real-time factor of 1 is {a.fps} frames a second of "
+              "simulated time each second. Costs are wall-clock medians per frame.", "",
               "| spacing (m) | run | real-time factor | frames/s shown | simulate ms | draw ms | encode ms | send ms | Mbit/s |",
               "|---|---|---|---|---|---|---|---|---|"]
+    width, height = a.size.split("x")
     holding = None
     for spacing in [float(s) for s in a.spacings.split(",")]:
-        server = Server("dam_break", ("--param", f"particle_spacing={spacing}", "--param", "fps=30", *IMAGE))
+        server = Server("dam_break", ("--param", f"particle_spacing={spacing}", "--param", f"fps={a.fps}",
+                                      "--width", width, "--height", height))
         try:
-            m = measure(server.port, a.seconds)
+            m = measure(server.port, a.seconds, codec=a.codec)
         finally:
             server.stop()
         lines.append(f"| {spacing:g} | {m['about']} | {m['rtf']:.2f} | {m['frames_per_s']:.1f} | {m['simulate_ms']:.1f} | "
@@ -180,15 +183,20 @@ def main():
     p.add_argument("--binary", default="build/pbflow")
     p.add_argument("--seconds", type=float, default=8)
     p.add_argument("--spacings", default="0.08,0.06,0.05,0.045,0.04")
+    p.add_argument("--fps", type=int, default=30)
+    p.add_argument("--size", default="640x360")
+    p.add_argument("--codec", default="jpeg", choices=("jpeg", "h264"))
     p.add_argument("--viewers-at", type=float, default=0.03)
     p.add_argument("--rounds", type=int, default=3)
     p.add_argument("--budgets", default="25,50,100")
+    p.add_argument("--parts", default="real_time,viewers,budgets,stream")
     p.add_argument("--out", default="bench/results/serve_lavapipe.md")
     a = p.parse_args()
     os.environ["PBFLOW_BINARY"] = a.binary
     lines = [f"# pbflow serve, live on this machine ({datetime.date.today()})", "", f"`{' '.join(sys.argv)}`", ""]
-    for part in (real_time_at_30_fps, viewers, budgets, stream):
-        part(a, lines)
+    parts = {"real_time": real_time, "viewers": viewers, "budgets": budgets, "stream": stream}
+    for name in a.parts.split(","):
+        parts[name](a, lines)
     with open(a.out, "w") as f:
         f.write("\n".join(lines))
     print(f"written: {a.out}")
