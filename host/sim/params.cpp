@@ -125,7 +125,9 @@ double hand_step(const Obstacle& o, double spacing, double dt) {
 
 bool Derived::move_solids(double t) {
   std::vector<Reach> near;
-  for (Obstacle& o : obstacles) {
+  std::vector<bool> moved(obstacles.size(), false);
+  for (size_t k = 0; k < obstacles.size(); ++k) {
+    Obstacle& o = obstacles[k];
     if (!o.moves()) continue;
     if (o.body < 0) {  // a body's pose is its dynamics' (BodyWorld::predict, before this)
       const glm::dvec3 left = o.shift_to - o.shift;
@@ -141,10 +143,11 @@ bool Derived::move_solids(double t) {
       o.pose.translation += glm::length(left) > most ? most * glm::normalize(left) : left;
     }
     if (o.pose == o.previous) continue;  // a draggable obstacle left where it is
+    moved[k] = true;
     for (const Pose* p : {&o.previous, &o.pose}) near.push_back({p->world(o.middle()), o.extent()});
   }
   if (near.empty() || coarse.open.empty()) return false;
-  measure_open(near);
+  measure_open(near, moved);
   return true;
 }
 
@@ -165,19 +168,35 @@ void Derived::hold_solids() {
   for (Obstacle& o : obstacles) o.previous = o.pose;
 }
 
-void Derived::measure_open(const std::vector<Reach>& near) {
-  if (coarse.open.empty()) return;  // no coarse correction
-  std::vector<Obstacle> solids;  // the obstacles' own surfaces, where the mirrors lie
-  for (const Obstacle& grown : obstacles) solids.push_back(grown.grown(-keep_out));
-  for (int k = 0; !solids.empty() && k < coarse.count(); ++k) {
+void Derived::measure_open(const std::vector<Reach>& near, const std::vector<bool>& moved) {
+  if (coarse.open.empty() || obstacles.empty()) return;  // no coarse correction; open everywhere
+  std::vector<Obstacle> still, moving;  // the obstacles' own surfaces, where the mirrors lie
+  for (size_t k = 0; k < obstacles.size(); ++k)
+    (k < moved.size() && moved[k] ? moving : still).push_back(obstacles[k].grown(-keep_out));
+  const size_t words = kReachWords;
+  if (near.empty() || moved != coarse.moved || coarse.still_inside.empty()) {  // other solids still: anew
+    coarse.moved = moved;
+    coarse.still_inside.assign(size_t(coarse.count()) * words, 0);
+    coarse.still_taken.assign(size_t(coarse.count()), false);
+  }
+  std::vector<uint64_t> inside(words);
+  for (int k = 0; k < coarse.count(); ++k) {
     const glm::dvec3 node = wall_min + (glm::dvec3(coarse.node(k)) + 0.5) * coarse.cell;
     // A node gathers from a box one cell to each side: does it meet the reach's sphere?
     auto meets = [&](const Reach& r) {
       return glm::length(r.centre - glm::clamp(r.centre, node - coarse.cell, node + coarse.cell)) < r.radius;
     };
-    if (near.empty() || std::any_of(near.begin(), near.end(), meets))
-      coarse.open[size_t(k)] = float(open_fraction(solids, node, coarse.cell, COARSE_OPEN_SAMPLES));
+    if (!near.empty() && std::none_of(near.begin(), near.end(), meets)) continue;
+    const std::span<uint64_t> kept(coarse.still_inside.data() + size_t(k) * words, words);
+    if (!coarse.still_taken[size_t(k)])
+      for (const Obstacle& o : still) mark_inside(o, node, coarse.cell, kept);
+    coarse.still_taken[size_t(k)] = true;
+    std::copy(kept.begin(), kept.end(), inside.begin());
+    for (const Obstacle& o : moving) mark_inside(o, node, coarse.cell, inside);
+    coarse.open[size_t(k)] = float(open_share(inside));
   }
+  if (std::none_of(obstacles.begin(), obstacles.end(), [](const Obstacle& o) { return o.moves(); }))
+    coarse.still_inside = {}, coarse.still_taken = {};  // nothing will move: kept for nothing
 }
 
 size_t Derived::capacity_for(size_t start) const {

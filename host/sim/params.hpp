@@ -122,6 +122,11 @@ struct Derived {
     // the dashpot); as walls it left a void under the ball that never filled. A node beside a
     // solid is fluid where the water fills its open part: above the water line it is air.
     std::vector<float> open;
+    // Which of each node's samples the solids left still by the last move lie in (mark_inside),
+    // kept while the same solids move: a paddle turning in a mesh bowl tests the bowl once.
+    std::vector<bool> moved;           // the solids that moved, as the kept samples were taken
+    std::vector<uint64_t> still_inside;  // kReachWords a node
+    std::vector<bool> still_taken;     // a node's kept samples taken
     int count() const { return nodes.x * nodes.y * nodes.z; }
     int per_colour() const { return (nodes.x + 1) / 2 * nodes.y * nodes.z; }  // coarse_sweep.comp's threads
     int index(glm::ivec3 p) const { return (p.z * nodes.y + p.y) * nodes.x + p.x; }  // coarse.glsl's node_index
@@ -176,12 +181,13 @@ struct Derived {
   // moves), its outward normal and the velocity of the solid's point at x over the step.
   double nearest_moving_solid(const glm::dvec3& x, glm::dvec3& normal, glm::dvec3& velocity) const;
   // The coarse nodes' open shares (Coarse::open) of the nodes within `reach` of a point in
-  // `near` (every node where `near` is empty).
+  // `near` (every node where `near` is empty); `moved` flags the obstacles that moved (none
+  // where it is empty).
   struct Reach {
     glm::dvec3 centre;
     double radius;
   };
-  void measure_open(const std::vector<Reach>& near);
+  void measure_open(const std::vector<Reach>& near, const std::vector<bool>& moved = {});
   double speed_limit;  // m/s: the divergence watch stops a run with a particle faster than this
   // m/s: the scale of the scene's flows, a fall through the domain's height (at least 0.1 m/s:
   // a scene without gravity has one too), white water's unit of speed (shaders/white_water.h).

@@ -1,6 +1,7 @@
 #include "sim/solids/obstacles.hpp"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <limits>
@@ -89,18 +90,52 @@ double Obstacle::body_surface(const glm::dvec3& x, glm::dvec3& normal) const {
   return -depth;
 }
 
-double open_fraction(const std::vector<Obstacle>& solids, const glm::dvec3& centre, const glm::dvec3& reach, int samples) {
-  const int n = 2 * samples;
-  double open = 0, all = 0;
-  for (int k = 0; k < n * n * n; ++k) {
-    const glm::dvec3 t = (glm::dvec3(k % n, k / n % n, k / (n * n)) + 0.5) / double(samples) - 1.0;  // in (-1, 1)
-    const glm::dvec3 tent = 1.0 - glm::abs(t);
-    const double w = tent.x * tent.y * tent.z;
-    const glm::dvec3 x = centre + t * reach;
-    all += w;
-    if (std::none_of(solids.begin(), solids.end(), [&](const Obstacle& o) { return o.contains(x); })) open += w;
+namespace {
+// A node's reach sampled: each sample's place in (-1, 1) per axis and its tent weight.
+struct ReachSamples {
+  std::array<glm::dvec3, kReachSamples> t;
+  std::array<double, kReachSamples> w;
+  double all = 0;
+  ReachSamples() {
+    const int n = 2 * COARSE_OPEN_SAMPLES;
+    for (int k = 0; k < kReachSamples; ++k) {
+      t[size_t(k)] = (glm::dvec3(k % n, k / n % n, k / (n * n)) + 0.5) / double(COARSE_OPEN_SAMPLES) - 1.0;
+      const glm::dvec3 tent = 1.0 - glm::abs(t[size_t(k)]);
+      w[size_t(k)] = tent.x * tent.y * tent.z;
+      all += w[size_t(k)];
+    }
   }
-  return open / all;
+};
+const ReachSamples kSamples;
+}  // namespace
+
+void mark_inside(const Obstacle& o, const glm::dvec3& centre, const glm::dvec3& reach, std::span<uint64_t> inside) {
+  if (o.kind != Obstacle::Kind::Mesh) {  // a box's or ball's distance is exact: far from its surface
+    glm::dvec3 unused;                   // every sample lies on the node's side
+    const double d = o.surface(centre, unused);
+    if (d > glm::length(reach)) return;
+    if (d < -glm::length(reach)) {
+      for (int k = 0; k < kReachSamples; ++k) inside[size_t(k) / 64] |= uint64_t(1) << (k % 64);
+      return;
+    }
+  }
+  auto contains = [&](const glm::dvec3& x) {  // a box's test inline: the samples of a turning paddle
+    if (o.kind != Obstacle::Kind::Box) return o.contains(x);
+    const glm::dvec3 b = o.pose.body(x);
+    return glm::all(glm::greaterThan(b, o.min)) && glm::all(glm::lessThan(b, o.max));
+  };
+  for (size_t k = 0; k < size_t(kReachSamples); ++k) {
+    uint64_t& word = inside[k / 64];
+    const uint64_t bit = uint64_t(1) << (k % 64);
+    if (!(word & bit) && contains(centre + kSamples.t[k] * reach)) word |= bit;
+  }
+}
+
+double open_share(std::span<const uint64_t> inside) {
+  double open = 0;
+  for (size_t k = 0; k < size_t(kReachSamples); ++k)
+    if (!(inside[k / 64] >> (k % 64) & 1)) open += kSamples.w[k];
+  return open / kSamples.all;
 }
 
 glm::dvec3 project_out(const Obstacle& o, const glm::dvec3& x, const glm::dvec3& wall_min,

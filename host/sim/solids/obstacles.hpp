@@ -7,6 +7,7 @@
 #include <glm/glm.hpp>
 
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "shaders/contract.h"
@@ -80,10 +81,16 @@ glm::dvec3 project_out(const Obstacle& o, const glm::dvec3& x, const glm::dvec3&
 // the GPU, double here) cannot decide between the two.
 glm::dvec3 stop_at(const Obstacle& o, const glm::dvec3& from, const glm::dvec3& to, double contact);
 
-// The share outside every solid of the tent (1 - |t|) per axis about `centre`, `reach` to each
-// side, from (2 samples)^3 points: what a node of the coarse grid can gather of a uniform fluid,
-// against what it would with no solids (Derived::Coarse::open).
-double open_fraction(const std::vector<Obstacle>& solids, const glm::dvec3& centre, const glm::dvec3& reach, int samples);
+// A node of the coarse grid gathers with the tent (1 - |t|) per axis about its centre, `reach`
+// to each side, sampled at (2 COARSE_OPEN_SAMPLES)^3 points. Its open share is the tent's weight
+// outside every solid against its whole weight: what it can gather of a uniform fluid, against
+// what it would with no solids (Derived::Coarse::open). A bit per sample marks it inside a solid,
+// so that the solids that stand still are tested once while others move.
+constexpr int kReachSamples = 8 * COARSE_OPEN_SAMPLES * COARSE_OPEN_SAMPLES * COARSE_OPEN_SAMPLES;
+constexpr size_t kReachWords = (kReachSamples + 63) / 64;
+// Sets the bits of the samples inside `o`; samples already marked are not tested again.
+void mark_inside(const Obstacle& o, const glm::dvec3& centre, const glm::dvec3& reach, std::span<uint64_t> inside);
+double open_share(std::span<const uint64_t> inside);
 
 // The GPU layout: vec4 0 holds the count and the keep-out margin the shapes are grown by, vec4s
 // 1-7 the tank's kick this step (Derived::tank_kick: linear, then of_x's and of_v's columns);
