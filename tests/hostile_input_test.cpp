@@ -204,6 +204,7 @@ CliResult interrupted_at(const char* point, int signal, const std::vector<std::s
 }
 
 TEST(Hostile, AnInterruptWhileThePreviousRunIsSetAsideLeavesItWhole) {
+  if (pbflow::capture::find_ffmpeg().empty()) GTEST_SKIP() << "ffmpeg is not installed (scripts/setup.sh installs it)";
   for (int signal : {SIGINT, SIGTERM, SIGHUP}) {  // SIGHUP: the terminal closed
     const fs::path dir = previous_run("signal_replace");
     const fs::path video = dir.parent_path() / "pbflow_test_hostile_signal.mp4";
@@ -338,7 +339,11 @@ TEST(Hostile, AFrameThatCannotBeWrittenWholeLeavesNoFileOfIt) {
   }
 }
 
+// llvmpipe keeps the memory the solver shares with the renderer in a file: under a file-size
+// limit the run stops naming the limit, not as out of memory.
 TEST(Hostile, AFileSizeLimitIsNamedAsSuch) {
+  if (pbflow::test::gpu().info().kind != "cpu")
+    GTEST_SKIP() << pbflow::test::gpu().info().name << " keeps no shared memory in a file";
   const fs::path dir = pbflow::test::fresh_dir("hostile_fsize");
   const CliResult r = pbflow::test::run_pbflow(
       "run --param particle_spacing=0.04 --width 64 --height 32 --frames 2 --quiet --out " + dir.string(), "ulimit -f 64;");
@@ -351,13 +356,17 @@ TEST(Hostile, AFileSizeLimitIsNamedAsSuch) {
 // an error, not an exit 0 with nothing written.
 TEST(Hostile, BenchRefusesWhatDoesNotFitAndReportsWhatItCannotWrite) {
   const fs::path out = pbflow::test::fresh_dir("hostile_bench");
-  const auto start = std::chrono::steady_clock::now();
-  CliResult r = run_pbflow({"bench", "--counts", "100000000", "--device", "cpu", "--iterations", "1", "--seconds", "0.1",
-                            "--out", out.string()});
-  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(30)) << "made the particles first";
-  EXPECT_EQ(r.status, 2) << r.output;
-  expect_one_line(r, "lower --counts", "a count past the memory");
-  EXPECT_FALSE(fs::exists(out));
+  CliResult r;
+  const pbflow::Derived dam = pbflow::derive(pbflow::load_scene("dam_break"));
+  if (pbflow::memory_need(dam, 1e8, nullptr).host > pbflow::host_memory_available()) {  // else none to refuse
+    const auto start = std::chrono::steady_clock::now();
+    r = run_pbflow({"bench", "--counts", "100000000", "--device", "cpu", "--iterations", "1", "--seconds", "0.1", "--out",
+                    out.string()});
+    EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(30)) << "made the particles first";
+    EXPECT_EQ(r.status, 2) << r.output;
+    expect_one_line(r, "lower --counts", "a count past the memory");
+    EXPECT_FALSE(fs::exists(out));
+  }
 
   fs::create_directories(out);
   if (std::system(("chattr +i " + out.string() + " 2>/dev/null").c_str()) != 0)

@@ -15,7 +15,9 @@ std::unique_ptr<vk::Context> make_context(const std::string& device, bool valida
 std::unique_ptr<Solver> make_solver(const vk::Context* ctx, const Derived& d, const std::vector<glm::dvec3>& x0) {
   if (!ctx) return std::make_unique<ReferenceSolver>(d, x0);
   Derived on_device = d;
-  on_device.neighbour_capacity = neighbour_capacity_on(d, double(x0.size()), ctx->info());
+  // The lists hold every particle the solver has room for (Derived::capacity_for), as the
+  // memory estimate counts them: a flow's room can take them past the device's largest array.
+  on_device.neighbour_capacity = neighbour_capacity_on(d, double(d.capacity_for(x0.size())), ctx->info());
   return std::make_unique<GpuSolver>(*ctx, on_device, x0);
 }
 

@@ -100,6 +100,10 @@ MemoryNeed memory_need(const Derived& d, double particles, const vk::DeviceInfo*
     // White water's lists where on, and its room in the frames, on or off: each array the cap's vec4s.
     need.white_water = plan.white_water() + (pixels > 0 ? 2 * white * sizeof(glm::vec4) : 0);
     need.largest_white_array = white * sizeof(glm::vec4);
+    if (pixels > 0) {  // the drawn frame's buffer is one array too: its larger share names the advice
+      uint64_t& largest = frame_bytes(0, white) > frame_bytes(count) ? need.largest_white_array : need.largest_array;
+      largest = std::max<uint64_t>(largest, frame_bytes(count, white));
+    }
     host += kHostPerParticleGpuRun * particles + kDriverBytes;
   } else {
     const double list_bytes = 8.0 * d.neighbour_capacity + 4;  // ReferenceSolver's lists, as the GPU's

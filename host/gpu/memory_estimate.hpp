@@ -17,10 +17,10 @@ struct DeviceInfo;
 struct MemoryNeed {
   uint64_t device = 0;  // GPU buffers (gpu/buffer_plan.hpp; none for the reference solver)
   uint64_t host = 0;    // the solver's host arrays, host copies of a frame, framebuffers
-  uint64_t largest_array = 0;  // one GPU buffer (a vec4 per particle), against the storage buffer range
+  uint64_t largest_array = 0;  // one GPU buffer (a vec4 per particle, the drawn frame's), against the storage buffer range
   uint64_t picture = 0;        // of `host`, what the image's size takes (framebuffers, the surface's targets)
   uint64_t white_water = 0;    // of `device`, white water's lists (white_water.max_particles), where on
-  uint64_t largest_white_array = 0;  // one of them, against the storage buffer range
+  uint64_t largest_white_array = 0;  // one of them (the drawn frame's where they are most of it), against the range
 };
 
 // The image a run draws: its pixels (0 without rendering), and whether the fluid's surface is
