@@ -4,8 +4,8 @@
 # ~1M particles at 1080p (bench/render.sh, GL timer queries); the cost model up to 4M
 # particles (pbflow bench --scaling); the iterations-or-substeps study at 16k and 49k; and what a
 # solid's terms cost a step at 16k (the dam break alone, past a box, into the cup's mesh and the
-# same water without the cup, the mixer's paddle in its mesh bowl); and `pbflow serve` at 1080p
-# and 60 fps at a row of counts (bench/serve.py).
+# same water without the cup or with a mesh out of its reach, the mixer's paddle in its mesh
+# bowl); and `pbflow serve` at 1080p and 60 fps at a row of counts (bench/serve.py).
 #
 #   bench/gpu.sh [OUT]
 set -euo pipefail
@@ -20,7 +20,7 @@ bench/render.sh -s bench/scenes/dam_break_1m.json -f 8 -r 1920x1080 -y "fluid pa
 build/pbflow bench --scaling --budget-minutes 1.5 --out "$out/scaling"
 build/pbflow bench --counts 16000,49000 --iterations 1,2,3,4 --substeps 2,4 --seconds 1.5 --scenes dam_break \
   --out "$out/pareto"
-for scene in dam_break dam_obstacle cup bench/scenes/cup_bare.json mixer; do
+for scene in dam_break dam_obstacle cup bench/scenes/cup_bare.json bench/scenes/cup_far.json mixer; do
   build/pbflow bench --scaling --scenes "$scene" --counts 16000 --seconds 1 --no-charts \
     --out "$out/solids_$(basename "$scene" .json)"
 done
