@@ -21,8 +21,7 @@ void upload_frame(GLuint buffer, const ParticleFrame& f, size_t white_capacity) 
   const std::vector<glm::vec4> spheres(f.shape.empty() ? 2 * f.x.size() : 0, glm::vec4(0.0f));
   put(to.shape, to.white_count, (f.shape.empty() ? spheres : f.shape).data());
   const size_t white = std::min(f.white_x.size(), white_capacity);
-  const uint32_t header[4] = {uint32_t(white), 0, 0, 0};
-  put(to.white_count, to.white_x, header);
+  put(to.white_count, to.white_x, white_header(white).data());
   if (white) {
     put(to.white_x, to.white_x + white * sizeof(glm::vec4), f.white_x.data());
     put(to.white_v, to.white_v + white * sizeof(glm::vec4), f.white_v.data());

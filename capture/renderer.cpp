@@ -216,7 +216,7 @@ const Image& Renderer::render(GLuint buffer, uint32_t count, uint32_t white_capa
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buffer);
   if (fluid) {
     fluid_surface(count);
-    if (white_capacity > 0 && draws_white_water(view_.style)) white_water(count, white_capacity);
+    if (white_capacity > 0 && draws_white_water(view_.style)) white_water(buffer, count, white_capacity);
   } else {
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
@@ -337,7 +337,7 @@ void Renderer::fluid_surface(uint32_t count) {
 }
 
 // 6. White water over the shaded fluid, behind the tank's depth (white_water.vert, .frag).
-void Renderer::white_water(uint32_t count, uint32_t white_capacity) {
+void Renderer::white_water(GLuint buffer, uint32_t count, uint32_t white_capacity) {
   copy_image(scene_depth_, output_depth_);
   glBindFramebuffer(GL_FRAMEBUFFER, output_fb_);
   glEnable(GL_DEPTH_TEST);
@@ -348,7 +348,9 @@ void Renderer::white_water(uint32_t count, uint32_t white_capacity) {
   upload(uniforms(count, kPassShaded, image_size_, white_capacity));
   glUseProgram(white_water_);
   glBindTextureUnit(1, fluid_depth_[0]);
-  glDrawArrays(GL_POINTS, 0, GLsizei(white_capacity));
+  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, buffer);  // the frame's header counts the living (white_header)
+  glDrawArraysIndirect(GL_POINTS, reinterpret_cast<const void*>(frame_offsets(count, white_capacity).white_count));
+  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
   glDisable(GL_BLEND);
   glDepthMask(GL_TRUE);
   glDisable(GL_DEPTH_TEST);

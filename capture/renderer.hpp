@@ -94,7 +94,7 @@ class Renderer {
   void smooth_depth();
   void smooth_thickness();
   void surface_normals();
-  void white_water(uint32_t count, uint32_t white_capacity);
+  void white_water(GLuint buffer, uint32_t count, uint32_t white_capacity);
 
   View view_;
   glm::ivec2 image_size_, surface_size_;  // the fluid surface's passes run at surface_size_

@@ -176,6 +176,11 @@ inline FrameOffsets frame_offsets(size_t n, size_t white = 0) {
           white_x + 2 * white_vec4s};
 }
 inline size_t frame_bytes(size_t n, size_t white = 0) { return frame_offsets(n, white).end; }
+// The white water's header (WHITE_HEADER_BYTES at white_count) is a draw command for the living
+// (GL's DrawArraysIndirectCommand: count, instances, first, base instance), so that the renderer
+// draws them and not the whole room, which at a million particles cost a 1080p frame 0.8 ms of
+// an H200's time.
+inline std::array<uint32_t, 4> white_header(size_t alive) { return {uint32_t(alive), 1, 0, 0}; }
 // White water into a frame's two arrays, packed (WhiteParticle::packed).
 inline void add_white_water(ParticleFrame& f, const std::vector<WhiteParticle>& white) {
   for (const WhiteParticle& p : white) {

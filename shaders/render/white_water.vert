@@ -1,7 +1,8 @@
 // White water (host/sim/solver.hpp's frame layout, after the fluid's arrays: a count, then
-// room for white_capacity positions and velocities): one point sprite per particle alive,
-// sized by its kind (white_water.h's kinds: spray 0, foam 1, bubble 2); the slots past the
-// count are moved out of the clip volume.
+// room for white_capacity positions and velocities): one point sprite per particle alive (the
+// count heads the frame's white water as the draw's own: white_header in host/sim/solver.hpp),
+// sized by its kind (white_water.h's kinds: spray 0, foam 1, bubble 2); a slot past the count,
+// were one drawn, is moved out of the clip volume.
 flat out vec3 centre_view;
 flat out float opacity;
 
