@@ -288,9 +288,12 @@ void GpuSolver::copy_frame(const vk::Buffer& dst) const {
       copy(shape_, to.shape, to.white_count);
     else
       vkCmdFillBuffer(cb, dst.handle(), to.shape, to.white_count - to.shape, 0);
-    static_assert(sizeof(white_header(0)) == WHITE_HEADER_BYTES);
-    vkCmdFillBuffer(cb, dst.handle(), to.white_count, WHITE_HEADER_BYTES, 0);  // white_header(0), then the count
-    vkCmdFillBuffer(cb, dst.handle(), to.white_count + sizeof(uint32_t), sizeof(uint32_t), white_header(0)[1]);
+    // white_header(0), or its words after the count where the count is copied in: no two
+    // transfers write the same bytes, as nothing orders them.
+    const auto header = white_header(0);
+    static_assert(sizeof(header) == WHITE_HEADER_BYTES);
+    const size_t skip = outputs_.white_water ? sizeof(uint32_t) : 0;
+    vkCmdUpdateBuffer(cb, dst.handle(), to.white_count + skip, WHITE_HEADER_BYTES - skip, header.data() + skip / sizeof(uint32_t));
     if (outputs_.white_water) {
       copy(white_count_, to.white_count, to.white_count + sizeof(uint32_t));
       copy(white_x_[0], to.white_x, to.white_v);

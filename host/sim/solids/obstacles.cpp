@@ -37,8 +37,10 @@ bool DistanceField::near_crease(const glm::dvec3& x) const {
 }
 
 bool Obstacle::contains(const glm::dvec3& x) const {
+  const glm::dvec3 b = pose.body(x);
+  if (kind == Kind::Box) return glm::all(glm::greaterThan(b, min)) && glm::all(glm::lessThan(b, max));  // body_surface < 0, fast
   glm::dvec3 unused;
-  return body_surface(pose.body(x), unused) < 0;
+  return body_surface(b, unused) < 0;
 }
 
 Obstacle Obstacle::grown(double margin) const {
@@ -119,15 +121,10 @@ void mark_inside(const Obstacle& o, const glm::dvec3& centre, const glm::dvec3& 
       return;
     }
   }
-  auto contains = [&](const glm::dvec3& x) {  // a box's test inline: the samples of a turning paddle
-    if (o.kind != Obstacle::Kind::Box) return o.contains(x);
-    const glm::dvec3 b = o.pose.body(x);
-    return glm::all(glm::greaterThan(b, o.min)) && glm::all(glm::lessThan(b, o.max));
-  };
   for (size_t k = 0; k < size_t(kReachSamples); ++k) {
     uint64_t& word = inside[k / 64];
     const uint64_t bit = uint64_t(1) << (k % 64);
-    if (!(word & bit) && contains(centre + kSamples.t[k] * reach)) word |= bit;
+    if (!(word & bit) && o.contains(centre + kSamples.t[k] * reach)) word |= bit;
   }
 }
 
