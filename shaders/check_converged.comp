@@ -10,10 +10,10 @@ layout(std430, binding = 1) buffer Indirect {
   uint groups_x, groups_y, groups_z;  // VkDispatchIndirectCommand of the next iteration
   uint iterations;                    // run so far this frame (word INDIRECT_ITERATIONS_WORD, shaders/contract.h)
 };
-// The same for the cell walkers of the iteration (neighbours.glsl): the lists pass's
-// overflow dispatch where the iteration runs, none where it does not.
-layout(std430, binding = 2) readonly buffer Overflow { uint overflow_x, overflow_y, overflow_z; };
-layout(std430, binding = 3) writeonly buffer OverflowGated { uint gated_x, gated_y, gated_z; };
+// The same for the cell walkers and the near readers of the iteration (neighbours.glsl): the
+// lists pass's dispatches where the iteration runs, none where it does not.
+layout(std430, binding = 2) readonly buffer Overflow { uvec4 overflow[2]; };
+layout(std430, binding = 3) writeonly buffer OverflowGated { uvec4 gated[2]; };
 layout(push_constant) uniform Push { float target; uint full_x; uint full_y; uint per_check; } push;
 
 void main() {
@@ -21,8 +21,6 @@ void main() {
   groups_x = more ? push.full_x : 0u;
   groups_y = more ? push.full_y : 0u;
   groups_z = more ? 1u : 0u;
-  gated_x = more ? overflow_x : 0u;
-  gated_y = more ? overflow_y : 0u;
-  gated_z = more ? overflow_z : 0u;
+  for (int list = 0; list < 2; ++list) gated[list] = more ? overflow[list] : uvec4(0u);
   if (more) iterations += push.per_check;
 }

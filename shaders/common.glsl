@@ -45,6 +45,8 @@ float position_weight(vec3 d) {
 // storage buffer's range (a 32-bit size) ends there for the vec4 arrays (check_device_memory).
 const uint IMAGE_SHIFT = 28u, IMAGE_INDEX_MASK = (1u << IMAGE_SHIFT) - 1u;
 uint image_entry(uint j, int k) { return j | (uint(k) << IMAGE_SHIFT); }
+// A list's count with this bit: the particle had an obstacle within h, and the near readers serve it.
+const uint NEAR_FLAG = 1u << 31;
 
 ivec3 cell_of(vec3 x) {
   // Clamp in float first (a far-away position must not overflow the int), then in int:

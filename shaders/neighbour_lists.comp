@@ -8,7 +8,8 @@
 // fluid), and such a particle is never cut short: it is appended to the overflow list
 // after the counts (count[n] entries from count[n + 1] on), and the readers' cell-walking
 // variant redoes it in an indirect dispatch whose group counts this pass raises
-// (neighbours.glsl). Where there are no lists (capacity 0: they would not fit the device,
+// (neighbours.glsl). A particle with an obstacle within h goes the same way to the near list,
+// its count flagged, for the near readers. Where there are no lists (capacity 0: they would not fit the device,
 // host/gpu/memory_estimate.hpp) this pass does not run.
 // Near a wall the list goes on with the neighbours' images within h (common.glsl,
 // image_entry), each neighbour's after each other, in the order the cell walkers yield them.
@@ -23,14 +24,16 @@ layout(local_size_x_id = 0) in;
 #include "solids.glsl"
 
 layout(binding = 1, rgba32f) uniform readonly imageBuffer x;  // the positions the lists are built at
-// count[0, n), then the overflow list's length and entries; the host zeroes the length.
+// count[0, n), then the overflow list's length and the near list's, the overflow list's entries
+// from n + 2, the near list's from 2n + 2 (where the scene has obstacles); the host zeroes the lengths.
 layout(std430, binding = 2) buffer NeighbourCount { uint neighbour_count[]; };
 // Entry k of particle i is neighbour_list[(k / 4) * n + i][k % 4] (entry_group): word
 // ((k / 4) * n + i) * 4 + k % 4 of the buffer.
 layout(std430, binding = 3) buffer NeighbourList { uvec4 neighbour_list[]; };
-// The cell walkers' VkDispatchIndirectCommand, reset by the host to (0, 1, 1). The
-// readers run this pass's workgroup size; a count past the device's x limit folds into y.
-layout(std430, binding = 4) buffer OverflowGroups { uint overflow_groups[3]; };
+// The cell walkers' VkDispatchIndirectCommand, then the near readers' (words 4-6), each reset by
+// the host to (0, 1, 1). They run this pass's workgroup size; a count past the device's x limit
+// folds into y.
+layout(std430, binding = 4) buffer OverflowGroups { uint overflow_groups[8]; };
 // Each particle's crease record (solids.glsl, crease_record), for the passes of the step.
 layout(std430, binding = 6) writeonly buffer CreaseRecords { vec4 crease_records[]; };
 layout(constant_id = 1) const uint NEIGHBOUR_CAPACITY = 64;  // Derived::neighbour_capacity (groups rounded up: list_words)
@@ -53,6 +56,15 @@ void list_entry(uint entry, inout uint listed, inout uint word) {
 // Lists candidate `base + bit` for each bit of `hits`, in order.
 void store_hits(uint base, uint hits, inout uint listed, inout uint word) {
   for (; hits != 0u; hits &= hits - 1u) list_entry(base + uint(findLSB(hits)), listed, word);
+}
+
+// Appends i to the overflow list (0) or the near list (1) and raises its dispatch's groups.
+void join_list(uint list, uint i) {
+  uint slot = atomicAdd(neighbour_count[sim.count + list], 1u);
+  neighbour_count[sim.count + 2u + list * sim.count + slot] = i;
+  uint groups = slot / gl_WorkGroupSize.x + 1u;
+  atomicMax(overflow_groups[4u * list], min(groups, MAX_GROUPS_X));
+  atomicMax(overflow_groups[4u * list + 1u], (groups + MAX_GROUPS_X - 1u) / MAX_GROUPS_X);
 }
 
 void main() {
@@ -115,12 +127,8 @@ void main() {
       }
     }
   }
-  neighbour_count[i] = listed;
-  if (listed > NEIGHBOUR_CAPACITY) {
-    uint slot = atomicAdd(neighbour_count[sim.count], 1u);
-    neighbour_count[sim.count + 1u + slot] = i;
-    uint groups = slot / gl_WorkGroupSize.x + 1u;
-    atomicMax(overflow_groups[0], min(groups, MAX_GROUPS_X));
-    atomicMax(overflow_groups[1], (groups + MAX_GROUPS_X - 1u) / MAX_GROUPS_X);
-  }
+  bool overflowed = listed > NEIGHBOUR_CAPACITY, near = OBSTACLES && mirrors.obstacle >= 0 && !overflowed;
+  neighbour_count[i] = listed | (near ? NEAR_FLAG : 0u);
+  if (overflowed) join_list(0u, i);
+  if (near) join_list(1u, i);
 }

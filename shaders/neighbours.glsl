@@ -1,6 +1,12 @@
 // Reading a step's neighbour sets (docs/design.md, "The passes"), as built by neighbour_lists.comp.
-// Every neighbour pass comes in two variants (WALK_CELLS, a specialisation constant):
+// Every neighbour pass comes in variants (specialisation constants), each over its own particles:
 // - the list readers, over every particle whose list holds all its neighbours;
+// - where the scene has obstacles, those readers split in two: the near readers, over the
+//   particles that had an obstacle within h when the lists were built (the lists pass collects
+//   them and flags their counts, NEAR_FLAG), and the rest, whose only mirrors are the walls
+//   (OBSTACLE_MIRRORS false, solids.glsl): a CPU device runs an obstacle's image for every
+//   neighbour of every particle, masked, and a mesh's field code in a loop's body slowed a GPU's
+//   loop where no particle took it (docs/performance.md);
 // - the cell walkers, over the particles whose lists overflowed (squeezed fluid; the
 //   lists pass collects them after the counts, and the host dispatches them indirectly),
 //   or over every particle where there are no lists (capacity 0). The body then tests r < h.
@@ -20,6 +26,8 @@
 #include "solids.glsl"
 layout(constant_id = NEIGHBOUR_CAPACITY_ID) const uint NEIGHBOUR_CAPACITY = 64;  // Derived::neighbour_capacity
 layout(constant_id = NEIGHBOUR_CAPACITY_ID + 1) const bool WALK_CELLS = false;
+// The counts, then the overflow list's length, the near list's, the overflow list, the near list
+// (neighbour_lists.comp; the near list where the scene has obstacles).
 layout(binding = NEIGHBOUR_BINDING, r32ui) uniform readonly uimageBuffer neighbour_count;
 layout(binding = NEIGHBOUR_BINDING + 1, rgba32ui) uniform readonly uimageBuffer neighbour_list;
 
@@ -31,21 +39,29 @@ layout(std430, binding = CREASES_BINDING) readonly buffer CreaseRecords { vec4 c
 Mirrors neighbour_mirrors(uint i, vec3 xi) {
   Mirrors m = mirrors_near(xi);
   m.listed = !WALK_CELLS && NEIGHBOUR_CAPACITY > 0u;
-  if (has_shape(MESH))
+  if (mirrors_mesh())
     take_creases(m, crease_records[4u * i], crease_records[4u * i + 1u], crease_records[4u * i + 2u], crease_records[4u * i + 3u]);
   return m;
 }
 
+// The near readers' variant: where the scene has obstacles, the readers that mirror them.
+const bool NEAR_READERS = MIRRORS_OBSTACLES && !WALK_CELLS;
+
+// Entry t of the overflow list (0) or the near list (1), if it has one.
+bool listed_particle(uint list, uint t, out uint i) {
+  if (t >= imageLoad(neighbour_count, int(sim.count + list)).x) return false;
+  i = imageLoad(neighbour_count, int(sim.count + 2u + list * sim.count + t)).x;
+  return true;
+}
+
 // The particle this invocation serves, if any: its own for the list readers (skipping
-// overflowed lists, which the cell walkers redo: some passes add to their output), its
-// entry in the overflow list for the cell walkers, its own again where there are no lists.
+// overflowed lists, which the cell walkers redo, and the near readers' flagged ones: some
+// passes add to their output), its entry in the near list for the near readers, in the
+// overflow list for the cell walkers, its own again where there are no lists.
 bool neighbour_pass_particle(out uint i) {
   uint t = thread_index();
-  if (WALK_CELLS && NEIGHBOUR_CAPACITY > 0u) {
-    if (t >= imageLoad(neighbour_count, int(sim.count)).x) return false;
-    i = imageLoad(neighbour_count, int(sim.count + 1u + t)).x;
-    return true;
-  }
+  if (WALK_CELLS && NEIGHBOUR_CAPACITY > 0u) return listed_particle(0u, t, i);
+  if (NEAR_READERS) return listed_particle(1u, t, i);
   i = t;
   return i < sim.count && (WALK_CELLS || imageLoad(neighbour_count, int(i)).x <= NEIGHBOUR_CAPACITY);
 }
@@ -68,7 +84,7 @@ Neighbours neighbours_of(uint i, vec3 xi, Mirrors mirrors) {
   Neighbours w;
   w.i = i;
   w.k = 0u;
-  w.n = WALK_CELLS ? 0u : imageLoad(neighbour_count, int(i)).x;
+  w.n = WALK_CELLS ? 0u : imageLoad(neighbour_count, int(i)).x & ~NEAR_FLAG;
   w.group = uvec4(0u);
   w.axes = mirrors.axes;
   w.image = 0;

@@ -33,6 +33,14 @@ bool has_shape(int shape) { return (SHAPES & (1u << shape)) != 0u; }
 layout(constant_id = 91) const bool MOVING = false;
 // Whether the box's walls mirror the fluid: not where the domain is a mesh (Derived::walls_mirror).
 layout(constant_id = 92) const bool WALLS = true;
+// Whether the obstacles are mirrors in this pass: not in a neighbour pass's list readers of the
+// particles no obstacle was within h of when the lists were built (neighbours.glsl), so that the
+// obstacles' mirror code, a mesh's field among it, stays out of their neighbour loop. Their
+// keeping out of the solids (project_out_of_solids) is compiled in everywhere.
+layout(constant_id = 94) const bool OBSTACLE_MIRRORS = true;
+const bool MIRRORS_OBSTACLES = OBSTACLES && OBSTACLE_MIRRORS;
+// Whether the obstacles' mirrors in this pass include a mesh's: its creases and its field's images.
+bool mirrors_mesh() { return OBSTACLE_MIRRORS && has_shape(MESH); }
 #ifdef WORK_BINDING
 // The work moving solids did on each particle slot this frame, per unit mass (J/kg): slots are
 // re-sorted every step, but reduce_stats.comp only sums them.
@@ -347,7 +355,7 @@ Mirrors mirrors_near(vec3 x) {
   m.at = x;
   m.distance = sim.h;
   m.normal = vec3(0.0);
-  for (int k = 0; OBSTACLES && k < int(obstacle_data[0].x); ++k) {
+  for (int k = 0; MIRRORS_OBSTACLES && k < int(obstacle_data[0].x); ++k) {
     vec3 normal;
     float distance = obstacle_surface(k, x, normal);
     if (distance < m.distance) m.distance = distance, m.normal = normal, m.obstacle = k;
@@ -399,7 +407,7 @@ vec3 pair_image(vec3 a, float phi_a, vec3 n_a, vec3 b, float phi_b) {
 // why); far away where the pair's images do not both lie inside the obstacle, which a listed
 // image was tested for when the list was built.
 vec3 obstacle_image(Mirrors m, vec3 x) {
-  if (has_shape(MESH) && m.creases != 0) return reflect_across(m.first, x);
+  if (mirrors_mesh() && m.creases != 0) return reflect_across(m.first, x);
   int o = max(m.obstacle, 0);
   vec3 normal, unused;
   float distance = obstacle_surface(o, x, normal);
@@ -415,7 +423,7 @@ vec3 obstacle_image(Mirrors m, vec3 x) {
 // x reflected across the walls of image k, and across the faces of a mesh's crease that took
 // wall bits.
 vec3 across_walls(Mirrors m, int k, vec3 x) {
-  if (has_shape(MESH) && m.creases != 0) {
+  if (mirrors_mesh() && m.creases != 0) {
     for (int a = 0; a < 3; ++a)
       if (((k & m.creases) >> a & 1) != 0) x = reflect_across(m.faces[a], x);
     k &= ~m.creases;
@@ -425,17 +433,17 @@ vec3 across_walls(Mirrors m, int k, vec3 x) {
 // Whether image k lies behind the obstacle (Mirrors::solid): its share of a push is the solid's.
 bool solid_image(Mirrors m, int k) { return (k & (OBSTACLE_MIRROR | m.creases)) != 0; }
 vec3 mirror(Mirrors m, int k, vec3 x) {
-  if (OBSTACLES && (k & OBSTACLE_MIRROR) != 0) x = obstacle_image(m, x);
+  if (MIRRORS_OBSTACLES && (k & OBSTACLE_MIRROR) != 0) x = obstacle_image(m, x);
   return across_walls(m, k, x);
 }
 // An image moves as its particle, mirrored; across an obstacle, relative to its surface
 // (Mirrors::velocity).
 vec3 mirror_velocity(Mirrors m, int k, vec3 v) {
-  if (OBSTACLES && (k & OBSTACLE_MIRROR) != 0) {
-    vec3 across = has_shape(MESH) && m.creases != 0 ? m.first.xyz : m.normal;
+  if (MIRRORS_OBSTACLES && (k & OBSTACLE_MIRROR) != 0) {
+    vec3 across = mirrors_mesh() && m.creases != 0 ? m.first.xyz : m.normal;
     v -= 2.0 * dot(v - m.solid_velocity, across) * across;
   }
-  if (has_shape(MESH) && m.creases != 0) {
+  if (mirrors_mesh() && m.creases != 0) {
     for (int a = 0; a < 3; ++a)
       if (((k & m.creases) >> a & 1) != 0) v -= 2.0 * dot(v - m.solid_velocity, m.faces[a].xyz) * m.faces[a].xyz;
     k &= ~m.creases;

@@ -45,7 +45,7 @@ SolverBuffers plan_buffers(const Derived& d, uint64_t particles, FrameOutputs ou
   SolverBuffers b;
   b.particle_vec4 = vec4;
   b.id = b.rho = word;
-  b.neighbour_count = (2 * particles + 1) * sizeof(uint32_t);
+  b.neighbour_count = ((d.obstacles.empty() ? 2 : 3) * particles + 2) * sizeof(uint32_t);  // and the near list
   b.neighbour_list = word * list_words(d.neighbour_capacity);
   b.x_lambda_spare = d.smooths_lambda() ? vec4 : 0;
   b.curl = d.solver.vorticity > 0 ? vec4 : 0;
@@ -54,7 +54,7 @@ SolverBuffers plan_buffers(const Derived& d, uint64_t particles, FrameOutputs ou
   b.watch = sizeof(WatchWords);
   b.work = d.moving() ? word : sizeof(float);
   b.crease_records = (any_mesh(d.obstacles) ? particles : 1) * 4 * sizeof(glm::vec4);
-  b.overflow_groups = 4 * sizeof(uint32_t);
+  b.overflow_groups = 8 * sizeof(uint32_t);
   b.adaptive_words = d.solver.target_compression > 0 ? 2 * sizeof(glm::vec4) : 0;
   if (d.coarse.strength > 0) {
     const uint64_t nodes = uint64_t(d.coarse.count());

@@ -54,7 +54,7 @@ struct SolverBuffers {
   static constexpr int kIdArrays = 2;       // the particles' ids before and after a sort
   uint64_t particle_vec4 = 0;               // each of those, and (x_pred, lambda)
   uint64_t id = 0, rho = 0;
-  uint64_t neighbour_count = 0, neighbour_list = 0;  // counts then the overflow list; entries
+  uint64_t neighbour_count = 0, neighbour_list = 0;  // counts then the overflow and near lists; entries
   uint64_t x_lambda_spare = 0, curl = 0;             // 0 where the scene has no smoothing, no vorticity
   uint64_t partials = 0, obstacles = 0, watch = 0, overflow_groups = 0;
   uint64_t work = 0;  // the moving solids' work per particle slot (a word where none moves)

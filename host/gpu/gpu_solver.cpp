@@ -30,6 +30,9 @@ uint32_t coarse_sweep_group(const vk::Context& ctx, uint32_t nodes, uint32_t per
   return std::clamp((wanted + 63) / 64 * 64, 64u, most);
 }
 
+// The near readers' VkDispatchIndirectCommand in the lists' dispatch buffer (neighbour_lists.comp).
+constexpr VkDeviceSize kNearGroupsOffset = 4 * sizeof(uint32_t);
+
 struct ReduceFinalPush {
   uint32_t partial_count, particle_count;
   float mass;
@@ -323,36 +326,41 @@ vk::Program GpuSolver::particle_program(std::string_view shader, std::span<const
 
 GpuSolver::NeighbourPass GpuSolver::neighbour_pass(std::string_view shader, std::vector<vk::Constant> constants) const {
   constants.push_back({"NEIGHBOUR_CAPACITY", d_.neighbour_capacity});
-  auto variant = [&](bool walk_cells) {
+  auto variant = [&](bool walk_cells, bool obstacle_mirrors) {
     constants.push_back({"WALK_CELLS", walk_cells});
+    constants.push_back({"OBSTACLE_MIRRORS", obstacle_mirrors});
     vk::Program p = particle_program(shader, constants);
-    constants.pop_back();
+    constants.erase(constants.end() - 2, constants.end());
     return p;
   };
-  return {variant(false), variant(true)};
+  const bool near = d_.neighbour_capacity > 0 && !d_.obstacles.empty();
+  return {variant(false, false), near ? variant(false, true) : vk::Program{}, variant(true, true)};
 }
 
 void GpuSolver::run_neighbour_pass(const NeighbourPass& pass, const vk::Buffer* indirect,
                                    const std::function<void()>& bind) {
-  const bool lists = d_.neighbour_capacity > 0;
-  bind_particle_pass(lists ? pass.lists : pass.cells);
-  bind_neighbours();
-  bind();
-  run_particle_pass(indirect);
-  if (!lists) return;
-  bind_particle_pass(pass.cells);
-  bind_neighbours();
-  bind();
-  cmd_.dispatch_indirect(indirect ? overflow_gated_ : overflow_groups_);
+  auto run = [&](const vk::Program& p, const std::function<void()>& dispatch) {
+    bind_particle_pass(p);
+    bind_neighbours();
+    bind();
+    dispatch();
+  };
+  if (d_.neighbour_capacity == 0) return run(pass.cells, [&] { run_particle_pass(indirect); });
+  const vk::Buffer& listed = indirect ? overflow_gated_ : overflow_groups_;  // the two lists' dispatches
+  cmd_.disjoint([&] {
+    run(pass.lists, [&] { run_particle_pass(indirect); });
+    if (pass.near.pipeline() != VK_NULL_HANDLE) run(pass.near, [&] { cmd_.dispatch_indirect(listed, kNearGroupsOffset); });
+    run(pass.cells, [&] { cmd_.dispatch_indirect(listed); });
+  });
 }
 
 void GpuSolver::neighbour_lists(const vk::Buffer& x) {
   // No lists: every pass walks the cells; the pass runs only for a mesh's creases, if any.
   if (d_.neighbour_capacity == 0 && !any_mesh(d_.obstacles)) return;
-  const uint32_t none[4] = {0, 1, 1, 0};     // the cell walkers' groups (x, y, z)
+  const uint32_t none[8] = {0, 1, 1, 0, 0, 1, 1, 0};  // the cell walkers' and the near readers' groups
   cmd_.update(overflow_groups_, none, sizeof none);
-  const uint32_t zero = 0;  // the overflow list's length
-  cmd_.update(neighbour_count_, &zero, sizeof zero, n_ * sizeof(uint32_t));
+  const uint32_t zero[2] = {0, 0};  // the overflow list's length and the near list's
+  cmd_.update(neighbour_count_, zero, sizeof zero, n_ * sizeof(uint32_t));
   bind_particle_pass(lists_);
   cmd_.bind("cell_start", grid_.cell_start());
   cmd_.bind("x", x);

@@ -102,10 +102,12 @@ class GpuSolver : public Solver {
   void swap_roles(Slot a, Slot b) { std::swap(role_[a], role_[b]); }
   // Sorts `keyed`, `carried` and the ids by the cells of `keyed`, then lists its neighbours.
   void sort_by_cells(Slot keyed, Slot carried);
-  // A neighbour pass's two variants (shaders/neighbours.glsl, WALK_CELLS): the list
-  // readers, and the cell walkers for overflowed lists (for every particle without lists).
+  // A neighbour pass's variants (shaders/neighbours.glsl), each over its own particles: the list
+  // readers, blind to the obstacles' mirrors; where the scene has obstacles, the near readers,
+  // over the particles the lists pass found within h of one; the cell walkers, over overflowed
+  // lists (over every particle without lists).
   struct NeighbourPass {
-    vk::Program lists, cells;
+    vk::Program lists, near, cells;
   };
   // A particle pass's program: SimConstants pushed, the solver's keys offered, `constants` its own.
   vk::Program particle_program(std::string_view shader, std::span<const vk::Constant> constants = {},
@@ -113,8 +115,8 @@ class GpuSolver : public Solver {
   // `constants`: the shader's own; neighbour_pass adds those of shaders/neighbours.glsl.
   NeighbourPass neighbour_pass(std::string_view shader, std::vector<vk::Constant> constants) const;
   // Runs `pass` with the grid, its lists and the bindings `bind` makes: the list readers
-  // over every particle, then the cell walkers over the particles whose lists overflowed
-  // (an empty dispatch, mostly).
+  // over every particle, the near readers over those near obstacles, and the cell walkers
+  // over those whose lists overflowed (an empty dispatch, mostly), with no barrier between.
   void run_neighbour_pass(const NeighbourPass& pass, const vk::Buffer* indirect, const std::function<void()>& bind);
   void bind_particle_pass(const vk::Program& p);
   void bind_neighbours();
@@ -174,8 +176,8 @@ class GpuSolver : public Solver {
   vk::Buffer crease_records_;  // each particle's creases, from the lists pass (solids.glsl)
   vk::Buffer shape_;  // the drawn shapes, two vec4s a particle, where smoothed positions are asked for
   vk::Buffer check_, indirect_;
-  // The cell walkers' dispatch (neighbour_lists.comp), and its copy for an adaptive
-  // iteration pair: zero where the pair does not run (check_converged.comp).
+  // The cell walkers' dispatch and the near readers' (neighbour_lists.comp), and their copy for an
+  // adaptive iteration pair: zero where the pair does not run (check_converged.comp).
   vk::Buffer overflow_groups_, overflow_gated_;
   vk::Buffer coarse_sums_, coarse_phi_, coarse_grad_, coarse_open_;
   // The drains' passes and buffers (SolverBuffers::drains), where the scene has drains.

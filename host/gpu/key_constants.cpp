@@ -20,6 +20,7 @@ KeyConstants::KeyConstants(const Derived& d) {
   constants_.emplace_back("MOVING", d.moving());  // and whether any moves: their work is counted
   constants_.emplace_back("WALLS", d.walls_mirror);  // whether the box's walls mirror (not for a mesh tank)
   constants_.emplace_back("BODIES", !d.bodies.empty());  // whether any obstacle is a body: its pushes are summed
+  constants_.emplace_back("OBSTACLE_MIRRORS", true);  // but not in the far list readers (GpuSolver::neighbour_pass)
   for (const ParamKey& k : d.shader_keys) {
     auto offer = [&](auto value) { constants_.emplace_back(names_.emplace_back(shader_name(k.name)), value); };
     auto offer_member = [&](const auto& params) {

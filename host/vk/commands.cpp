@@ -104,13 +104,26 @@ void CommandList::dispatch(uint32_t invocations) {
   push_descriptors();
   auto [gx, gy] = groups(invocations, program_->workgroup_size());
   vkCmdDispatch(cb_, gx, gy, 1);
-  memory_barrier(cb_);
+  if (!barrier_held_) memory_barrier(cb_);
 }
 
-void CommandList::dispatch_indirect(const Buffer& args) {
+void CommandList::dispatch_indirect(const Buffer& args, VkDeviceSize offset) {
   if (!program_) throw Error("dispatch_indirect without a program");
   push_descriptors();
-  vkCmdDispatchIndirect(cb_, args.handle(), 0);
+  vkCmdDispatchIndirect(cb_, args.handle(), offset);
+  if (!barrier_held_) memory_barrier(cb_);
+}
+
+void CommandList::disjoint(const std::function<void()>& record) {
+  if (barrier_held_) throw Error("disjoint dispatches nested");
+  {
+    barrier_held_ = true;
+    struct Release {
+      bool& held;
+      ~Release() { held = false; }
+    } release{barrier_held_};
+    record();
+  }
   memory_barrier(cb_);
 }
 

@@ -5,6 +5,7 @@
 #include <vulkan/vulkan.h>
 
 #include <array>
+#include <functional>
 #include <string_view>
 
 #include "vk/program.hpp"
@@ -36,8 +37,11 @@ class CommandList {
   // Runs the program over `invocations` threads (gl_GlobalInvocationID folded to 1D by
   // shaders/common.glsl's thread_index()), then a barrier.
   void dispatch(uint32_t invocations);
-  // Group counts from `args` (a VkDispatchIndirectCommand at offset 0, written on the GPU).
-  void dispatch_indirect(const Buffer& args);
+  // Group counts from `args` (a VkDispatchIndirectCommand at `offset`, written on the GPU).
+  void dispatch_indirect(const Buffer& args, VkDeviceSize offset = 0);
+  // The dispatches `record` makes share one barrier at its end: they write disjoint elements
+  // (a neighbour pass's variants, each over its own particles), so a GPU may run them at once.
+  void disjoint(const std::function<void()>& record);
   // The (x, y) group counts dispatch() uses for `invocations` threads.
   std::array<uint32_t, 2> groups(uint32_t invocations, uint32_t workgroup_size) const;
   // Writes `bytes` (a multiple of 4, at most 65536) at `offset` into `buffer`, then a barrier.
@@ -56,6 +60,7 @@ class CommandList {
   VkCommandBuffer cb_ = VK_NULL_HANDLE;
   VkFence fence_ = VK_NULL_HANDLE;
   const Program* program_ = nullptr;
+  bool barrier_held_ = false;  // inside disjoint(): its end places the barrier
   std::array<VkDescriptorBufferInfo, Program::kMaxBindings> bound_{};
   std::array<VkBufferView, Program::kMaxBindings> views_{};  // the texel bindings'
 };
