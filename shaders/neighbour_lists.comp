@@ -8,11 +8,18 @@
 // fluid), and such a particle is never cut short: it is appended to the overflow list
 // after the counts (count[n] entries from count[n + 1] on), and the readers' cell-walking
 // variant redoes it in an indirect dispatch whose group counts this pass raises
-// (neighbours.glsl). A particle with an obstacle within h goes the same way to the near list,
-// its count flagged, for the near readers. Where there are no lists (capacity 0: they would not fit the device,
-// host/gpu/memory_estimate.hpp) this pass does not run.
+// (neighbours.glsl).
 // Near a wall the list goes on with the neighbours' images within h (common.glsl,
 // image_entry), each neighbour's after each other, in the order the cell walkers yield them.
+// Where the scene has obstacles the pass has two variants (OBSTACLE_MIRRORS, solids.glsl): the
+// walk, over every particle and blind to the obstacles' mirrors, lists the neighbours and, away
+// from the obstacles, the walls' images; a particle with an obstacle within h goes to the near
+// list instead, its count flagged (NEAR_FLAG), and the near variant, dispatched over that list
+// as the cell walkers are, finds its mesh's creases and lists its images: a CPU device runs a
+// branch for every lane, masked, and the creases' probes and the images' field reads cost the
+// walk of every particle. Where there are no lists (capacity 0: they would not fit the device,
+// host/gpu/memory_estimate.hpp) the near variant runs over every particle for a mesh's
+// creases alone, and the walk not at all.
 // Layout, for the readers' coalesced uvec4 fetches: entries go in groups of four, group g
 // of particle i at texel g * count + i (neighbour-major: adjacent invocations read
 // adjacent texels), entry k in group k / 4, lane k % 4.
@@ -67,18 +74,41 @@ void join_list(uint list, uint i) {
   atomicMax(overflow_groups[4u * list + 1u], (groups + MAX_GROUPS_X - 1u) / MAX_GROUPS_X);
 }
 
-void main() {
-  uint i = thread_index();
-  if (i >= sim.count) return;
-  vec3 xi = imageLoad(x, int(i)).xyz;
-  // A mesh's creases near i, once a step (a probe of the field is costly: every pass reads them).
-  Mirrors mirrors = mirrors_near(xi);
-  if (has_shape(MESH)) {
-    find_creases(mirrors);
-    for (int slot = 0; slot < 4; ++slot) crease_records[4u * i + uint(slot)] = crease_record(mirrors, slot);
+// The images of i's first `neighbours` entries within h, listed after them (`listed`, `word`).
+// An image lies farther than its particle, so only a neighbour's can be within h; in a loop
+// of its own, as inside the walk a CPU device would run the image loop for every candidate.
+// The neighbours are read four at a time and their images' hits kept as bits, two entries
+// a word: bit 16q + 15 - k for image k of the pair's entry q, so that storing them in bit
+// order lists each neighbour's images together, in next_image's order (that of the cell
+// walkers). An image that does not count lies far away (solids.glsl), never within h.
+void list_images(uint i, vec3 xi, Mirrors mirrors, uint neighbours, inout uint listed, inout uint word) {
+  for (uint k = 0u; k < neighbours; k += 4u) {
+    uvec4 group = neighbour_list[entry_group(i, k)];
+    for (uint pair = 0u; pair < 4u; pair += 2u) {
+      uint hits = 0u;
+      for (uint q = 0u; q < 2u; ++q) {
+        bool listed_neighbour = k + pair + q < neighbours;  // the group's last slots may lie past them
+        vec3 xj = imageLoad(x, int(listed_neighbour ? group[pair + q] : i)).xyz;
+        // The obstacle's image once, not once per subset of the walls with it: a CPU device
+        // ran it masked in every turn of the loop (docs/performance.md).
+        vec3 behind = xj;
+        if (MIRRORS_OBSTACLES && (mirrors.axes & OBSTACLE_MIRROR) != 0) behind = obstacle_image(mirrors, xj);
+        for (int image = mirrors.axes; image != 0; image = next_image(mirrors.axes, image)) {
+          vec3 d = xi - across_walls(mirrors, image, (image & OBSTACLE_MIRROR) != 0 ? behind : xj);
+          hits |= uint(listed_neighbour && dot(d, d) < sim.h * sim.h) << (16u * q + 15u - uint(image));
+        }
+      }
+      for (; hits != 0u; hits &= hits - 1u) {
+        uint bit = uint(findLSB(hits));
+        list_entry(image_entry(group[pair + (bit >> 4)], 15 - int(bit & 15u)), listed, word);
+      }
+    }
   }
-  if (NEIGHBOUR_CAPACITY == 0u) return;  // no lists: run for the creases alone
-  uint listed = 0u, word = 4u * i;  // entry 0: group 0, texel i, its first word
+}
+
+// Lists i's neighbours within h, in the 27 cells about it; returns how many (listed, word).
+uint list_neighbours(uint i, vec3 xi, inout uint word) {
+  uint listed = 0u;
   // Each row of three cells is tested in chunks of up to 32 candidates, the hits kept as
   // bits, and only then stored: a CPU device stores to a storage buffer lane by lane, testing
   // each lane's mask, and a store in the test loop ran that for every candidate (~7 of 8
@@ -97,38 +127,57 @@ void main() {
         store_hits(base, hits, listed, word);
       }
     }
-  // The images, from the neighbours listed (an image lies farther than its particle, so
-  // only a neighbour's can be within h), in a second loop: inside the walk, a CPU device
-  // would run the image loop for every candidate. A full list is walked by the readers.
-  // The neighbours are read four at a time and their images' hits kept as bits, two entries
-  // a word: bit 16q + 15 - k for image k of the pair's entry q, so that storing them in bit
-  // order lists each neighbour's images together, in next_image's order (that of the cell
-  // walkers). An image that does not count lies far away (solids.glsl), never within h.
-  uint neighbours = mirrors.axes != 0 && listed <= NEIGHBOUR_CAPACITY ? listed : 0u;
-  for (uint k = 0u; k < neighbours; k += 4u) {
-    uvec4 group = neighbour_list[entry_group(i, k)];
-    for (uint pair = 0u; pair < 4u; pair += 2u) {
-      uint hits = 0u;
-      for (uint q = 0u; q < 2u; ++q) {
-        bool listed_neighbour = k + pair + q < neighbours;  // the group's last slots may lie past them
-        vec3 xj = imageLoad(x, int(listed_neighbour ? group[pair + q] : i)).xyz;
-        // The obstacle's image once, not once per subset of the walls with it: a CPU device
-        // ran it masked in every turn of the loop (docs/performance.md).
-        vec3 behind = xj;
-        if (OBSTACLES && (mirrors.axes & OBSTACLE_MIRROR) != 0) behind = obstacle_image(mirrors, xj);
-        for (int image = mirrors.axes; image != 0; image = next_image(mirrors.axes, image)) {
-          vec3 d = xi - across_walls(mirrors, image, (image & OBSTACLE_MIRROR) != 0 ? behind : xj);
-          hits |= uint(listed_neighbour && dot(d, d) < sim.h * sim.h) << (16u * q + 15u - uint(image));
-        }
-      }
-      for (; hits != 0u; hits &= hits - 1u) {
-        uint bit = uint(findLSB(hits));
-        list_entry(image_entry(group[pair + (bit >> 4)], 15 - int(bit & 15u)), listed, word);
-      }
-    }
-  }
-  bool overflowed = listed > NEIGHBOUR_CAPACITY, near = OBSTACLES && mirrors.obstacle >= 0 && !overflowed;
+  return listed;
+}
+
+void write_creases(uint i, Mirrors mirrors) {
+  for (int slot = 0; slot < 4; ++slot) crease_records[4u * i + uint(slot)] = crease_record(mirrors, slot);
+}
+
+// The walk: i's neighbours, then the walls' images where no obstacle is within h of i, else
+// i joins the near list.
+void walk(uint i) {
+  vec3 xi = imageLoad(x, int(i)).xyz;
+  Mirrors mirrors = mirrors_near(xi);  // the walls' alone where the scene has obstacles
+  float distance;
+  vec3 normal;
+  bool near = OBSTACLES && nearest_obstacle(xi, distance, normal) >= 0;
+  if (has_shape(MESH) && !near) write_creases(i, mirrors);  // none: every record is this step's
+  uint word = 4u * i;  // entry 0: group 0, texel i, its first word
+  uint neighbours = list_neighbours(i, xi, word), listed = neighbours;
+  if (!near && mirrors.axes != 0 && listed <= NEIGHBOUR_CAPACITY) list_images(i, xi, mirrors, neighbours, listed, word);
   neighbour_count[i] = listed | (near ? NEAR_FLAG : 0u);
-  if (overflowed) join_list(0u, i);
   if (near) join_list(1u, i);
+  else if (listed > NEIGHBOUR_CAPACITY) join_list(0u, i);
+}
+
+// The near variant: a particle of the near list (each particle where there are no lists), its
+// mesh's creases (a probe of the field is costly: once a step, every pass reads them) and its
+// images, after the neighbours the walk listed.
+void near_images(uint t) {
+  uint i = t;
+  if (NEIGHBOUR_CAPACITY > 0u) {
+    if (t >= neighbour_count[sim.count + 1u]) return;
+    i = neighbour_count[2u * sim.count + 2u + t];
+  } else if (t >= sim.count) {
+    return;
+  }
+  vec3 xi = imageLoad(x, int(i)).xyz;
+  Mirrors mirrors = mirrors_near(xi);
+  if (has_shape(MESH)) {
+    find_creases(mirrors);
+    write_creases(i, mirrors);
+  }
+  if (NEIGHBOUR_CAPACITY == 0u) return;
+  uint neighbours = neighbour_count[i] & ~NEAR_FLAG, listed = neighbours;
+  uint word = 4u * entry_group(i, listed) + (listed & 3u);
+  if (mirrors.axes != 0 && listed <= NEIGHBOUR_CAPACITY) list_images(i, xi, mirrors, neighbours, listed, word);
+  neighbour_count[i] = listed | NEAR_FLAG;
+  if (listed > NEIGHBOUR_CAPACITY) join_list(0u, i);
+}
+
+void main() {
+  uint t = thread_index();
+  if (MIRRORS_OBSTACLES) near_images(t);
+  else if (t < sim.count) walk(t);
 }

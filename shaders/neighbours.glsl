@@ -54,14 +54,15 @@ bool listed_particle(uint list, uint t, out uint i) {
   return true;
 }
 
-// The particle this invocation serves, if any: its own for the list readers (skipping
-// overflowed lists, which the cell walkers redo, and the near readers' flagged ones: some
-// passes add to their output), its entry in the near list for the near readers, in the
-// overflow list for the cell walkers, its own again where there are no lists.
+// The particle this invocation serves, if any: its own for the list readers, its entry in the
+// near list for the near readers (each skipping overflowed lists, which the cell walkers redo,
+// and the readers the near readers' flagged ones: a pass's variants run at once), its entry in
+// the overflow list for the cell walkers, its own again where there are no lists.
 bool neighbour_pass_particle(out uint i) {
   uint t = thread_index();
   if (WALK_CELLS && NEIGHBOUR_CAPACITY > 0u) return listed_particle(0u, t, i);
-  if (NEAR_READERS) return listed_particle(1u, t, i);
+  if (NEAR_READERS)
+    return listed_particle(1u, t, i) && (imageLoad(neighbour_count, int(i)).x & ~NEAR_FLAG) <= NEIGHBOUR_CAPACITY;
   i = t;
   return i < sim.count && (WALK_CELLS || imageLoad(neighbour_count, int(i)).x <= NEIGHBOUR_CAPACITY);
 }

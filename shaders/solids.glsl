@@ -343,6 +343,20 @@ void find_creases(inout Mirrors m) {
   m.axes |= m.creases;
 }
 
+// The obstacle whose own surface is nearest x within h (-1: none), its distance from x and its
+// outward normal at the point nearest x (h and 0 where none is).
+int nearest_obstacle(vec3 x, out float distance, out vec3 normal) {
+  int nearest = -1;
+  distance = sim.h;
+  normal = vec3(0.0);
+  for (int k = 0; OBSTACLES && k < int(obstacle_data[0].x); ++k) {
+    vec3 n;
+    float d = obstacle_surface(k, x, n);
+    if (d < distance) distance = d, normal = n, nearest = k;
+  }
+  return nearest;
+}
+
 Mirrors mirrors_near(vec3 x) {
   Mirrors m;
   m.axes = 0;
@@ -351,15 +365,10 @@ Mirrors mirrors_near(vec3 x) {
     if (WALLS && min(lo, hi) < sim.h) m.axes |= 1 << a;  // a box narrower than 2h: the nearer wall only
     m.plane2[a] = 2.0 * (lo <= hi ? sim.domain_min[a] : sim.domain_max[a]);
   }
-  m.obstacle = -1;
   m.at = x;
   m.distance = sim.h;
   m.normal = vec3(0.0);
-  for (int k = 0; MIRRORS_OBSTACLES && k < int(obstacle_data[0].x); ++k) {
-    vec3 normal;
-    float distance = obstacle_surface(k, x, normal);
-    if (distance < m.distance) m.distance = distance, m.normal = normal, m.obstacle = k;
-  }
+  m.obstacle = MIRRORS_OBSTACLES ? nearest_obstacle(x, m.distance, m.normal) : -1;
   m.solid_velocity = vec3(0.0);
   m.listed = false;
   m.creases = 0;

@@ -61,11 +61,8 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
       viscosity_pass_(d.solver.viscosity_pass()),
       vorticity_pass_(d.solver.vorticity > 0),
       correction_pass_(d.solver.method == Method::Ldc),
-      lists_(particle_program("neighbour_lists",
-                              std::array<vk::Constant, 2>{{
-                                  {"NEIGHBOUR_CAPACITY", d.neighbour_capacity},
-                                  {"MAX_GROUPS_X", ctx.limits().maxComputeWorkGroupCount[0]},
-                              }})),
+      lists_(lists_program(false)),
+      near_lists_(d.obstacles.empty() ? vk::Program{} : lists_program(true)),
       predict_(particle_program("predict")),
       velocity_(particle_program("velocity_update")),
       density_(neighbour_pass("density", {})),
@@ -354,22 +351,43 @@ void GpuSolver::run_neighbour_pass(const NeighbourPass& pass, const vk::Buffer* 
   });
 }
 
+vk::Program GpuSolver::lists_program(bool near) const {
+  const std::array<vk::Constant, 3> constants{{
+      {"NEIGHBOUR_CAPACITY", d_.neighbour_capacity},
+      {"MAX_GROUPS_X", ctx_.limits().maxComputeWorkGroupCount[0]},
+      {"OBSTACLE_MIRRORS", near},
+  }};
+  return particle_program("neighbour_lists", constants);
+}
+
 void GpuSolver::neighbour_lists(const vk::Buffer& x) {
-  // No lists: every pass walks the cells; the pass runs only for a mesh's creases, if any.
-  if (d_.neighbour_capacity == 0 && !any_mesh(d_.obstacles)) return;
-  const uint32_t none[8] = {0, 1, 1, 0, 0, 1, 1, 0};  // the cell walkers' and the near readers' groups
-  cmd_.update(overflow_groups_, none, sizeof none);
-  const uint32_t zero[2] = {0, 0};  // the overflow list's length and the near list's
-  cmd_.update(neighbour_count_, zero, sizeof zero, n_ * sizeof(uint32_t));
-  bind_particle_pass(lists_);
-  cmd_.bind("cell_start", grid_.cell_start());
-  cmd_.bind("x", x);
-  cmd_.bind("neighbour_count", neighbour_count_);
-  cmd_.bind("neighbour_list", neighbour_list_);
-  cmd_.bind("overflow_groups", overflow_groups_);
-  cmd_.bind("obstacles", obstacles_);
-  cmd_.bind("crease_records", crease_records_);
-  cmd_.dispatch(n_);
+  // No lists: every pass walks the cells; the near variant runs only for a mesh's creases, if any.
+  const bool lists = d_.neighbour_capacity > 0;
+  if (!lists && !any_mesh(d_.obstacles)) return;
+  auto bind = [&](const vk::Program& p) {
+    bind_particle_pass(p);
+    cmd_.bind("cell_start", grid_.cell_start());
+    cmd_.bind("x", x);
+    cmd_.bind("neighbour_count", neighbour_count_);
+    cmd_.bind("neighbour_list", neighbour_list_);
+    cmd_.bind("overflow_groups", overflow_groups_);
+    cmd_.bind("obstacles", obstacles_);
+    cmd_.bind("crease_records", crease_records_);
+  };
+  if (lists) {
+    const uint32_t none[8] = {0, 1, 1, 0, 0, 1, 1, 0};  // the cell walkers' and the near readers' groups
+    cmd_.update(overflow_groups_, none, sizeof none);
+    const uint32_t zero[2] = {0, 0};  // the overflow list's length and the near list's
+    cmd_.update(neighbour_count_, zero, sizeof zero, n_ * sizeof(uint32_t));
+    bind(lists_);
+    cmd_.dispatch(n_);
+  }
+  if (d_.obstacles.empty()) return;
+  bind(near_lists_);  // the images of the particles near obstacles, their meshes' creases
+  if (lists)
+    cmd_.dispatch_indirect(overflow_groups_, kNearGroupsOffset);
+  else
+    cmd_.dispatch(n_);
 }
 
 void GpuSolver::grid_at_positions() {

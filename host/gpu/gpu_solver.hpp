@@ -120,6 +120,7 @@ class GpuSolver : public Solver {
   void run_neighbour_pass(const NeighbourPass& pass, const vk::Buffer* indirect, const std::function<void()>& bind);
   void bind_particle_pass(const vk::Program& p);
   void bind_neighbours();
+  vk::Program lists_program(bool near) const;  // the lists pass's walk or its near variant
   void neighbour_lists(const vk::Buffer& x);
   void density_at_positions();  // rho at x for the LDC force and the measures, from the last step's lists
   FrameStats read_measures() const;
@@ -156,7 +157,9 @@ class GpuSolver : public Solver {
   bool lists_built_ = false;      // the grid and lists follow the particles' order (built since the upload)
   bool smoothed_current_ = false; // the spare slot holds the smoothed positions (since the last one recorded)
 
-  vk::Program lists_, predict_, velocity_;
+  // The lists pass's walk and, where the scene has obstacles, its near variant
+  // (shaders/neighbour_lists.comp).
+  vk::Program lists_, near_lists_, predict_, velocity_;
   NeighbourPass density_, correction_, lambda_, smooth_, apply_, viscosity_, vorticity_, positions_;
   vk::Program reduce_, reduce_final_, check_converged_, watch_;
   // Built where the scene runs the coarse correction: the sweeps as one program in one
