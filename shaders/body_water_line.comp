@@ -24,7 +24,7 @@ void main() {
   if (i >= sim.count) return;
   vec3 x = x_pred[i].xyz;
   float margin = obstacle_data[0].y, spacing = 2.0 * margin;  // the margin is half a spacing
-  for (int k = 0; k < int(obstacle_data[0].x); ++k) {
+  for (int k = 0; k < OBSTACLE_COUNT; ++k) {
     int b = body_of(k);
     if (b < 0) continue;
     int words = b * BODY_PUSH_WORDS + BODY_UP_WORD;

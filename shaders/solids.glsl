@@ -2,7 +2,7 @@
 // keep-out margin, half a spacing). Particles are kept out of them (predicted_position,
 // project_out_of_solids), and every solid is a mirror for the neighbour passes (mirrors_near,
 // as host/sim/solids/mirrors.cpp). The includer defines OBSTACLES_BINDING.
-// Layout (pack_obstacles): obstacle_data[0] = (count, margin, 0, 0), [1-7] the tank's kick this
+// Layout (pack_obstacles): obstacle_data[0] = (0, margin, 0, 0), [1-7] the tank's kick this
 // step (Derived::tank_kick, the tank's frame's velocity change: linear with 1 in w where there is
 // any kick, of_x's and of_v's columns); then per obstacle nine
 // vec4: its shape in its body frame, box (min, 0) (max, 0) (0, moves), sphere (centre, 1) (radius,
@@ -29,6 +29,11 @@ layout(constant_id = 90) const uint SHAPES = 0u;
 const bool OBSTACLES = SHAPES != 0u;
 const int BOX = 0, SPHERE = 1, MESH = 2;
 bool has_shape(int shape) { return (SHAPES & (1u << shape)) != 0u; }
+// How many obstacles the scene has (Derived::obstacles): known when the pipeline is made, the loops
+// over them unroll and each one's header is a load all lanes share rather than a gather.
+layout(constant_id = 95) const int OBSTACLE_COUNT = 0;
+// Obstacle k for a lane, where k is one of them (a count of one makes it a constant).
+int one_of_the_obstacles(int k) { return clamp(k, 0, max(OBSTACLE_COUNT - 1, 0)); }
 // Whether any obstacle moves (Derived::moving): the work they do is counted only then.
 layout(constant_id = 91) const bool MOVING = false;
 // Whether the box's walls mirror the fluid: not where the domain is a mesh (Derived::walls_mirror).
@@ -140,12 +145,12 @@ bool near_crease(int k, vec3 b) {
   if (any(lessThan(p, ivec3(0))) || any(greaterThanEqual(p, dims))) return false;
   int node = (p.z * dims.y + p.y) * dims.x + p.x;
   int first = int(obstacle_data[obstacle_header(k) + 2].x) + dims.x * dims.y * dims.z;
-  uint bits = obstacle_bits[4 * obstacle_header(int(obstacle_data[0].x)) + first + node / 32];
+  uint bits = obstacle_bits[4 * obstacle_header(OBSTACLE_COUNT) + first + node / 32];
   return ((bits >> uint(node % 32)) & 1u) != 0u;
 }
 float field_value(int first, ivec3 dims, ivec3 p) {
   int k = first + (p.z * dims.y + p.y) * dims.x + p.x;
-  return obstacle_words[4 * obstacle_header(int(obstacle_data[0].x)) + k];
+  return obstacle_words[4 * obstacle_header(OBSTACLE_COUNT) + k];
 }
 // A mesh's distance at x, trilinear, and its gradient (DistanceField::sample).
 float field_distance(int k, vec3 x, out vec3 gradient) {
@@ -214,7 +219,7 @@ float obstacle_surface(int k, vec3 x, out vec3 normal) {
 float nearest_moving_solid(vec3 x, out vec3 normal, out vec3 velocity) {
   float nearest = 3.4e38;
   normal = velocity = vec3(0.0);
-  for (int k = 0; MOVING && k < int(obstacle_data[0].x); ++k) {
+  for (int k = 0; MOVING && k < OBSTACLE_COUNT; ++k) {
     if (obstacle_data[obstacle_header(k) + 2].y < 0.5 || body_of(k) >= 0) continue;  // it stands still; a body's is no work
     vec3 n;
     float d = obstacle_surface(k, x, n);
@@ -263,14 +268,14 @@ float crease_reach(vec4 p, vec3 foot_p, vec4 q, vec3 foot_q, vec3 x, float phi, 
 // Whether the particle moved `depth` behind a face's plane lies inside the obstacle.
 bool behind_face(Mirrors m, vec4 plane, float depth) {
   vec3 unused;
-  return obstacle_surface(m.obstacle, m.at - (height(plane, m.at) + depth) * plane.xyz, unused) < 0.0;
+  return obstacle_surface(one_of_the_obstacles(m.obstacle), m.at - (height(plane, m.at) + depth) * plane.xyz, unused) < 0.0;
 }
 // Whether two faces' planes meet on the surface (within `tolerance`), at their line's point
 // nearest the particle: two tangent planes of a round wall meet behind it.
 bool faces_meet(Mirrors m, vec4 p, vec4 q, float tolerance) {
   float k = dot(p.xyz, q.xyz), gp = height(p, m.at), gq = height(q, m.at);
   vec3 line = m.at - ((gp - k * gq) * p.xyz + (gq - k * gp) * q.xyz) / (1.0 - k * k), unused;
-  return abs(obstacle_surface(m.obstacle, line, unused)) < tolerance;
+  return abs(obstacle_surface(one_of_the_obstacles(m.obstacle), line, unused)) < tolerance;
 }
 // A mesh's concave crease or corner near the particle, where its field marks one, once a step
 // in the lists pass (host/sim/solids/mirrors.cpp, crease_faces and find_creases, say how): the
@@ -279,9 +284,9 @@ bool faces_meet(Mirrors m, vec4 p, vec4 q, float tolerance) {
 // nearest the obstacle's and each other a wall bit the particle has free.
 void find_creases(inout Mirrors m) {
   int free = ~m.axes & 7;
-  if (free == 0 || obstacle_data[obstacle_header(m.obstacle)].w < 1.5 ||
-      !near_crease(m.obstacle, to_body(m.obstacle, POSE_NOW, m.at)))
-    return;
+  if (m.obstacle < 0 || free == 0) return;
+  int o = one_of_the_obstacles(m.obstacle);
+  if (obstacle_data[obstacle_header(o)].w < 1.5 || !near_crease(o, to_body(o, POSE_NOW, m.at))) return;
   vec3 n = m.normal, side = abs(n.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
   vec3 u = normalize(cross(n, side)), w = cross(n, u);
   vec4 planes[CREASE_PROBES];
@@ -289,8 +294,8 @@ void find_creases(inout Mirrors m) {
   for (int k = 0; k < CREASE_PROBES; ++k) {
     float turn = float(k) * (6.283185307 / float(CREASE_PROBES));
     vec3 q = m.at + sim.h * (cos(turn) * u + sin(turn) * w), gradient;
-    float phi = field_distance(m.obstacle, to_body(m.obstacle, POSE_NOW, q), gradient), steep = length(gradient);
-    vec3 normal = steep > 0.0 ? to_world_direction(m.obstacle, POSE_NOW, gradient / steep) : vec3(0.0);
+    float phi = field_distance(o, to_body(o, POSE_NOW, q), gradient), steep = length(gradient);
+    vec3 normal = steep > 0.0 ? to_world_direction(o, POSE_NOW, gradient / steep) : vec3(0.0);
     feet[k] = q - phi * normal;
     // A blend of two faces' normals (within a voxel of a crease's bisector) is neither's:
     // its plane is put beyond h, where it meets none (CREASE_STEEP).
@@ -349,7 +354,7 @@ int nearest_obstacle(vec3 x, out float distance, out vec3 normal) {
   int nearest = -1;
   distance = sim.h;
   normal = vec3(0.0);
-  for (int k = 0; OBSTACLES && k < int(obstacle_data[0].x); ++k) {
+  for (int k = 0; OBSTACLES && k < OBSTACLE_COUNT; ++k) {
     vec3 n;
     float d = obstacle_surface(k, x, n);
     if (d < distance) distance = d, normal = n, nearest = k;
@@ -376,7 +381,7 @@ Mirrors mirrors_near(vec3 x) {
   m.faces = vec4[3](vec4(0.0), vec4(0.0), vec4(0.0));
   if (m.obstacle >= 0) {
     m.axes |= OBSTACLE_MIRROR;
-    m.solid_velocity = obstacle_displacement(m.obstacle, x - m.distance * m.normal) / sim.dt;
+    m.solid_velocity = obstacle_displacement(one_of_the_obstacles(m.obstacle), x - m.distance * m.normal) / sim.dt;
   }
   return m;
 }
@@ -417,7 +422,7 @@ vec3 pair_image(vec3 a, float phi_a, vec3 n_a, vec3 b, float phi_b) {
 // image was tested for when the list was built.
 vec3 obstacle_image(Mirrors m, vec3 x) {
   if (mirrors_mesh() && m.creases != 0) return reflect_across(m.first, x);
-  int o = max(m.obstacle, 0);
+  int o = one_of_the_obstacles(m.obstacle);
   vec3 normal, unused;
   float distance = obstacle_surface(o, x, normal);
   vec3 image = pair_image(m.at, m.distance, m.normal, x, distance);
@@ -522,7 +527,7 @@ float first_entry(int k, vec3 from, vec3 to, float contact) {
 // each can only shorten it.
 vec3 stop_at_solids(vec3 from, vec3 to, inout float work) {
   float contact = 1e-3 * sim.h;
-  for (int k = 0; k < int(obstacle_data[0].x); ++k) {
+  for (int k = 0; k < OBSTACLE_COUNT; ++k) {
     vec3 a = to_body(k, POSE_BEFORE, from), b = to_body(k, POSE_NOW, to);
     float t = first_entry(k, a, b, contact);
     if (t >= 1.0) continue;
@@ -536,9 +541,8 @@ vec3 stop_at_solids(vec3 from, vec3 to, inout float work) {
 // x moved onto the nearest surface of each obstacle it is inside (project_out), then into the
 // walls. A box's face from which the walls' clamp would put x back inside is no candidate.
 vec3 project_out_of_solids(vec3 x, inout float work) {
-  int count = int(obstacle_data[0].x);
   float margin = obstacle_data[0].y;
-  for (int k = 0; k < count; ++k) {
+  for (int k = 0; k < OBSTACLE_COUNT; ++k) {
     vec4 a = obstacle_data[obstacle_header(k)], b = obstacle_data[obstacle_header(k) + 1];
     if (!has_shape(BOX) || a.w > 0.5) {  // a sphere, a mesh: along the normal
       vec3 normal;

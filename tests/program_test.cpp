@@ -51,13 +51,14 @@ TEST(ShaderLayout, ANeighbourPassReadsItsSlotsTypesAndConstantsFromTheSpirv) {
     EXPECT_EQ(b->format, e.format) << e.name;
     EXPECT_EQ(b->type, e.format ? VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER) << e.name;
   }
-  ASSERT_EQ(density.constants.size(), 6u);
+  ASSERT_EQ(density.constants.size(), 7u);
   EXPECT_EQ(density.constants[0].name, "NEIGHBOUR_CAPACITY");
   EXPECT_EQ(density.constants[1].name, "WALK_CELLS");
   EXPECT_EQ(density.constants[2].name, "SHAPES");
   EXPECT_EQ(density.constants[3].name, "MOVING");  // the poses read through (solids.glsl)
   EXPECT_EQ(density.constants[4].name, "WALLS");  // whether the box's walls mirror
   EXPECT_EQ(density.constants[5].name, "OBSTACLE_MIRRORS");  // not in the far list readers
+  EXPECT_EQ(density.constants[6].name, "OBSTACLE_COUNT");  // the loops over them unrolled
   EXPECT_EQ(density.constants[1].id, density.constants[0].id + 1);
 }
 

@@ -17,6 +17,7 @@ KeyConstants::KeyConstants(const Derived& d) {
   uint32_t shapes = 0;
   for (const Obstacle& o : d.obstacles) shapes |= 1u << uint32_t(o.kind);
   constants_.emplace_back("SHAPES", shapes);
+  constants_.emplace_back("OBSTACLE_COUNT", int(d.obstacles.size()));  // the loops over them unroll
   constants_.emplace_back("MOVING", d.moving());  // and whether any moves: their work is counted
   constants_.emplace_back("WALLS", d.walls_mirror);  // whether the box's walls mirror (not for a mesh tank)
   constants_.emplace_back("BODIES", !d.bodies.empty());  // whether any obstacle is a body: its pushes are summed

@@ -243,7 +243,7 @@ void pack_pose(const Pose& p, std::vector<glm::vec4>& data) {
 
 std::vector<glm::vec4> pack_obstacle_header(const std::vector<Obstacle>& obstacles, double margin,
                                             const TankKick& tank_kick) {
-  std::vector<glm::vec4> data{glm::vec4(float(obstacles.size()), float(margin), 0, 0),
+  std::vector<glm::vec4> data{glm::vec4(0, float(margin), 0, 0),  // the count is the shaders' OBSTACLE_COUNT
                               glm::vec4(glm::vec3(tank_kick.linear), tank_kick.none() ? 0.0f : 1.0f)};
   for (const glm::dmat3* m : {&tank_kick.of_x, &tank_kick.of_v})
     for (int c = 0; c < 3; ++c) data.emplace_back(glm::vec3((*m)[c]), 0.0f);

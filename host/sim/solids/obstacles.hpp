@@ -92,7 +92,8 @@ constexpr size_t kReachWords = (kReachSamples + 63) / 64;
 void mark_inside(const Obstacle& o, const glm::dvec3& centre, const glm::dvec3& reach, std::span<uint64_t> inside);
 double open_share(std::span<const uint64_t> inside);
 
-// The GPU layout: vec4 0 holds the count and the keep-out margin the shapes are grown by, vec4s
+// The GPU layout: vec4 0 holds 0 (the shaders take the count as OBSTACLE_COUNT, a specialisation
+// constant) and the keep-out margin the shapes are grown by, vec4s
 // 1-7 the tank's kick this step (Derived::tank_kick: linear, then of_x's and of_v's columns);
 // then kObstacleVec4s per obstacle: its shape, box (min, 0) (max, 0) (0, moves); sphere (centre, 1)
 // (radius, 0, 0, 0) (0, moves); mesh (field origin, 2) (dims, voxel) (first value, moves, 0, 0),
