@@ -12,6 +12,7 @@ layout(std430, binding = 1) buffer Indirect {
 };
 // The same for the cell walkers and the near readers of the iteration (neighbours.glsl): the
 // lists pass's dispatches where the iteration runs, none where it does not.
+// (The near readers' starts at NEAR_GROUPS_WORD, contract.h: the second uvec4.)
 layout(std430, binding = 2) readonly buffer Overflow { uvec4 overflow[2]; };
 layout(std430, binding = 3) writeonly buffer OverflowGated { uvec4 gated[2]; };
 layout(push_constant) uniform Push { float target; uint full_x; uint full_y; uint per_check; } push;

@@ -11,6 +11,10 @@
 // the iterations run so far this frame, at this word.
 #define INDIRECT_ITERATIONS_WORD 3
 
+// The lists pass's dispatch buffer (neighbour_lists.comp): the cell walkers' indirect dispatch
+// (three words), then from this word the near readers'.
+#define NEAR_GROUPS_WORD 4
+
 // watch.comp's buffer, in 32-bit words (the host reads it as WatchWords, host/gpu/buffer_plan.hpp):
 // the failures seen this frame (WATCH_* bits), the step within the frame of the first (all ones:
 // none), the particles per failure at that step from WATCH_COUNTS on (not finite, too fast,

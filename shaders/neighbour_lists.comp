@@ -37,10 +37,10 @@ layout(std430, binding = 2) buffer NeighbourCount { uint neighbour_count[]; };
 // Entry k of particle i is neighbour_list[(k / 4) * n + i][k % 4] (entry_group): word
 // ((k / 4) * n + i) * 4 + k % 4 of the buffer.
 layout(std430, binding = 3) buffer NeighbourList { uvec4 neighbour_list[]; };
-// The cell walkers' VkDispatchIndirectCommand, then the near readers' (words 4-6), each reset by
-// the host to (0, 1, 1). They run this pass's workgroup size; a count past the device's x limit
-// folds into y.
-layout(std430, binding = 4) buffer OverflowGroups { uint overflow_groups[8]; };
+// The cell walkers' VkDispatchIndirectCommand, then the near readers' (from NEAR_GROUPS_WORD,
+// contract.h), each reset by the host to (0, 1, 1). They run this pass's workgroup size; a count
+// past the device's x limit folds into y.
+layout(std430, binding = 4) buffer OverflowGroups { uint overflow_groups[2 * NEAR_GROUPS_WORD]; };
 // Each particle's crease record (solids.glsl, crease_record), for the passes of the step.
 layout(std430, binding = 6) writeonly buffer CreaseRecords { vec4 crease_records[]; };
 layout(constant_id = 1) const uint NEIGHBOUR_CAPACITY = 64;  // Derived::neighbour_capacity (groups rounded up: list_words)
@@ -70,8 +70,9 @@ void join_list(uint list, uint i) {
   uint slot = atomicAdd(neighbour_count[sim.count + list], 1u);
   neighbour_count[sim.count + 2u + list * sim.count + slot] = i;
   uint groups = slot / gl_WorkGroupSize.x + 1u;
-  atomicMax(overflow_groups[4u * list], min(groups, MAX_GROUPS_X));
-  atomicMax(overflow_groups[4u * list + 1u], (groups + MAX_GROUPS_X - 1u) / MAX_GROUPS_X);
+  uint first = list * NEAR_GROUPS_WORD;
+  atomicMax(overflow_groups[first], min(groups, MAX_GROUPS_X));
+  atomicMax(overflow_groups[first + 1u], (groups + MAX_GROUPS_X - 1u) / MAX_GROUPS_X);
 }
 
 // The images of i's first `neighbours` entries within h, listed after them (`listed`, `word`).

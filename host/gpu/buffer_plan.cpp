@@ -54,7 +54,7 @@ SolverBuffers plan_buffers(const Derived& d, uint64_t particles, FrameOutputs ou
   b.watch = sizeof(WatchWords);
   b.work = d.moving() ? word : sizeof(float);
   b.crease_records = (any_mesh(d.obstacles) ? particles : 1) * 4 * sizeof(glm::vec4);
-  b.overflow_groups = 8 * sizeof(uint32_t);
+  b.overflow_groups = 2 * NEAR_GROUPS_WORD * sizeof(uint32_t);  // two dispatches (neighbour_lists.comp)
   b.adaptive_words = d.solver.target_compression > 0 ? 2 * sizeof(glm::vec4) : 0;
   if (d.coarse.strength > 0) {
     const uint64_t nodes = uint64_t(d.coarse.count());

@@ -31,7 +31,7 @@ uint32_t coarse_sweep_group(const vk::Context& ctx, uint32_t nodes, uint32_t per
 }
 
 // The near readers' VkDispatchIndirectCommand in the lists' dispatch buffer (neighbour_lists.comp).
-constexpr VkDeviceSize kNearGroupsOffset = 4 * sizeof(uint32_t);
+constexpr VkDeviceSize kNearGroupsOffset = NEAR_GROUPS_WORD * sizeof(uint32_t);
 
 struct ReduceFinalPush {
   uint32_t partial_count, particle_count;
@@ -336,18 +336,25 @@ GpuSolver::NeighbourPass GpuSolver::neighbour_pass(std::string_view shader, std:
 
 void GpuSolver::run_neighbour_pass(const NeighbourPass& pass, const vk::Buffer* indirect,
                                    const std::function<void()>& bind) {
-  auto run = [&](const vk::Program& p, const std::function<void()>& dispatch) {
+  auto use = [&](const vk::Program& p) {
     bind_particle_pass(p);
     bind_neighbours();
     bind();
-    dispatch();
   };
-  if (d_.neighbour_capacity == 0) return run(pass.cells, [&] { run_particle_pass(indirect); });
+  if (d_.neighbour_capacity == 0) {
+    use(pass.cells);
+    return run_particle_pass(indirect);
+  }
   const vk::Buffer& listed = indirect ? overflow_gated_ : overflow_groups_;  // the two lists' dispatches
   cmd_.disjoint([&] {
-    run(pass.lists, [&] { run_particle_pass(indirect); });
-    if (pass.near.pipeline() != VK_NULL_HANDLE) run(pass.near, [&] { cmd_.dispatch_indirect(listed, kNearGroupsOffset); });
-    run(pass.cells, [&] { cmd_.dispatch_indirect(listed); });
+    use(pass.lists);
+    run_particle_pass(indirect);
+    if (pass.near.pipeline() != VK_NULL_HANDLE) {
+      use(pass.near);
+      cmd_.dispatch_indirect(listed, kNearGroupsOffset);
+    }
+    use(pass.cells);
+    cmd_.dispatch_indirect(listed);
   });
 }
 
@@ -375,7 +382,7 @@ void GpuSolver::neighbour_lists(const vk::Buffer& x) {
     cmd_.bind("crease_records", crease_records_);
   };
   if (lists) {
-    const uint32_t none[8] = {0, 1, 1, 0, 0, 1, 1, 0};  // the cell walkers' and the near readers' groups
+    const uint32_t none[2 * NEAR_GROUPS_WORD] = {0, 1, 1, 0, 0, 1, 1, 0};  // the cell walkers' and the near readers' groups
     cmd_.update(overflow_groups_, none, sizeof none);
     const uint32_t zero[2] = {0, 0};  // the overflow list's length and the near list's
     cmd_.update(neighbour_count_, zero, sizeof zero, n_ * sizeof(uint32_t));
