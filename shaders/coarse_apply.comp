@@ -14,6 +14,7 @@ layout(std430, binding = 9) readonly buffer Phi { float phi[]; };  // coarse_swe
 #define OBSTACLES_BINDING 7
 #define WORK_BINDING 8
 #define BODY_PUSH_BINDING 10
+#define DISTANCES_OUT_BINDING 11  // each particle's distances from the obstacles where it moves (solids.glsl)
 #include "solids.glsl"
 
 // The work per unit mass a moving solid does through the correction on a particle of its
@@ -42,6 +43,8 @@ void main() {
     p += w * phi[node];
   }
   float work = face_work(xi, p);
-  imageStore(x_lambda, int(i), vec4(project_out_of_solids(xi + STRENGTH * g, work), own.w));
+  vec3 moved = project_out_of_solids(xi + STRENGTH * g, work);
+  imageStore(x_lambda, int(i), vec4(moved, own.w));
+  keep_distances(i, moved);
   add_work(i, work);
 }

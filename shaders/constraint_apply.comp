@@ -15,6 +15,8 @@ layout(std430, binding = 2) writeonly buffer XOut { vec4 x_out[]; };
 #define OBSTACLES_BINDING 3
 #define WORK_BINDING 6
 #define BODY_PUSH_BINDING 7
+#define DISTANCES_BINDING 9  // the neighbours' distances from the obstacles (solids.glsl)
+#define DISTANCES_OUT_BINDING 10  // and each particle's where this pass moves it
 #include "solids.glsl"
 #define NEIGHBOUR_BINDING 4
 #define CREASES_BINDING 8
@@ -33,13 +35,15 @@ void main() {
   // An image behind a wall carries its particle's lambda; i's own images push i away.
   FOR_EACH_NEIGHBOUR(i, xi, mirrors, j, image) {
     vec4 xj = imageLoad(x_lambda, int(j));
-    vec3 d = xi - mirror(mirrors, image, xj.xyz);
+    vec3 d = xi - mirror(mirrors, image, j, xj.xyz);
     vec3 term = (lambda_i + xj.w) * spiky_grad(d, length(d));
     dp += term;
     if (MOVING && solid_image(mirrors, image)) dp_solid += term;
   }
   float scale = sim.relaxation * (sim.mass / sim.rho0);
   float work = MOVING && !push_body(mirrors.obstacle, xi, scale * dp_solid) ? dot(scale * dp_solid, mirrors.solid_velocity) / sim.dt : 0.0;
-  x_out[i] = vec4(project_out_of_solids(xi + scale * dp, work), 0.0);
+  vec3 moved = project_out_of_solids(xi + scale * dp, work);
+  x_out[i] = vec4(moved, 0.0);
+  keep_distances(i, moved);
   add_work(i, work);
 }

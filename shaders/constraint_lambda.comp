@@ -15,6 +15,7 @@ layout(std430, binding = 3) writeonly buffer Rho { float rho_out[]; };
 #define OBSTACLES_BINDING 6
 #define NEIGHBOUR_BINDING 4
 #define CREASES_BINDING 7
+#define DISTANCES_BINDING 8  // the neighbours' distances from the obstacles (solids.glsl)
 #define NEIGHBOUR_CAPACITY_ID 1
 #include "neighbours.glsl"
 
@@ -42,7 +43,7 @@ void main() {
   // On a lattice beside a face the two agree (all terms sum to zero there); at an edge or a
   // corner the doubled images' cross terms leave the sum a little larger than inside.
   FOR_EACH_NEIGHBOUR(i, xi, mirrors, j, image) {  // for j = i itself the kernel gradient is zero
-    vec3 d = xi - mirror(mirrors, image, imageLoad(x_pred, int(j)).xyz);
+    vec3 d = xi - mirror(mirrors, image, j, imageLoad(x_pred, int(j)).xyz);
     float r2 = dot(d, d);
     w_sum += poly6(r2);
     vec3 g = s * spiky_grad(d, sqrt(r2));

@@ -21,6 +21,7 @@ layout(std430, binding = 2) writeonly buffer XLambdaOut { vec4 x_lambda_out[]; }
 #define OBSTACLES_BINDING 5
 #define NEIGHBOUR_BINDING 3
 #define CREASES_BINDING 6
+#define DISTANCES_BINDING 7  // the neighbours' distances from the obstacles (solids.glsl)
 #define NEIGHBOUR_CAPACITY_ID 1
 #include "neighbours.glsl"
 
@@ -33,7 +34,7 @@ void main() {
   int image;
   FOR_EACH_NEIGHBOUR(i, xi, mirrors, j, image) {  // an image carries its particle's lambda
     vec4 xj = imageLoad(x_lambda_in, int(j));
-    float w = smoothing_weight(xi - mirror(mirrors, image, xj.xyz));
+    float w = smoothing_weight(xi - mirror(mirrors, image, j, xj.xyz));
     sum += w * xj.w;
     total += w;
   }

@@ -49,7 +49,7 @@ void main() {
   vec3 f = vec3(0.0), f_solid = vec3(0.0);  // and the obstacle's images' share
   int image;
   FOR_EACH_NEIGHBOUR(i, xi, mirrors, j, image) {  // an image carries its particle's density
-    vec3 xj = mirror(mirrors, image, imageLoad(x, int(j)).xyz);
+    vec3 xj = mirror(mirrors, image, j, imageLoad(x, int(j)).xyz);
     vec3 term = (ldc_density(j) - rho_i) * pair_term(xj - xi);
     f += term;
     if (MOVING && solid_image(mirrors, image)) f_solid += term;

@@ -20,7 +20,7 @@ void main() {
   float sum = 0.0;
   int image;
   FOR_EACH_NEIGHBOUR(i, xi, mirrors, j, image) {
-    vec3 d = xi - mirror(mirrors, image, imageLoad(x, int(j)).xyz);
+    vec3 d = xi - mirror(mirrors, image, j, imageLoad(x, int(j)).xyz);
     sum += poly6(dot(d, d));
   }
   rho[i] = sim.mass * sum;

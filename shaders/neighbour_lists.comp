@@ -27,8 +27,8 @@
 layout(local_size_x_id = 0) in;
 #include "common.glsl"
 #include "grid_walk.glsl"
+#include "contract.h"
 #define OBSTACLES_BINDING 5
-#include "solids.glsl"
 
 layout(binding = 1, rgba32f) uniform readonly imageBuffer x;  // the positions the lists are built at
 // count[0, n), then the overflow list's length and the near list's, the overflow list's entries
@@ -43,6 +43,8 @@ layout(std430, binding = 3) buffer NeighbourList { uvec4 neighbour_list[]; };
 layout(std430, binding = 4) buffer OverflowGroups { uint overflow_groups[2 * NEAR_GROUPS_WORD]; };
 // Each particle's crease record (solids.glsl, crease_record), for the passes of the step.
 layout(std430, binding = 6) writeonly buffer CreaseRecords { vec4 crease_records[]; };
+#define DISTANCES_OUT_BINDING 7
+#include "solids.glsl"
 layout(constant_id = 1) const uint NEIGHBOUR_CAPACITY = 64;  // Derived::neighbour_capacity (groups rounded up: list_words)
 layout(constant_id = 2) const uint MAX_GROUPS_X = 65535;     // maxComputeWorkGroupCount[0]
 
@@ -89,11 +91,12 @@ void list_images(uint i, vec3 xi, Mirrors mirrors, uint neighbours, inout uint l
       uint hits = 0u;
       for (uint q = 0u; q < 2u; ++q) {
         bool listed_neighbour = k + pair + q < neighbours;  // the group's last slots may lie past them
-        vec3 xj = imageLoad(x, int(listed_neighbour ? group[pair + q] : i)).xyz;
+        uint j = listed_neighbour ? group[pair + q] : i;
+        vec3 xj = imageLoad(x, int(j)).xyz;
         // The obstacle's image once, not once per subset of the walls with it: a CPU device
         // ran it masked in every turn of the loop (docs/performance.md).
         vec3 behind = xj;
-        if (MIRRORS_OBSTACLES && (mirrors.axes & OBSTACLE_MIRROR) != 0) behind = obstacle_image(mirrors, xj);
+        if (MIRRORS_OBSTACLES && (mirrors.axes & OBSTACLE_MIRROR) != 0) behind = obstacle_image(mirrors, j, xj);
         for (int image = mirrors.axes; image != 0; image = next_image(mirrors.axes, image)) {
           vec3 d = xi - across_walls(mirrors, image, (image & OBSTACLE_MIRROR) != 0 ? behind : xj);
           hits |= uint(listed_neighbour && dot(d, d) < sim.h * sim.h) << (16u * q + 15u - uint(image));
@@ -135,14 +138,25 @@ void write_creases(uint i, Mirrors mirrors) {
   for (int slot = 0; slot < 4; ++slot) crease_records[4u * i + uint(slot)] = crease_record(mirrors, slot);
 }
 
+// Whether an obstacle's surface is within h of particle i at x; each one's distance is kept
+// for the step's passes (DISTANCES).
+bool near_obstacle(uint i, vec3 x) {
+  bool near = false;
+  for (int k = 0; k < OBSTACLE_COUNT; ++k) {
+    vec3 unused;
+    float distance = obstacle_surface(k, x, unused);
+    near = near || distance < sim.h;
+    keep_distance(k, i, distance);
+  }
+  return near;
+}
+
 // The walk: i's neighbours, then the walls' images where no obstacle is within h of i, else
 // i joins the near list.
 void walk(uint i) {
   vec3 xi = imageLoad(x, int(i)).xyz;
   Mirrors mirrors = mirrors_near(xi);  // the walls' alone where the scene has obstacles
-  float distance;
-  vec3 normal;
-  bool near = OBSTACLES && nearest_obstacle(xi, distance, normal) >= 0;
+  bool near = near_obstacle(i, xi);
   if (has_shape(MESH) && !near) write_creases(i, mirrors);  // none: every record is this step's
   uint word = 4u * i;  // entry 0: group 0, texel i, its first word
   uint neighbours = list_neighbours(i, xi, word), listed = neighbours;

@@ -152,7 +152,7 @@ bool round_entry(Neighbours w, uint q, out uint j, out int image) {
 }
 
 // for each neighbour j of particle i at xi and its images behind i's mirrors: j's position
-// is mirror(mirrors, image, x_j) (image 0: j itself). j = i is included, and so are i's own
+// is mirror(mirrors, image, j, x_j) (image 0: j itself). j = i is included, and so are i's own
 // images; the cell walkers' candidates include particles beyond h, the body tests r < h.
 // FOR_EACH_NEIGHBOUR(i, xi, mirrors, j, image) { ... }   (no `continue` in the body: see ROUND)
 #define FOR_EACH_NEIGHBOUR(i, xi, mirrors, j, image)     \

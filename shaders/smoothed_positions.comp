@@ -88,7 +88,7 @@ void main() {
   float position_weights = 0.0, weights = 0.0;
   int count = 0, image;
   FOR_EACH_NEIGHBOUR(i, xi, mirrors, j, image) {
-    vec3 d = mirror(mirrors, image, imageLoad(x, int(j)).xyz) - xi;
+    vec3 d = mirror(mirrors, image, j, imageLoad(x, int(j)).xyz) - xi;
     float w = smoothing_weight(d), wp = position_weight(d);
     count += int(w > 0.0);
     d /= sim.h;

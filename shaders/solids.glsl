@@ -46,6 +46,22 @@ layout(constant_id = 94) const bool OBSTACLE_MIRRORS = true;
 const bool MIRRORS_OBSTACLES = OBSTACLES && OBSTACLE_MIRRORS;
 // Whether the obstacles' mirrors in this pass include a mesh's: its creases and its field's images.
 bool mirrors_mesh() { return OBSTACLE_MIRRORS && has_shape(MESH); }
+// Whether the step keeps each particle's distance to every obstacle's surface, from the lists
+// pass to the viscosity, beside its position (Derived::keeps_distances): a near reader then reads
+// a neighbour's distance there for its image instead of sampling a mesh's field (eight loads) at
+// every neighbour (docs/performance.md). Not where bodies move between a step's passes.
+layout(constant_id = 96) const bool DISTANCES = false;
+#ifdef DISTANCES_BINDING
+// Obstacle k's distance from particle j at [k n + j], at the positions this pass reads.
+layout(std430, binding = DISTANCES_BINDING) readonly buffer Distances { float distances[]; };
+#endif
+#ifdef DISTANCES_OUT_BINDING
+// The same at the positions this pass writes: each particle's own.
+layout(std430, binding = DISTANCES_OUT_BINDING) writeonly buffer DistancesOut { float distances_out[]; };
+void keep_distance(int k, uint i, float distance) {
+  if (DISTANCES) distances_out[uint(k) * sim.count + i] = distance;
+}
+#endif
 #ifdef WORK_BINDING
 // The work moving solids did on each particle slot this frame, per unit mass (J/kg): slots are
 // re-sorted every step, but reduce_stats.comp only sums them.
@@ -212,6 +228,16 @@ float obstacle_surface(int k, vec3 x, out vec3 normal) {
   normal = to_world_direction(k, POSE_NOW, normal);
   return d;
 }
+
+#ifdef DISTANCES_OUT_BINDING
+// Each obstacle's distance from particle i, now at x.
+void keep_distances(uint i, vec3 x) {
+  for (int k = 0; DISTANCES && k < OBSTACLE_COUNT; ++k) {
+    vec3 unused;
+    keep_distance(k, i, obstacle_surface(k, x, unused));
+  }
+}
+#endif
 
 // The distance from x to the nearest moving obstacle's own surface (3.4e38 where none moves),
 // its outward normal and the velocity of the solid's point at x over the step
@@ -417,14 +443,25 @@ vec3 pair_image(vec3 a, float phi_a, vec3 n_a, vec3 b, float phi_b) {
   return a - sqrt(d2) * (dot(along, along) > 0.0 ? normalize(along) : n_a);
 }
 
-// The obstacle's image of neighbour x, seen from the particle (Mirrors::obstacle_image says
+// Neighbour j's distance (at x) from obstacle o's surface, and the outward normal at the point
+// nearest it: read from the pass's distances where the image is listed (its normal is not
+// wanted then), else from o's shape.
+float neighbour_distance(int o, uint j, vec3 x, bool listed, out vec3 normal) {
+  normal = vec3(0.0);
+#ifdef DISTANCES_BINDING
+  if (DISTANCES && listed) return distances[uint(o) * sim.count + j];
+#endif
+  return obstacle_surface(o, x, normal);
+}
+
+// The obstacle's image of neighbour j at x, seen from the particle (Mirrors::obstacle_image says
 // why); far away where the pair's images do not both lie inside the obstacle, which a listed
 // image was tested for when the list was built.
-vec3 obstacle_image(Mirrors m, vec3 x) {
+vec3 obstacle_image(Mirrors m, uint j, vec3 x) {
   if (mirrors_mesh() && m.creases != 0) return reflect_across(m.first, x);
   int o = one_of_the_obstacles(m.obstacle);
   vec3 normal, unused;
-  float distance = obstacle_surface(o, x, normal);
+  float distance = neighbour_distance(o, j, x, m.listed, normal);
   vec3 image = pair_image(m.at, m.distance, m.normal, x, distance);
   // An entry listed beside an obstacle that is no longer within h does not count.
   bool inside = (m.axes & OBSTACLE_MIRROR) != 0;
@@ -446,8 +483,9 @@ vec3 across_walls(Mirrors m, int k, vec3 x) {
 }
 // Whether image k lies behind the obstacle (Mirrors::solid): its share of a push is the solid's.
 bool solid_image(Mirrors m, int k) { return (k & (OBSTACLE_MIRROR | m.creases)) != 0; }
-vec3 mirror(Mirrors m, int k, vec3 x) {
-  if (MIRRORS_OBSTACLES && (k & OBSTACLE_MIRROR) != 0) x = obstacle_image(m, x);
+// Neighbour j at x as image k shows it.
+vec3 mirror(Mirrors m, int k, uint j, vec3 x) {
+  if (MIRRORS_OBSTACLES && (k & OBSTACLE_MIRROR) != 0) x = obstacle_image(m, j, x);
   return across_walls(m, k, x);
 }
 // An image moves as its particle, mirrored; across an obstacle, relative to its surface

@@ -41,6 +41,7 @@ layout(std430, binding = 5) writeonly buffer Rho { float rho[]; };
 #define BODY_PUSH_BINDING 10
 #define NEIGHBOUR_BINDING 6
 #define CREASES_BINDING 11
+#define DISTANCES_BINDING 12  // the neighbours' distances from the obstacles (solids.glsl)
 #define NEIGHBOUR_CAPACITY_ID 4
 #include "neighbours.glsl"
 
@@ -66,7 +67,7 @@ void main() {
   Mirrors mirrors = neighbour_mirrors(i, xi);
   int image;
   FOR_EACH_NEIGHBOUR(i, xi, mirrors, j, image) {
-    vec3 xj = imageLoad(x, int(j)).xyz, d = xi - mirror(mirrors, image, xj);
+    vec3 xj = imageLoad(x, int(j)).xyz, d = xi - mirror(mirrors, image, j, xj);
     float r2 = dot(d, d);  // every term below is zero from r = h on
     vec4 vj = imageLoad(v_rho, int(j));
     vec3 vij = mirror_velocity(mirrors, image, vj.xyz) - vi;  // an image moves as j, mirrored

@@ -33,7 +33,7 @@ void main() {
   vec3 towards = vec3(0.0);
   int image;
   FOR_EACH_NEIGHBOUR(i, xi, mirrors, j, image) {
-    vec3 xj = imageLoad(x, int(j)).xyz, d = mirror(mirrors, image, xj) - xi;
+    vec3 xj = imageLoad(x, int(j)).xyz, d = mirror(mirrors, image, j, xj) - xi;
     vec3 vij = vi - mirror_velocity(mirrors, image, imageLoad(v, int(j)).xyz);
     float w = position_weight(d), r = length(d), s = length(vij);
     weights += w;

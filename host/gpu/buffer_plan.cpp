@@ -54,6 +54,7 @@ SolverBuffers plan_buffers(const Derived& d, uint64_t particles, FrameOutputs ou
   b.watch = sizeof(WatchWords);
   b.work = d.moving() ? word : sizeof(float);
   b.crease_records = (any_mesh(d.obstacles) ? particles : 1) * 4 * sizeof(glm::vec4);
+  b.distances = keeps_distances(d) ? d.obstacles.size() * word : sizeof(float);
   b.overflow_groups = 2 * NEAR_GROUPS_WORD * sizeof(uint32_t);  // two dispatches (neighbour_lists.comp)
   b.adaptive_words = d.solver.target_compression > 0 ? 2 * sizeof(glm::vec4) : 0;
   if (d.coarse.strength > 0) {
@@ -83,7 +84,7 @@ SolverBuffers plan_buffers(const Derived& d, uint64_t particles, FrameOutputs ou
 
 uint64_t SolverBuffers::total() const {
   uint64_t sum = (kParticleVec4s + 1) * particle_vec4 + kIdArrays * id + rho + neighbour_count + neighbour_list +
-                 x_lambda_spare + curl + partials + obstacles + work + crease_records + watch + overflow_groups + 3 * adaptive_words +
+                 x_lambda_spare + curl + partials + obstacles + work + crease_records + 2 * distances + watch + overflow_groups + 3 * adaptive_words +
                  coarse_sums + coarse_phi + coarse_grad + coarse_open + result + grid.cell + grid.rank + grid.order + shape +
                  white_water() + grid.scan.total() + drains + drained + drain_counts + drain_keep.total() +
                  2 * body_push + (body_push ? coarse_grad : 0);

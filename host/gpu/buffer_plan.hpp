@@ -59,6 +59,9 @@ struct SolverBuffers {
   uint64_t partials = 0, obstacles = 0, watch = 0, overflow_groups = 0;
   uint64_t work = 0;  // the moving solids' work per particle slot (a word where none moves)
   uint64_t crease_records = 0;  // four vec4 a particle where a mesh is among the solids, else one record
+  // Each of the two arrays of the particles' distances from every obstacle (keeps_distances),
+  // at the positions a pass reads and those it writes; a word where the step keeps none.
+  uint64_t distances = 0;
   uint64_t adaptive_words = 0;  // each of check_converged's three buffers; 0 without adaptive iterations
   uint64_t coarse_sums = 0, coarse_phi = 0, coarse_grad = 0, coarse_open = 0;  // the coarse correction's nodes; 0 where it is off
   uint64_t result = sizeof(FrameResult);
@@ -95,6 +98,13 @@ constexpr uint32_t kOneGroupBlocks = 32;
 // The words per particle of the neighbour list buffer for `capacity` entries: whole groups
 // of four (shaders/neighbour_lists.comp), one group without lists.
 inline uint32_t list_words(uint32_t capacity) { return 4 * ((capacity + 3) / 4 + (capacity == 0)); }
+
+// Whether the step keeps each particle's distance from every obstacle, from the lists pass on,
+// for the near readers (shaders/solids.glsl, DISTANCES): where it has obstacles and lists, and no
+// bodies, which move between its passes.
+inline bool keeps_distances(const Derived& d) {
+  return !d.obstacles.empty() && d.neighbour_capacity > 0 && d.bodies.empty();
+}
 
 // `d.neighbour_capacity` as the run will use it (neighbour_capacity_on).
 SolverBuffers plan_buffers(const Derived& d, uint64_t particles, FrameOutputs outputs = {});

@@ -96,6 +96,7 @@ GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector
       timer_(std::make_unique<vk::GpuTimer>(ctx, 2)) {
   for (auto& b : vec4_) b = vk::Buffer(ctx, plan_.particle_vec4);
   for (auto& b : id_) b = vk::Buffer(ctx, plan_.id);
+  for (auto& b : distances_) b = vk::Buffer(ctx, plan_.distances);
   obstacles_.upload(std::span<const glm::vec4>(pack_obstacles(d.obstacles, d.keep_out)));
   // Model no more than the scene needs: the plan leaves out what its passes never use.
   if (plan_.adaptive_words)
@@ -311,6 +312,7 @@ void GpuSolver::bind_particle_pass(const vk::Program& p) {
 // Every neighbour pass reads the grid and the lists (shaders/neighbours.glsl).
 void GpuSolver::bind_neighbours() {
   if (cmd_.reads("crease_records")) cmd_.bind("crease_records", crease_records_);  // not a pass blind to the solids
+  if (cmd_.reads("distances")) cmd_.bind("distances", distances_[distances_current_]);
   cmd_.bind("cell_start", grid_.cell_start());
   cmd_.bind("neighbour_count", neighbour_count_);
   cmd_.bind("neighbour_list", neighbour_list_);
@@ -380,6 +382,7 @@ void GpuSolver::neighbour_lists(const vk::Buffer& x) {
     cmd_.bind("overflow_groups", overflow_groups_);
     cmd_.bind("obstacles", obstacles_);
     cmd_.bind("crease_records", crease_records_);
+    cmd_.bind("distances_out", distances_[distances_current_]);
   };
   if (lists) {
     const uint32_t none[2 * NEAR_GROUPS_WORD] = {0, 1, 1, 0, 0, 1, 1, 0};  // the cell walkers' and the near readers' groups
@@ -482,10 +485,12 @@ void GpuSolver::constraint_apply(double relaxation, const vk::Buffer* indirect) 
     cmd_.bind("obstacles", obstacles_);  // the solids' mirrors (solids.glsl)
     cmd_.bind("x_lambda", x_lambda_);  // x_pred, with lambda beside it
     cmd_.bind("x_out", at(Spare0));
+    cmd_.bind("distances_out", distances_[1 - distances_current_]);
     cmd_.bind("work", work_);
     cmd_.bind("body_pushes", body_pushes());
   });
   swap_roles(XPred, Spare0);
+  distances_current_ = 1 - distances_current_;
 }
 
 void GpuSolver::coarse_correction() {
@@ -517,6 +522,7 @@ void GpuSolver::coarse_correction() {
   if (!d_.bodies.empty()) body_water_line();  // x_pred before the correction moves it
   bind_particle_pass(coarse_apply_);
   cmd_.bind("x_lambda", x_lambda_);
+  cmd_.bind("distances_out", distances_[distances_current_]);  // in place, as x_lambda
   cmd_.bind("grad", coarse_grad_);
   cmd_.bind("phi", coarse_phi_);
   cmd_.bind("obstacles", obstacles_);

@@ -177,6 +177,10 @@ class GpuSolver : public Solver {
   vk::Buffer curl_, partials_, result_, obstacles_;
   vk::Buffer work_;  // solids.glsl's work: per slot, summed by reduce_stats
   vk::Buffer crease_records_;  // each particle's creases, from the lists pass (solids.glsl)
+  // The particles' distances from the obstacles (SolverBuffers::distances): [distances_current_]
+  // at x_pred's positions; an Apply writes the other and swaps them as it swaps x_pred's role.
+  std::array<vk::Buffer, 2> distances_;
+  int distances_current_ = 0;
   vk::Buffer shape_;  // the drawn shapes, two vec4s a particle, where smoothed positions are asked for
   vk::Buffer check_, indirect_;
   // The cell walkers' dispatch and the near readers' (neighbour_lists.comp), and their copy for an

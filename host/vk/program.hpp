@@ -36,7 +36,7 @@ struct Constant {
 
 class Program {
  public:
-  static constexpr size_t kMaxBindings = 12;
+  static constexpr size_t kMaxBindings = 16;
   static constexpr uint32_t kGuaranteedPushBytes = 128;  // maxPushConstantsSize's least (Vulkan 1.x)
 
   Program() = default;
