@@ -17,9 +17,11 @@
 // list instead, its count flagged (NEAR_FLAG), and the near variant, dispatched over that list
 // as the cell walkers are, finds its mesh's creases and lists its images: a CPU device runs a
 // branch for every lane, masked, and the creases' probes and the images' field reads cost the
-// walk of every particle. Where there are no lists (capacity 0: they would not fit the device,
-// host/gpu/memory_estimate.hpp) the near variant runs over every particle for a mesh's
-// creases alone, and the walk not at all.
+// walk of every particle. On a GPU the walk does it all, compiled with the obstacles' mirrors
+// (NEAR_IN_WALK), and still collects the near list for the readers: there the near variant's
+// dispatch, after the walk's, cost more than the branches. Where there are no lists (capacity 0:
+// they would not fit the device, host/gpu/memory_estimate.hpp) the near variant runs over every
+// particle for a mesh's creases alone, and the walk not at all.
 // Layout, for the readers' coalesced uvec4 fetches: entries go in groups of four, group g
 // of particle i at texel g * count + i (neighbour-major: adjacent invocations read
 // adjacent texels), entry k in group k / 4, lane k % 4.
@@ -47,6 +49,10 @@ layout(std430, binding = 6) writeonly buffer CreaseRecords { vec4 crease_records
 #include "solids.glsl"
 layout(constant_id = 1) const uint NEIGHBOUR_CAPACITY = 64;  // Derived::neighbour_capacity (groups rounded up: list_words)
 layout(constant_id = 2) const uint MAX_GROUPS_X = 65535;     // maxComputeWorkGroupCount[0]
+// Whether the walk finds the near particles' creases and lists their images itself, in one
+// dispatch (GpuLayout::near_in_walk: a GPU, where the near variant's dispatch after the walk
+// cost more than its branches), rather than leaving them to the near variant.
+layout(constant_id = 3) const bool NEAR_IN_WALK = false;
 
 uint entry_group(uint i, uint k) { return (k >> 2) * sim.count + i; }
 
@@ -151,19 +157,20 @@ bool near_obstacle(uint i, vec3 x) {
   return near;
 }
 
-// The walk: i's neighbours, then the walls' images where no obstacle is within h of i, else
-// i joins the near list.
+// The walk: i's neighbours, then their images, where no obstacle is within h of i or the walk
+// lists the obstacles' too (NEAR_IN_WALK); a particle with one within h joins the near list.
 void walk(uint i) {
   vec3 xi = imageLoad(x, int(i)).xyz;
-  Mirrors mirrors = mirrors_near(xi);  // the walls' alone where the scene has obstacles
-  bool near = near_obstacle(i, xi);
-  if (has_shape(MESH) && !near) write_creases(i, mirrors);  // none: every record is this step's
+  Mirrors mirrors = mirrors_near(xi);  // the walls' alone, but where the walk lists the obstacles'
+  bool near = near_obstacle(i, xi), images = NEAR_IN_WALK || !near;
+  if (NEAR_IN_WALK && has_shape(MESH)) find_creases(mirrors);
+  if (has_shape(MESH) && images) write_creases(i, mirrors);  // none away from a mesh: every record is this step's
   uint word = 4u * i;  // entry 0: group 0, texel i, its first word
   uint neighbours = list_neighbours(i, xi, word), listed = neighbours;
-  if (!near && mirrors.axes != 0 && listed <= NEIGHBOUR_CAPACITY) list_images(i, xi, mirrors, neighbours, listed, word);
+  if (images && mirrors.axes != 0 && listed <= NEIGHBOUR_CAPACITY) list_images(i, xi, mirrors, neighbours, listed, word);
   neighbour_count[i] = listed | (near ? NEAR_FLAG : 0u);
   if (near) join_list(1u, i);
-  else if (listed > NEIGHBOUR_CAPACITY) join_list(0u, i);
+  if (images && listed > NEIGHBOUR_CAPACITY) join_list(0u, i);
 }
 
 // The near variant: a particle of the near list (each particle where there are no lists), its
@@ -193,6 +200,6 @@ void near_images(uint t) {
 
 void main() {
   uint t = thread_index();
-  if (MIRRORS_OBSTACLES) near_images(t);
+  if (MIRRORS_OBSTACLES && !NEAR_IN_WALK) near_images(t);
   else if (t < sim.count) walk(t);
 }

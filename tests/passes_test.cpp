@@ -2,6 +2,7 @@
 // Tolerances: the GPU computes in float (relative precision 6e-8); sums of ~30
 // neighbour terms and the cancellation in differences like x_pred - x cost a few
 // hundred ulps at most, so a pass agrees to a relative 1e-4 of the field's scale.
+#include <optional>
 #include <random>
 
 #include "gpu/gpu_solver.hpp"
@@ -53,6 +54,8 @@ struct ListCase {
   const char* name;
   int capacity;                  // -1: the scene's own (Derived::neighbour_capacity)
   const char* obstacles = "[]";  // JSON: with obstacles, their images take part (sim/solids/mirrors.hpp)
+  // The near particles' images listed in the lists pass's walk (GpuLayout), or as the device lists them.
+  std::optional<bool> near_in_walk = std::nullopt;
 };
 void PrintTo(const ListCase& c, std::ostream* os) { *os << c.name; }
 
@@ -63,8 +66,13 @@ class PassTest : public test::GpuTest, public ::testing::WithParamInterface<List
                                          "solver.method=ldc", std::string("obstacles=") + GetParam().obstacles});
   Derived d = with_capacity(derive(scene), GetParam().capacity);
   ParticleState input = test::jittered_state(scene);
-  GpuSolver gpu{test::gpu(), d, input.x};
+  GpuSolver gpu{test::gpu(), d, input.x, layout()};
   ReferenceSolver ref{d, input.x};
+
+  static std::optional<GpuLayout> layout() {
+    if (!GetParam().near_in_walk) return std::nullopt;
+    return GpuLayout{*GetParam().near_in_walk};
+  }
 
   void SetUp() override {
     test::GpuTest::SetUp();
@@ -352,7 +360,9 @@ INSTANTIATE_TEST_SUITE_P(Lists, PassTest,
                                            ListCase{"obstacles_all_full", 1, kObstaclesInTheColumn},
                                            ListCase{"mesh", -1, kMeshInTheColumn.c_str()},
                                            ListCase{"mesh_some_full", 24, kMeshInTheColumn.c_str()},
-                                           ListCase{"mesh_no_lists", 0, kMeshInTheColumn.c_str()}),
+                                           ListCase{"mesh_no_lists", 0, kMeshInTheColumn.c_str()},
+                                           ListCase{"mesh_walked", -1, kMeshInTheColumn.c_str(), true},
+                                           ListCase{"mesh_walked_some_full", 24, kMeshInTheColumn.c_str(), true}),
                          [](const auto& info) { return std::string(info.param.name); });
 
 constexpr const char* kDamBreakDomain = R"({"min": [0, 0, 0], "max": [1.6, 1.0, 0.4]})";
@@ -372,7 +382,12 @@ struct StepCase {
   const char* obstacles;  // JSON for the scene's obstacles
   const char* domain = kDamBreakDomain;  // or shaken
   bool steered = false;  // a viewer's hand (Derived::steerable): the box dragged, the tank shaken
+  std::optional<bool> near_in_walk = std::nullopt;  // as ListCase's
 };
+std::optional<GpuLayout> layout(const StepCase& c) {
+  if (!c.near_in_walk) return std::nullopt;
+  return GpuLayout{*c.near_in_walk};
+}
 void PrintTo(const StepCase& c, std::ostream* os) { *os << c.name; }
 
 class StepTest : public test::GpuTest, public ::testing::WithParamInterface<StepCase> {};
@@ -385,7 +400,7 @@ TEST_P(StepTest, SeveralStepsAgree) {
   Derived d = derive(scene);
   if (c.steered) d.make_steerable();
   auto x0 = initial_particles(scene);
-  GpuSolver gpu(test::gpu(), d, x0);
+  GpuSolver gpu(test::gpu(), d, x0, layout(c));
   ReferenceSolver ref(d, x0);
   Motion shake;
   shake.type = Motion::Type::Oscillate, shake.axis = {0, 0, 1}, shake.amplitude = 0.01, shake.period = 0.1;
@@ -416,7 +431,7 @@ TEST_P(StepTest, TheStartsRelaxationAgreesAndDecompresses) {
                                          std::string("obstacles=") + c.obstacles});
   Derived d = derive(scene);
   auto x0 = initial_particles(scene);
-  GpuSolver gpu(test::gpu(), d, x0);
+  GpuSolver gpu(test::gpu(), d, x0, layout(c));
   ReferenceSolver ref(d, x0);
   const double seeded = ref.advance(0).mean_compression;
   relax_start(gpu);
@@ -444,7 +459,9 @@ INSTANTIATE_TEST_SUITE_P(Methods, StepTest,
                                            StepCase{"ldc_turning", "ldc", "[]", kTurningTank},
                                            StepCase{"ldc_steered", "ldc", kObstaclesInTheColumn, kDamBreakDomain, true},
                                            StepCase{"pbf_bowl", "pbf", "[]", kBowlDomain},
-                                           StepCase{"ldc_box_tank", "ldc", "[]", kBoxTankDomain.c_str()}),
+                                           StepCase{"ldc_box_tank", "ldc", "[]", kBoxTankDomain.c_str()},
+                                           StepCase{"pbf_moving_walked", "pbf", kMovingInTheColumn, kDamBreakDomain, false, true},
+                                           StepCase{"ldc_box_tank_walked", "ldc", "[]", kBoxTankDomain.c_str(), false, true}),
                          [](const auto& info) { return std::string(info.param.name); });
 
 class ProfileTest : public test::GpuTest {};

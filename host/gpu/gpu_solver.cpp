@@ -51,18 +51,20 @@ uint32_t checked_count(const vk::Context& ctx, const Derived& d, size_t n) {
 }
 }  // namespace
 
-GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector<glm::dvec3>& x0)
+GpuSolver::GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector<glm::dvec3>& x0,
+                     std::optional<GpuLayout> layout)
     : ctx_(ctx),
       d_(d),
       sim_(d.to_gpu(checked_count(ctx, d, x0.size()))),
       keys_(d),
       n_(sim_.count),
+      layout_(layout.value_or(GpuLayout::for_device(ctx.info()))),
       plan_(plan_buffers(d, d.capacity_for(n_))),
       viscosity_pass_(d.solver.viscosity_pass()),
       vorticity_pass_(d.solver.vorticity > 0),
       correction_pass_(d.solver.method == Method::Ldc),
       lists_(lists_program(false)),
-      near_lists_(d.obstacles.empty() ? vk::Program{} : lists_program(true)),
+      near_lists_(near_variant() ? lists_program(true) : vk::Program{}),
       predict_(particle_program("predict")),
       velocity_(particle_program("velocity_update")),
       density_(neighbour_pass("density", {})),
@@ -360,11 +362,17 @@ void GpuSolver::run_neighbour_pass(const NeighbourPass& pass, const vk::Buffer* 
   });
 }
 
+bool GpuSolver::near_variant() const {
+  return !d_.obstacles.empty() && (!layout_.near_in_walk || d_.neighbour_capacity == 0);
+}
+
 vk::Program GpuSolver::lists_program(bool near) const {
-  const std::array<vk::Constant, 3> constants{{
+  const bool near_in_walk = !near && !near_variant() && !d_.obstacles.empty();
+  const std::array<vk::Constant, 4> constants{{
       {"NEIGHBOUR_CAPACITY", d_.neighbour_capacity},
       {"MAX_GROUPS_X", ctx_.limits().maxComputeWorkGroupCount[0]},
-      {"OBSTACLE_MIRRORS", near},
+      {"OBSTACLE_MIRRORS", near || near_in_walk},
+      {"NEAR_IN_WALK", near_in_walk},
   }};
   return particle_program("neighbour_lists", constants);
 }
@@ -392,7 +400,7 @@ void GpuSolver::neighbour_lists(const vk::Buffer& x) {
     bind(lists_);
     cmd_.dispatch(n_);
   }
-  if (d_.obstacles.empty()) return;
+  if (!near_variant()) return;
   bind(near_lists_);  // the images of the particles near obstacles, their meshes' creases
   if (lists)
     cmd_.dispatch_indirect(overflow_groups_, kNearGroupsOffset);

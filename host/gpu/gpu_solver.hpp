@@ -5,6 +5,7 @@
 #include <array>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string_view>
 #include <span>
 #include <vector>
@@ -20,14 +21,26 @@
 #include "sim/frame_plan.hpp"
 #include "vk/buffer.hpp"
 #include "vk/commands.hpp"
+#include "vk/context.hpp"
 #include "vk/program.hpp"
 #include "vk/timer.hpp"
 
 namespace pbflow {
 
+// How the passes are laid out where what is fastest depends on the device: the device's choice
+// (for_device), or another, for the tests to hold each to the reference on any device.
+struct GpuLayout {
+  // The lists pass lists the images of the particles near obstacles in its walk, one dispatch
+  // (a GPU), rather than in a near variant dispatched after it (a CPU device: it runs every branch
+  // for all lanes, masked). Measured both ways on an H200 and lavapipe: docs/performance.md.
+  bool near_in_walk = false;
+  static GpuLayout for_device(const vk::DeviceInfo& device) { return {device.kind != "cpu"}; }
+};
+
 class GpuSolver : public Solver {
  public:
-  GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector<glm::dvec3>& x0);
+  GpuSolver(const vk::Context& ctx, const Derived& d, const std::vector<glm::dvec3>& x0,
+            std::optional<GpuLayout> layout = std::nullopt);
 
   FrameStats advance(int steps) override;
   ParticleFrame read_frame() const override;
@@ -121,6 +134,7 @@ class GpuSolver : public Solver {
   void bind_particle_pass(const vk::Program& p);
   void bind_neighbours();
   vk::Program lists_program(bool near) const;  // the lists pass's walk or its near variant
+  bool near_variant() const;  // whether the lists pass has one
   void neighbour_lists(const vk::Buffer& x);
   void density_at_positions();  // rho at x for the LDC force and the measures, from the last step's lists
   FrameStats read_measures() const;
@@ -151,14 +165,15 @@ class GpuSolver : public Solver {
   SimConstants sim_;
   KeyConstants keys_;  // offered to every particle pass
   uint32_t n_;  // particles now (at most capacity_)
+  GpuLayout layout_;
   SolverBuffers plan_;  // every buffer below, in bytes
   bool viscosity_pass_, vorticity_pass_, correction_pass_;
   bool density_current_ = false;  // rho already matches x (the viscosity pass or a density pass left it)
   bool lists_built_ = false;      // the grid and lists follow the particles' order (built since the upload)
   bool smoothed_current_ = false; // the spare slot holds the smoothed positions (since the last one recorded)
 
-  // The lists pass's walk and, where the scene has obstacles, its near variant
-  // (shaders/neighbour_lists.comp).
+  // The lists pass's walk and, where the scene has obstacles and the walk does not list their
+  // images (or there are no lists, for a mesh's creases), its near variant (neighbour_lists.comp).
   vk::Program lists_, near_lists_, predict_, velocity_;
   NeighbourPass density_, correction_, lambda_, smooth_, apply_, viscosity_, vorticity_, positions_;
   vk::Program reduce_, reduce_final_, check_converged_, watch_;
