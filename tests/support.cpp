@@ -18,7 +18,7 @@
 namespace pbflow::test {
 
 vk::Context& gpu() {
-  static vk::Context ctx(vk::Context::Options{"auto", true, 0});
+  static vk::Context ctx(vk::Context::Options{"auto", true, 0, true});  // its programs kept: every test makes the same
   return ctx;
 }
 

@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "vk/check.hpp"
+#include "vk/program_cache.hpp"
 
 namespace pbflow::vk {
 
@@ -245,6 +246,7 @@ Context::Context(const Options& options) : validate_(options.validate) {
     pool.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
     pool.queueFamilyIndex = queue_family_;
     VK_CHECK(vkCreateCommandPool(device_, &pool, nullptr, &pool_));
+    if (options.keep_programs) programs_ = std::make_unique<ProgramCache>();
   } catch (...) {
     release();
     throw;
@@ -300,6 +302,7 @@ Context::~Context() { release(); }
 void Context::release() noexcept {
   if (device_) {
     vkDeviceWaitIdle(device_);
+    programs_.reset();  // the kept programs' pipelines, before their device
     if (pool_) vkDestroyCommandPool(device_, pool_, nullptr);
     vkDestroyDevice(device_, nullptr);
   }

@@ -6,11 +6,14 @@
 #include <array>
 #include <atomic>
 #include <functional>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <vector>
 
 namespace pbflow::vk {
+
+class ProgramCache;
 
 struct DeviceInfo {
   uint32_t index = 0;
@@ -32,6 +35,9 @@ class Context {
     std::string device = "auto";  // "auto" or a device index
     bool validate = false;        // enable VK_LAYER_KHRONOS_validation
     uint32_t workgroup_size = 0;  // 0: chosen for the device
+    // Keep every program made, for a process that makes the same ones again (the tests): a
+    // program made alike shares its pipeline (vk/program_cache.hpp).
+    bool keep_programs = false;
   };
 
   explicit Context(const Options& options);
@@ -50,6 +56,7 @@ class Context {
   const VkPhysicalDeviceLimits& limits() const { return limits_; }
   uint32_t workgroup_size() const { return workgroup_size_; }
   bool validating() const { return validate_; }
+  ProgramCache* kept_programs() const { return programs_.get(); }  // null where none are kept
 
   uint32_t memory_type(uint32_t type_bits, VkMemoryPropertyFlags wanted) const;
   PFN_vkCmdPushDescriptorSetKHR push_descriptor_set = nullptr;
@@ -89,6 +96,7 @@ class Context {
   VkQueue queue_ = VK_NULL_HANDLE;
   uint32_t queue_family_ = 0;
   VkCommandPool pool_ = VK_NULL_HANDLE;
+  std::unique_ptr<ProgramCache> programs_;  // where Options::keep_programs
   DeviceInfo info_;
   VkPhysicalDeviceLimits limits_{};
   VkPhysicalDeviceMemoryProperties memory_{};

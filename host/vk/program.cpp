@@ -1,6 +1,7 @@
 #include "vk/program.hpp"
 
 #include <algorithm>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -41,12 +42,60 @@ Specialisation specialise(const std::string& program, const std::vector<ShaderLa
   }
   return s;
 }
+
+// The key a program's Vulkan objects are kept by: what they are made from.
+std::string program_key(const std::string& name, uint32_t push_bytes, const Specialisation& s) {
+  std::string key = name + "/" + std::to_string(push_bytes);
+  for (size_t k = 0; k < s.values.size(); ++k)
+    key += "/" + std::to_string(s.entries[k].constantID) + "=" + std::to_string(s.values[k]);
+  return key;
+}
+
+// The descriptor set layout, pipeline layout and pipeline of a program.
+std::shared_ptr<const CompiledProgram> compile(const Context& ctx, std::span<const uint32_t> words,
+                                               const std::vector<ShaderLayout::Binding>& bindings, uint32_t push_bytes,
+                                               const Specialisation& spec_values) {
+  auto c = std::make_shared<CompiledProgram>(ctx.device());
+  std::vector<VkDescriptorSetLayoutBinding> slots;
+  for (const ShaderLayout::Binding& b : bindings) slots.push_back({b.slot, b.type, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr});
+  VkDescriptorSetLayoutCreateInfo set{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+  set.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
+  set.bindingCount = uint32_t(slots.size());
+  set.pBindings = slots.data();
+  VK_CHECK(vkCreateDescriptorSetLayout(ctx.device(), &set, nullptr, &c->set_layout));
+
+  VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, push_bytes};
+  VkPipelineLayoutCreateInfo layout{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+  layout.setLayoutCount = 1;
+  layout.pSetLayouts = &c->set_layout;
+  layout.pushConstantRangeCount = push_bytes ? 1 : 0;
+  layout.pPushConstantRanges = &range;
+  VK_CHECK(vkCreatePipelineLayout(ctx.device(), &layout, nullptr, &c->layout));
+
+  VkShaderModuleCreateInfo code{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+  code.codeSize = words.size_bytes();
+  code.pCode = words.data();
+  VkShaderModule module = VK_NULL_HANDLE;
+  VK_CHECK(vkCreateShaderModule(ctx.device(), &code, nullptr, &module));
+  const auto& [entries, values] = spec_values;
+  VkSpecializationInfo spec{uint32_t(entries.size()), entries.data(), values.size() * sizeof(uint32_t), values.data()};
+  VkComputePipelineCreateInfo pipe{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+  pipe.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+  pipe.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+  pipe.stage.module = module;
+  pipe.stage.pName = "main";
+  pipe.stage.pSpecializationInfo = &spec;
+  pipe.layout = c->layout;
+  const VkResult made = vkCreateComputePipelines(ctx.device(), VK_NULL_HANDLE, 1, &pipe, nullptr, &c->pipeline);
+  vkDestroyShaderModule(ctx.device(), module, nullptr);  // the pipeline keeps what it needs
+  VK_CHECK(made);
+  return c;
+}
 }  // namespace
 
 Program::Program(const Context& ctx, std::string_view shader, uint32_t push_bytes, uint32_t workgroup_size,
                  std::span<const Constant> constants, std::span<const Constant> offered)
-    : ctx_(&ctx),
-      name_(shader),
+    : name_(shader),
       push_bytes_(push_bytes),
       workgroup_size_(workgroup_size ? workgroup_size : ctx.workgroup_size()) {
   const std::span<const uint32_t> words = shaders::spirv(shader);
@@ -61,60 +110,12 @@ Program::Program(const Context& ctx, std::string_view shader, uint32_t push_byte
                 " bytes and the host's " + std::to_string(push_bytes) + ": the GLSL block and its C++ mirror disagree");
   if (bindings_.size() > kMaxBindings) throw Error("program " + name_ + " has more than " + std::to_string(kMaxBindings) + " bindings");
   const Specialisation spec_values = specialise(name_, layout.constants, workgroup_size_, constants, offered);
-  VkShaderModule module = VK_NULL_HANDLE;
-  try {
-    std::vector<VkDescriptorSetLayoutBinding> slots;
-    for (const ShaderLayout::Binding& b : bindings_) slots.push_back({b.slot, b.type, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr});
-    VkDescriptorSetLayoutCreateInfo set{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-    set.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
-    set.bindingCount = uint32_t(slots.size());
-    set.pBindings = slots.data();
-    VK_CHECK(vkCreateDescriptorSetLayout(ctx.device(), &set, nullptr, &set_layout_));
-
-    VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, push_bytes};
-    VkPipelineLayoutCreateInfo layout{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    layout.setLayoutCount = 1;
-    layout.pSetLayouts = &set_layout_;
-    layout.pushConstantRangeCount = push_bytes ? 1 : 0;
-    layout.pPushConstantRanges = &range;
-    VK_CHECK(vkCreatePipelineLayout(ctx.device(), &layout, nullptr, &layout_));
-
-    VkShaderModuleCreateInfo code{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-    code.codeSize = words.size_bytes();
-    code.pCode = words.data();
-    VK_CHECK(vkCreateShaderModule(ctx.device(), &code, nullptr, &module));
-
-    const auto& [entries, values] = spec_values;
-    VkSpecializationInfo spec{uint32_t(entries.size()), entries.data(), values.size() * sizeof(uint32_t), values.data()};
-    VkComputePipelineCreateInfo pipe{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
-    pipe.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
-    pipe.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-    pipe.stage.module = module;
-    pipe.stage.pName = "main";
-    pipe.stage.pSpecializationInfo = &spec;
-    pipe.layout = layout_;
-    VK_CHECK(vkCreateComputePipelines(ctx.device(), VK_NULL_HANDLE, 1, &pipe, nullptr, &pipeline_));
-  } catch (...) {
-    if (module) vkDestroyShaderModule(ctx.device(), module, nullptr);
-    release();
-    throw;
-  }
-  vkDestroyShaderModule(ctx.device(), module, nullptr);  // the pipeline keeps what it needs
-}
-
-Program& Program::operator=(Program&& o) noexcept {
-  if (this != &o) {
-    release();
-    ctx_ = std::exchange(o.ctx_, nullptr);
-    name_ = std::move(o.name_);
-    set_layout_ = std::exchange(o.set_layout_, VK_NULL_HANDLE);
-    layout_ = std::exchange(o.layout_, VK_NULL_HANDLE);
-    pipeline_ = std::exchange(o.pipeline_, VK_NULL_HANDLE);
-    bindings_ = std::move(o.bindings_);
-    push_bytes_ = o.push_bytes_;
-    workgroup_size_ = o.workgroup_size_;
-  }
-  return *this;
+  ProgramCache* kept = ctx.kept_programs();
+  const std::string key = kept ? program_key(name_, push_bytes, spec_values) : std::string();
+  if (kept) compiled_ = kept->find(key);
+  if (compiled_) return;
+  compiled_ = compile(ctx, words, bindings_, push_bytes, spec_values);
+  if (kept) kept->keep(key, compiled_);
 }
 
 bool Program::reads(std::string_view name) const {
@@ -125,16 +126,6 @@ size_t Program::binding(std::string_view name) const {
   auto b = std::ranges::find(bindings_, name, &ShaderLayout::Binding::name);
   if (b == bindings_.end()) throw Error("program " + name_ + " has no binding named " + std::string(name));
   return size_t(b - bindings_.begin());
-}
-
-void Program::release() noexcept {
-  if (!ctx_) return;
-  if (pipeline_) vkDestroyPipeline(ctx_->device(), pipeline_, nullptr);
-  if (layout_) vkDestroyPipelineLayout(ctx_->device(), layout_, nullptr);
-  if (set_layout_) vkDestroyDescriptorSetLayout(ctx_->device(), set_layout_, nullptr);
-  pipeline_ = VK_NULL_HANDLE;
-  layout_ = VK_NULL_HANDLE;
-  set_layout_ = VK_NULL_HANDLE;
 }
 
 }  // namespace pbflow::vk

@@ -1,6 +1,7 @@
 #pragma once
 // A compute program: one embedded shader, its buffer bindings (pushed per dispatch with
-// VK_KHR_push_descriptor) and a push-constant block. Move-only.
+// VK_KHR_push_descriptor) and a push-constant block. Move-only; its Vulkan objects are shared
+// with the programs made alike where the context keeps programs (ProgramCache).
 // A binding is a storage buffer, or, where the shader declares it a `readonly imageBuffer`,
 // a storage texel buffer the shader only reads with imageLoad: the neighbour loops gather
 // through it, for a CPU device turns every storage-buffer load into a loop over its SIMD lanes
@@ -11,11 +12,13 @@
 
 #include <bit>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "vk/program_cache.hpp"
 #include "vk/spirv_layout.hpp"
 
 namespace pbflow::vk {
@@ -49,14 +52,13 @@ class Program {
   // of another type, or one it declares and neither list holds, throws: the sides never drift.
   Program(const Context& ctx, std::string_view shader, uint32_t push_bytes, uint32_t workgroup_size = 0,
           std::span<const Constant> constants = {}, std::span<const Constant> offered = {});
-  ~Program() { release(); }
-  Program(Program&& o) noexcept { *this = std::move(o); }
-  Program& operator=(Program&& o) noexcept;
+  Program(Program&&) noexcept = default;
+  Program& operator=(Program&&) noexcept = default;
   Program(const Program&) = delete;
   Program& operator=(const Program&) = delete;
 
-  VkPipeline pipeline() const { return pipeline_; }
-  VkPipelineLayout layout() const { return layout_; }
+  VkPipeline pipeline() const { return compiled_ ? compiled_->pipeline : VK_NULL_HANDLE; }
+  VkPipelineLayout layout() const { return compiled_ ? compiled_->layout : VK_NULL_HANDLE; }
   const std::vector<ShaderLayout::Binding>& bindings() const { return bindings_; }
   // The index in bindings() of the binding the shader names `name`; throws if it has none.
   size_t binding(std::string_view name) const;
@@ -67,13 +69,8 @@ class Program {
   const std::string& name() const { return name_; }
 
  private:
-  void release() noexcept;
-
-  const Context* ctx_ = nullptr;
+  std::shared_ptr<const CompiledProgram> compiled_;  // shared where the context keeps programs
   std::string name_;
-  VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
-  VkPipelineLayout layout_ = VK_NULL_HANDLE;
-  VkPipeline pipeline_ = VK_NULL_HANDLE;
   std::vector<ShaderLayout::Binding> bindings_;
   uint32_t push_bytes_ = 0, workgroup_size_ = 0;
 };
