@@ -21,7 +21,8 @@
 // (NEAR_IN_WALK), and still collects the near list for the readers: there the near variant's
 // dispatch, after the walk's, cost more than the branches. Where there are no lists (capacity 0:
 // they would not fit the device, host/gpu/memory_estimate.hpp) the near variant runs over every
-// particle for a mesh's creases alone, and the walk not at all.
+// particle for a mesh's creases alone, and the walk not at all. The walk also keeps each
+// particle's distance from every obstacle for the near readers of the step (DISTANCES).
 // Layout, for the readers' coalesced uvec4 fetches: entries go in groups of four, group g
 // of particle i at texel g * count + i (neighbour-major: adjacent invocations read
 // adjacent texels), entry k in group k / 4, lane k % 4.
@@ -45,7 +46,7 @@ layout(std430, binding = 3) buffer NeighbourList { uvec4 neighbour_list[]; };
 layout(std430, binding = 4) buffer OverflowGroups { uint overflow_groups[2 * NEAR_GROUPS_WORD]; };
 // Each particle's crease record (solids.glsl, crease_record), for the passes of the step.
 layout(std430, binding = 6) writeonly buffer CreaseRecords { vec4 crease_records[]; };
-#define DISTANCES_OUT_BINDING 7
+#define DISTANCES_OUT_BINDING 7  // each particle's distances from the obstacles, kept for the step (solids.glsl)
 #include "solids.glsl"
 layout(constant_id = 1) const uint NEIGHBOUR_CAPACITY = 64;  // Derived::neighbour_capacity (groups rounded up: list_words)
 layout(constant_id = 2) const uint MAX_GROUPS_X = 65535;     // maxComputeWorkGroupCount[0]
