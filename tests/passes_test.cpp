@@ -54,8 +54,8 @@ struct ListCase {
   const char* name;
   int capacity;                  // -1: the scene's own (Derived::neighbour_capacity)
   const char* obstacles = "[]";  // JSON: with obstacles, their images take part (sim/solids/mirrors.hpp)
-  // The near particles' images listed in the lists pass's walk (GpuLayout), or as the device lists them.
-  std::optional<bool> near_in_walk = std::nullopt;
+  // The lists pass's layout (GpuLayout: where the near particles' images are listed), or the device's.
+  std::optional<GpuLayout> layout = std::nullopt;
 };
 void PrintTo(const ListCase& c, std::ostream* os) { *os << c.name; }
 
@@ -66,13 +66,8 @@ class PassTest : public test::GpuTest, public ::testing::WithParamInterface<List
                                          "solver.method=ldc", std::string("obstacles=") + GetParam().obstacles});
   Derived d = with_capacity(derive(scene), GetParam().capacity);
   ParticleState input = test::jittered_state(scene);
-  GpuSolver gpu{test::gpu(), d, input.x, layout()};
+  GpuSolver gpu{test::gpu(), d, input.x, GetParam().layout};
   ReferenceSolver ref{d, input.x};
-
-  static std::optional<GpuLayout> layout() {
-    if (!GetParam().near_in_walk) return std::nullopt;
-    return GpuLayout{*GetParam().near_in_walk};
-  }
 
   void SetUp() override {
     test::GpuTest::SetUp();
@@ -361,8 +356,8 @@ INSTANTIATE_TEST_SUITE_P(Lists, PassTest,
                                            ListCase{"mesh", -1, kMeshInTheColumn.c_str()},
                                            ListCase{"mesh_some_full", 24, kMeshInTheColumn.c_str()},
                                            ListCase{"mesh_no_lists", 0, kMeshInTheColumn.c_str()},
-                                           ListCase{"mesh_walked", -1, kMeshInTheColumn.c_str(), true},
-                                           ListCase{"mesh_walked_some_full", 24, kMeshInTheColumn.c_str(), true}),
+                                           ListCase{"mesh_walked", -1, kMeshInTheColumn.c_str(), GpuLayout{true}},
+                                           ListCase{"mesh_walked_some_full", 24, kMeshInTheColumn.c_str(), GpuLayout{true}}),
                          [](const auto& info) { return std::string(info.param.name); });
 
 constexpr const char* kDamBreakDomain = R"({"min": [0, 0, 0], "max": [1.6, 1.0, 0.4]})";
@@ -382,12 +377,8 @@ struct StepCase {
   const char* obstacles;  // JSON for the scene's obstacles
   const char* domain = kDamBreakDomain;  // or shaken
   bool steered = false;  // a viewer's hand (Derived::steerable): the box dragged, the tank shaken
-  std::optional<bool> near_in_walk = std::nullopt;  // as ListCase's
+  std::optional<GpuLayout> layout = std::nullopt;  // as ListCase's
 };
-std::optional<GpuLayout> layout(const StepCase& c) {
-  if (!c.near_in_walk) return std::nullopt;
-  return GpuLayout{*c.near_in_walk};
-}
 void PrintTo(const StepCase& c, std::ostream* os) { *os << c.name; }
 
 class StepTest : public test::GpuTest, public ::testing::WithParamInterface<StepCase> {};
@@ -400,7 +391,7 @@ TEST_P(StepTest, SeveralStepsAgree) {
   Derived d = derive(scene);
   if (c.steered) d.make_steerable();
   auto x0 = initial_particles(scene);
-  GpuSolver gpu(test::gpu(), d, x0, layout(c));
+  GpuSolver gpu(test::gpu(), d, x0, c.layout);
   ReferenceSolver ref(d, x0);
   Motion shake;
   shake.type = Motion::Type::Oscillate, shake.axis = {0, 0, 1}, shake.amplitude = 0.01, shake.period = 0.1;
@@ -431,7 +422,7 @@ TEST_P(StepTest, TheStartsRelaxationAgreesAndDecompresses) {
                                          std::string("obstacles=") + c.obstacles});
   Derived d = derive(scene);
   auto x0 = initial_particles(scene);
-  GpuSolver gpu(test::gpu(), d, x0, layout(c));
+  GpuSolver gpu(test::gpu(), d, x0, c.layout);
   ReferenceSolver ref(d, x0);
   const double seeded = ref.advance(0).mean_compression;
   relax_start(gpu);
@@ -460,8 +451,8 @@ INSTANTIATE_TEST_SUITE_P(Methods, StepTest,
                                            StepCase{"ldc_steered", "ldc", kObstaclesInTheColumn, kDamBreakDomain, true},
                                            StepCase{"pbf_bowl", "pbf", "[]", kBowlDomain},
                                            StepCase{"ldc_box_tank", "ldc", "[]", kBoxTankDomain.c_str()},
-                                           StepCase{"pbf_moving_walked", "pbf", kMovingInTheColumn, kDamBreakDomain, false, true},
-                                           StepCase{"ldc_box_tank_walked", "ldc", "[]", kBoxTankDomain.c_str(), false, true}),
+                                           StepCase{"pbf_moving_walked", "pbf", kMovingInTheColumn, kDamBreakDomain, false, GpuLayout{true}},
+                                           StepCase{"ldc_box_tank_walked", "ldc", "[]", kBoxTankDomain.c_str(), false, GpuLayout{true}}),
                          [](const auto& info) { return std::string(info.param.name); });
 
 class ProfileTest : public test::GpuTest {};
