@@ -45,6 +45,6 @@ void main() {
   float work = face_work(xi, p);
   vec3 moved = project_out_of_solids(xi + STRENGTH * g, work);
   imageStore(x_lambda, int(i), vec4(moved, own.w));
-  keep_distances(i, moved);
+  if (DISTANCES) keep_distances(i, moved);
   add_work(i, work);
 }

@@ -44,6 +44,6 @@ void main() {
   float work = MOVING && !push_body(mirrors.obstacle, xi, scale * dp_solid) ? dot(scale * dp_solid, mirrors.solid_velocity) / sim.dt : 0.0;
   vec3 moved = project_out_of_solids(xi + scale * dp, work);
   x_out[i] = vec4(moved, 0.0);
-  keep_distances(i, moved);
+  if (DISTANCES) keep_distances(i, moved);
   add_work(i, work);
 }

@@ -145,25 +145,12 @@ void write_creases(uint i, Mirrors mirrors) {
   for (int slot = 0; slot < 4; ++slot) crease_records[4u * i + uint(slot)] = crease_record(mirrors, slot);
 }
 
-// Whether an obstacle's surface is within h of particle i at x; each one's distance is kept
-// for the step's passes (DISTANCES).
-bool near_obstacle(uint i, vec3 x) {
-  bool near = false;
-  for (int k = 0; k < OBSTACLE_COUNT; ++k) {
-    vec3 unused;
-    float distance = obstacle_surface(k, x, unused);
-    near = near || distance < sim.h;
-    keep_distance(k, i, distance);
-  }
-  return near;
-}
-
 // The walk: i's neighbours, then their images, where no obstacle is within h of i or the walk
 // lists the obstacles' too (NEAR_IN_WALK); a particle with one within h joins the near list.
 void walk(uint i) {
   vec3 xi = imageLoad(x, int(i)).xyz;
   Mirrors mirrors = mirrors_near(xi);  // the walls' alone, but where the walk lists the obstacles'
-  bool near = near_obstacle(i, xi), images = NEAR_IN_WALK || !near;
+  bool near = keep_distances(i, xi) < sim.h, images = NEAR_IN_WALK || !near;  // an obstacle within h
   if (NEAR_IN_WALK && has_shape(MESH)) find_creases(mirrors);
   if (has_shape(MESH) && images) write_creases(i, mirrors);  // none away from a mesh: every record is this step's
   uint word = 4u * i;  // entry 0: group 0, texel i, its first word

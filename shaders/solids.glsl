@@ -230,12 +230,17 @@ float obstacle_surface(int k, vec3 x, out vec3 normal) {
 }
 
 #ifdef DISTANCES_OUT_BINDING
-// Each obstacle's distance from particle i, now at x.
-void keep_distances(uint i, vec3 x) {
-  for (int k = 0; DISTANCES && k < OBSTACLE_COUNT; ++k) {
+// Each obstacle's distance from particle i, now at x, kept where the step keeps them
+// (DISTANCES); the nearest (3.4e38 without obstacles).
+float keep_distances(uint i, vec3 x) {
+  float nearest = 3.4e38;
+  for (int k = 0; k < OBSTACLE_COUNT; ++k) {
     vec3 unused;
-    keep_distance(k, i, obstacle_surface(k, x, unused));
+    float distance = obstacle_surface(k, x, unused);
+    keep_distance(k, i, distance);
+    nearest = min(nearest, distance);
   }
+  return nearest;
 }
 #endif
 

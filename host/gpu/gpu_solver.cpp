@@ -334,8 +334,7 @@ GpuSolver::NeighbourPass GpuSolver::neighbour_pass(std::string_view shader, std:
     constants.erase(constants.end() - 2, constants.end());
     return p;
   };
-  const bool near = d_.neighbour_capacity > 0 && !d_.obstacles.empty();
-  return {variant(false, false), near ? variant(false, true) : vk::Program{}, variant(true, true)};
+  return {variant(false, false), near_readers() ? variant(false, true) : vk::Program{}, variant(true, true)};
 }
 
 void GpuSolver::run_neighbour_pass(const NeighbourPass& pass, const vk::Buffer* indirect,
@@ -362,12 +361,12 @@ void GpuSolver::run_neighbour_pass(const NeighbourPass& pass, const vk::Buffer* 
   });
 }
 
-bool GpuSolver::near_variant() const {
-  return !d_.obstacles.empty() && (!layout_.near_in_walk || d_.neighbour_capacity == 0);
-}
+bool GpuSolver::near_readers() const { return d_.neighbour_capacity > 0 && !d_.obstacles.empty(); }
+bool GpuSolver::walk_lists_near() const { return layout_.near_in_walk && near_readers(); }
+bool GpuSolver::near_variant() const { return !d_.obstacles.empty() && !walk_lists_near(); }
 
 vk::Program GpuSolver::lists_program(bool near) const {
-  const bool near_in_walk = !near && !near_variant() && !d_.obstacles.empty();
+  const bool near_in_walk = !near && walk_lists_near();
   const std::array<vk::Constant, 4> constants{{
       {"NEIGHBOUR_CAPACITY", d_.neighbour_capacity},
       {"MAX_GROUPS_X", ctx_.limits().maxComputeWorkGroupCount[0]},

@@ -134,7 +134,11 @@ class GpuSolver : public Solver {
   void bind_particle_pass(const vk::Program& p);
   void bind_neighbours();
   vk::Program lists_program(bool near) const;  // the lists pass's walk or its near variant
-  bool near_variant() const;  // whether the lists pass has one
+  // Whether the neighbour passes have near readers (the scene has obstacles and lists), the lists
+  // walk lists the near particles' images itself (GpuLayout), and the lists pass has a near variant.
+  bool near_readers() const;
+  bool walk_lists_near() const;
+  bool near_variant() const;
   void neighbour_lists(const vk::Buffer& x);
   void density_at_positions();  // rho at x for the LDC force and the measures, from the last step's lists
   FrameStats read_measures() const;
