@@ -440,6 +440,10 @@ void take_creases(inout Mirrors m, vec4 first, vec4 face0, vec4 face1, vec4 face
 int next_image(int axes, int k) { return (k - 1) & axes; }
 bvec3 reflected(int k) { return bvec3((k & 1) != 0, (k & 2) != 0, (k & 4) != 0); }
 
+// x's image across a crease's face: far away where x lies behind the face's plane, in the fluid
+// beyond a thin wall, which is really there (Mirrors::of).
+vec3 across_face(vec4 face, vec3 x) { return height(face, x) > 0.0 ? reflect_across(face, x) : vec3(FAR_AWAY); }
+
 // Where the image of the particle at b (distance phi_b, normal n_b) lies seen from a (phi_a,
 // n_a): at D from a, D^2 = |a - b|^2 + 4 phi_a phi_b, along grad_a D (Mirrors::obstacle_image).
 vec3 pair_image(vec3 a, float phi_a, vec3 n_a, vec3 b, float phi_b) {
@@ -463,7 +467,7 @@ float neighbour_distance(int o, uint j, vec3 x, bool listed, out vec3 normal) {
 // why); far away where the pair's images do not both lie inside the obstacle, which a listed
 // image was tested for when the list was built.
 vec3 obstacle_image(Mirrors m, uint j, vec3 x) {
-  if (mirrors_mesh() && m.creases != 0) return reflect_across(m.first, x);
+  if (mirrors_mesh() && m.creases != 0) return across_face(m.first, x);
   int o = one_of_the_obstacles(m.obstacle);
   vec3 normal, unused;
   float distance = neighbour_distance(o, j, x, m.listed, normal);
@@ -481,9 +485,13 @@ vec3 obstacle_image(Mirrors m, uint j, vec3 x) {
 vec3 across_walls(Mirrors m, int k, vec3 x) {
   if (mirrors_mesh() && m.creases != 0) {
     for (int a = 0; a < 3; ++a)
-      if (((k & m.creases) >> a & 1) != 0) x = reflect_across(m.faces[a], x);
+      if (((k & m.creases) >> a & 1) != 0) x = across_face(m.faces[a], x);
     k &= ~m.creases;
   }
+  // A point behind a wall (an obstacle's image through a glass's floor standing on the tank's)
+  // is no fluid's: its reflection would fold the fluid above onto the particle (Mirrors::of).
+  vec3 beyond = (2.0 * x - m.plane2) * (2.0 * m.at - m.plane2);
+  if (MIRRORS_OBSTACLES && any(lessThanEqual(mix(vec3(1.0), beyond, reflected(k)), vec3(0.0)))) return vec3(FAR_AWAY);
   return mix(x, m.plane2 - x, reflected(k));
 }
 // Whether image k lies behind the obstacle (Mirrors::solid): its share of a push is the solid's.

@@ -374,6 +374,26 @@ TEST(Mirrors, AnObstaclesImageIsAPairsAndAReflectionAcrossAFace) {
   EXPECT_GT(glm::length(m.of(kObstacleMirror, below)), 1e6);
 }
 
+// At a crease of a glass a spacing thick standing on the tank's floor, its faces' images are
+// the fluid's on the particle's side: the fluid beyond the glass's wall is real and has none,
+// and the tank's floor (behind the glass's) mirrors no image of the glass's floor, which
+// reflected across both planes was the fluid 2 spacings above moved onto the particle (a
+// glass's inner edge read 1360-1620 kg/m3 where its crease was found).
+TEST(Mirrors, ACreasesImagesAreTheFluidsOnItsSide) {
+  Mirrors m;
+  m.at = {0.0125, 0.0315, 0.3};  // 0.0125 from the glass's wall (x = 0), 0.0115 above its floor (y = 0.02)
+  m.plane2 = {0.0, 0.0, 0.6};     // the tank's floor, y = 0, within h
+  m.axes = kObstacleMirror | 2;
+  m.take(Creases{1, Plane{{0, 1, 0}, 0.02}, {Plane{{1, 0, 0}, 0.0}, Plane{}, Plane{}}});
+  ASSERT_EQ(m.axes, kObstacleMirror | 2 | 1);
+  const glm::dvec3 inside(0.03, 0.03, 0.31), above(0.0125, 0.0715, 0.3), beyond(-0.03, 0.03, 0.3);
+  EXPECT_NEAR(glm::length(m.of(kObstacleMirror, inside) - glm::dvec3(0.03, 0.01, 0.31)), 0.0, 1e-12);
+  EXPECT_NEAR(glm::length(m.of(kObstacleMirror | 1, inside) - glm::dvec3(-0.03, 0.01, 0.31)), 0.0, 1e-12);
+  EXPECT_GT(glm::length(m.of(kObstacleMirror | 2, above)), 1e6);  // was `above` moved onto the particle
+  EXPECT_GT(glm::length(m.of(1, beyond)), 1e6);                 // was at 0.03 inside the glass
+  EXPECT_GT(glm::length(m.of(kObstacleMirror | 1, beyond)), 1e6);
+}
+
 // A settled tank with a ball in the water and a box on the floor stands still as the tank
 // alone does: at most 0.05 m/s after 1 s and 4 s, no energy gained, no particle inside a
 // solid. While the coarse correction read a solid's cells as air it drew the fluid into the

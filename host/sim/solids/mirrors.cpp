@@ -187,8 +187,16 @@ void Mirrors::take(const Creases& c) {
   axes |= c.bits;
 }
 
+// x's image across a crease's face: far away where x lies behind the face's plane, in the fluid
+// beyond a thin wall, which is really there (counted, a glass's wall layer read up to 40 % dense).
+namespace {
+glm::dvec3 across_face(const Plane& face, const glm::dvec3& x) {
+  return face.height(x) > 0 ? face.reflect(x) : glm::dvec3(kFarAway);
+}
+}  // namespace
+
 glm::dvec3 Mirrors::obstacle_image(const glm::dvec3& x, bool listed) const {
-  if (creases.bits) return creases.first.reflect(x);
+  if (creases.bits) return across_face(creases.first, x);
   glm::dvec3 n, unused;
   const double phi = obstacle.surface(x, n);
   const glm::dvec3 image = pair_image(at, distance, normal, x, phi);
@@ -202,9 +210,14 @@ glm::dvec3 Mirrors::obstacle_image(const glm::dvec3& x, bool listed) const {
 glm::dvec3 Mirrors::of(int k, const glm::dvec3& x, bool listed) const {
   glm::dvec3 y = k & kObstacleMirror ? obstacle_image(x, listed) : x;
   for (int a = 0; a < 3; ++a)
-    if ((k & creases.bits) >> a & 1) y = creases.faces[a].reflect(y);
+    if ((k & creases.bits) >> a & 1) y = across_face(creases.faces[a], y);
   for (int a = 0; a < 3; ++a)
-    if ((k & ~creases.bits) >> a & 1) y[a] = plane2[a] - y[a];
+    if ((k & ~creases.bits) >> a & 1) {
+      // A point behind the wall (an obstacle's image through a glass's floor standing on the
+      // tank's) is no fluid's: reflected, it folded the fluid above onto the particle.
+      if ((2 * y[a] - plane2[a]) * (2 * at[a] - plane2[a]) <= 0) return glm::dvec3(kFarAway);
+      y[a] = plane2[a] - y[a];
+    }
   return y;
 }
 
