@@ -56,12 +56,21 @@
 #define TRACE_STEPS 32
 #define TRACE_BISECTIONS 6
 // A mesh's square creases (host/sim/solids/mirrors.cpp, crease_faces): its faces are read from
-// the field at CREASE_PROBES points about the particle, where the field's gradient is longer than
-// CREASE_STEEP (shorter, it blends two faces), and two are a crease's where the cosine between
-// their normals is under CREASE_COSINE.
+// the field at two rings of CREASE_PROBES points about the particle, h away and CREASE_REACH h
+// away lifted CREASE_LIFT of that to the fluid's side, where the field's gradient is within 1 -
+// CREASE_STEEP of unit length (else it blends two faces), and two are a crease's where the
+// cosine between their normals is under CREASE_COSINE.
+// Two faces meet where their line reads within CREASE_MEET voxels of the surface: OpenVDB's field
+// reads a thin wall's inner edge up to a voxel inside the solid. The field marks a crease only
+// where its faces are flat along it (mark_creases), the field's normal each face's to a cosine
+// over CREASE_FLAT, so that a round one (a cup's inner floor edge) keeps its pair image.
 #define CREASE_PROBES 8
+#define CREASE_REACH 0.4
+#define CREASE_LIFT 0.5
+#define CREASE_MEET 1.5
 #define CREASE_STEEP 0.97
 #define CREASE_COSINE 0.25
+#define CREASE_FLAT 0.995
 
 // The smoothed positions the fluid style draws (smoothed_positions.comp; the reference's
 // smoothed_positions): each particle moved this much of the way to its neighbourhood's mean

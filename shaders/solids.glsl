@@ -308,55 +308,10 @@ bool faces_meet(Mirrors m, vec4 p, vec4 q, float tolerance) {
   vec3 line = m.at - ((gp - k * gq) * p.xyz + (gq - k * gp) * q.xyz) / (1.0 - k * k), unused;
   return abs(obstacle_surface(one_of_the_obstacles(m.obstacle), line, unused)) < tolerance;
 }
-// A mesh's concave crease or corner near the particle, where its field marks one, once a step
-// in the lists pass (host/sim/solids/mirrors.cpp, crease_faces and find_creases, say how): the
-// faces' planes from the field at CREASE_PROBES points h away along its nearest face; the
-// nearest pair that meets in a crease, and the nearest face meeting both, become mirrors, the
-// nearest the obstacle's and each other a wall bit the particle has free.
-void find_creases(inout Mirrors m) {
-  int free = ~m.axes & 7;
-  if (m.obstacle < 0 || free == 0) return;
-  int o = one_of_the_obstacles(m.obstacle);
-  if (obstacle_data[obstacle_header(o)].w < 1.5 || !near_crease(o, to_body(o, POSE_NOW, m.at))) return;
-  vec3 n = m.normal, side = abs(n.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
-  vec3 u = normalize(cross(n, side)), w = cross(n, u);
-  vec4 planes[CREASE_PROBES];
-  vec3 feet[CREASE_PROBES];
-  for (int k = 0; k < CREASE_PROBES; ++k) {
-    float turn = float(k) * (6.283185307 / float(CREASE_PROBES));
-    vec3 q = m.at + sim.h * (cos(turn) * u + sin(turn) * w), gradient;
-    float phi = field_distance(o, to_body(o, POSE_NOW, q), gradient), steep = length(gradient);
-    vec3 normal = steep > 0.0 ? to_world_direction(o, POSE_NOW, gradient / steep) : vec3(0.0);
-    feet[k] = q - phi * normal;
-    // A blend of two faces' normals (within a voxel of a crease's bisector) is neither's:
-    // its plane is put beyond h, where it meets none (CREASE_STEEP).
-    planes[k] = vec4(normal, steep > CREASE_STEEP ? dot(normal, feet[k]) : -3.4e38);
-  }
-  // The chosen faces are kept as values, not indices: an array indexed at run time lives in
-  // memory on a CPU device.
-  float in_front = 0.5 * obstacle_data[0].y, best = sim.h;  // half the keep-out margin
-  vec4 first = vec4(0.0), second = vec4(0.0), third = vec4(0.0);
-  vec3 first_foot = vec3(0.0), second_foot = vec3(0.0);
-  for (int p = 0; p < CREASE_PROBES; ++p)
-    for (int q = p + 1; q < CREASE_PROBES; ++q) {
-      float r = crease_reach(planes[p], feet[p], planes[q], feet[q], m.at, m.distance, in_front);
-      if (r < best) best = r, first = planes[p], first_foot = feet[p], second = planes[q], second_foot = feet[q];
-    }
-  // Where a surface curves the tests above can pass two planes that are no crease's: a crease's
-  // faces lie behind the particle's moves behind them and meet on the surface (mirrors.cpp,
-  // crease_faces).
-  if (best >= sim.h || !behind_face(m, first, 2.0 * in_front) || !behind_face(m, second, 2.0 * in_front) ||
-      !faces_meet(m, first, second, in_front))
-    return;
-  best = sim.h;
-  for (int c = 0; c < CREASE_PROBES && bitCount(free) > 1; ++c) {
-    float r = max(crease_reach(planes[c], feet[c], first, first_foot, m.at, m.distance, in_front),
-                  crease_reach(planes[c], feet[c], second, second_foot, m.at, m.distance, in_front));
-    if (r < best) best = r, third = planes[c];
-  }
-  int faces = best < sim.h && behind_face(m, third, 2.0 * in_front) && faces_meet(m, first, third, in_front) &&
-                      faces_meet(m, second, third, in_front) ? 3 : 2;
-  // Nearest first: the obstacle's mirror; the others take the free wall bits in order.
+// The faces of a crease or corner, nearest first: the obstacle's mirror; the others take the
+// free wall bits in order (a corner's third face is none where it is zero).
+void take_faces(inout Mirrors m, int free, vec4 first, vec4 second, vec4 third) {
+  int faces = third.xyz != vec3(0.0) ? 3 : 2;
   if (height(second, m.at) < height(first, m.at)) {
     vec4 t = first;
     first = second, second = t;
@@ -377,6 +332,64 @@ void find_creases(inout Mirrors m) {
     else m.faces[2] = face;
   }
   m.axes |= m.creases;
+}
+// A mesh's concave crease or corner near the particle, from the faces its probes read on two
+// rings (host/sim/solids/mirrors.cpp, crease_faces, says how and why): the nearest pair that
+// meets in a crease, and the nearest face meeting both, become mirrors (take_faces).
+void probe_creases(inout Mirrors m, int o, int free) {
+  vec3 n = m.normal, side = abs(n.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
+  vec3 u = normalize(cross(n, side)), w = cross(n, u);
+  vec4 planes[2 * CREASE_PROBES];
+  vec3 feet[2 * CREASE_PROBES];
+  for (int k = 0; k < 2 * CREASE_PROBES; ++k) {
+    float turn = float(k) * (6.283185307 / float(CREASE_PROBES));
+    vec3 along = cos(turn) * u + sin(turn) * w;
+    vec3 q = m.at + (k < CREASE_PROBES ? sim.h * along : CREASE_REACH * sim.h * (along + CREASE_LIFT * n)), gradient;
+    float phi = field_distance(o, to_body(o, POSE_NOW, q), gradient), steep = length(gradient);
+    vec3 normal = steep > 0.0 ? to_world_direction(o, POSE_NOW, gradient / steep) : vec3(0.0);
+    feet[k] = q - phi * normal;
+    // A blend of two faces' normals (within a voxel of a crease's bisector) is neither's, nor a
+    // face whose foot the particle sees through the solid (a thin wall's far side): its plane
+    // is put beyond h, where it meets none (CREASE_STEEP, mirrors.cpp).
+    bool seen = phi >= 0.0 || field_distance(o, to_body(o, POSE_NOW, 0.5 * (m.at + feet[k])), gradient) >= 0.0;
+    planes[k] = vec4(normal, abs(steep - 1.0) < 1.0 - CREASE_STEEP && seen ? dot(normal, feet[k]) : -3.4e38);
+  }
+  // The chosen faces are kept as values, not indices: an array indexed at run time lives in
+  // memory on a CPU device.
+  float in_front = 0.5 * obstacle_data[0].y, best = sim.h;  // half the keep-out margin
+  float meet = CREASE_MEET * obstacle_data[obstacle_header(o) + 1].w;  // the field reads an edge up to a voxel in
+  vec4 first = vec4(0.0), second = vec4(0.0), third = vec4(0.0);
+  vec3 first_foot = vec3(0.0), second_foot = vec3(0.0);
+  for (int p = 0; p < 2 * CREASE_PROBES; ++p)
+    for (int q = p + 1; q < 2 * CREASE_PROBES; ++q) {
+      float r = crease_reach(planes[p], feet[p], planes[q], feet[q], m.at, m.distance, in_front);
+      if (r < best - (q < CREASE_PROBES ? 0.0 : in_front))  // the first ring's where they tie (mirrors.cpp)
+        best = r, first = planes[p], first_foot = feet[p], second = planes[q], second_foot = feet[q];
+    }
+  // Where a surface curves the tests above can pass two planes that are no crease's: a crease's
+  // faces lie behind the particle's moves behind them and meet on the surface (mirrors.cpp,
+  // crease_faces).
+  if (best >= sim.h || !behind_face(m, first, 2.0 * in_front) || !behind_face(m, second, 2.0 * in_front) ||
+      !faces_meet(m, first, second, meet))
+    return;
+  best = sim.h;
+  for (int c = 0; c < 2 * CREASE_PROBES && bitCount(free) > 1; ++c) {
+    float r = max(crease_reach(planes[c], feet[c], first, first_foot, m.at, m.distance, in_front),
+                  crease_reach(planes[c], feet[c], second, second_foot, m.at, m.distance, in_front));
+    if (r < best - (c < CREASE_PROBES ? 0.0 : in_front)) best = r, third = planes[c];
+  }
+  bool corner = best < sim.h && behind_face(m, third, 2.0 * in_front) && faces_meet(m, first, third, meet) &&
+                faces_meet(m, second, third, meet);
+  take_faces(m, free, first, second, corner ? third : vec4(0.0));
+}
+// A mesh's concave crease or corner near the particle, where its field marks one, once a step in
+// the lists pass (Mirrors::creases, find_creases in mirrors.cpp).
+void find_creases(inout Mirrors m) {
+  int free = ~m.axes & 7;
+  if (m.obstacle < 0 || free == 0) return;
+  int o = one_of_the_obstacles(m.obstacle);
+  if (obstacle_data[obstacle_header(o)].w < 1.5 || !near_crease(o, to_body(o, POSE_NOW, m.at))) return;
+  probe_creases(m, o, free);
 }
 
 // The obstacle whose own surface is nearest x within h (-1: none), its distance from x and its

@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <numbers>
 #include <sstream>
 #include <random>
 
@@ -159,6 +160,35 @@ std::string box_mesh(const glm::dvec3& lo, const glm::dvec3& hi) {
   const int faces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
   for (const auto& f : faces)
     obj << "f " << f[0] + 1 << ' ' << f[1] + 1 << ' ' << f[2] + 1 << "\nf " << f[0] + 1 << ' ' << f[2] + 1 << ' ' << f[3] + 1 << '\n';
+  return path.string();
+}
+
+std::string glass_mesh(double inside, double wall, double height) {
+  std::ostringstream name;
+  name << "pbflow_glass_" << getpid() << "_" << inside << "_" << wall << "_" << height << ".obj";
+  const std::filesystem::path path = std::filesystem::temp_directory_path() / name.str();
+  std::ofstream obj(path);
+  // Turned about y as scripts/make_meshes.py's lathe turns the cup, in four segments whose
+  // corners lie on the diagonals: a section (r, y) counter-clockwise, its axis points shared.
+  const double corner = std::sqrt(2.0), outside = inside + wall;
+  const double section[6][2] = {{0, 0}, {outside, 0}, {outside, height}, {inside, height}, {inside, wall}, {0, wall}};
+  int index[4][6], count = 0;
+  for (int s = 0; s < 4; ++s)
+    for (int k = 0; k < 6; ++k) {
+      if (section[k][0] == 0 && s > 0) {
+        index[s][k] = index[0][k];
+        continue;
+      }
+      const double turn = std::numbers::pi * (0.25 + 0.5 * s), r = corner * section[k][0];
+      obj << "v " << r * std::cos(turn) << ' ' << section[k][1] << ' ' << -r * std::sin(turn) << '\n';
+      index[s][k] = ++count;
+    }
+  for (int s = 0; s < 4; ++s)
+    for (int k = 0; k < 6; ++k) {
+      const int a = index[s][k], b = index[(s + 1) % 4][k], c = index[(s + 1) % 4][(k + 1) % 6], d = index[s][(k + 1) % 6];
+      if (a != b && b != c && a != c) obj << "f " << a << ' ' << b << ' ' << c << '\n';
+      if (a != c && c != d && a != d) obj << "f " << a << ' ' << c << ' ' << d << '\n';
+    }
   return path.string();
 }
 

@@ -77,6 +77,9 @@ std::filesystem::path fresh_dir(const std::string& name);
 // A box's surface from lo to hi as an OBJ file (wound outward), written under the temporary
 // directory for this process: a mesh with concave creases and corners where it is a container.
 std::string box_mesh(const glm::dvec3& lo, const glm::dvec3& hi);
+// A square glass standing on y = 0, centred on x = z = 0, faces along the axes: inside 2 *
+// `inside` wide, its walls and floor `wall` thick, `height` tall; the same kind of file.
+std::string glass_mesh(double inside, double wall, double height);
 
 }  // namespace pbflow::test
 

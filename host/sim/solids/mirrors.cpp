@@ -19,8 +19,8 @@ glm::dvec3 pair_image(const glm::dvec3& a, double phi_a, const glm::dvec3& n_a, 
 }
 
 // A face as the field shows it from a point q at distance phi, gradient g: the surface point
-// nearest q (its foot) and the plane there. Where the field blends two faces (|g| short of 1,
-// within a voxel of a crease's bisector) it shows neither: such a face is never one of a crease.
+// nearest q (its foot) and the plane there. Where the field blends two faces (|g| off 1, within
+// a voxel of a crease's bisector) it shows neither: such a face is never one of a crease.
 struct Face {
   glm::dvec3 foot;
   Plane plane;
@@ -30,7 +30,7 @@ struct Face {
 Face face_at(const glm::dvec3& q, double phi, const glm::dvec3& g) {
   const double steep = glm::length(g);
   const glm::dvec3 n = steep > 0 ? g / steep : glm::dvec3(0.0);
-  return {q - phi * n, {n, glm::dot(n, q) - phi}, steep > CREASE_STEEP};
+  return {q - phi * n, {n, glm::dot(n, q) - phi}, std::abs(steep - 1) < 1 - CREASE_STEEP};
 }
 
 // How far from x the farther of faces p and q lies where they meet in a concave crease within h
@@ -50,32 +50,41 @@ double crease_reach(const Face& p, const Face& q, const glm::dvec3& x, double ph
 
 // The faces of a concave crease or corner of a surface within h of x (Mirrors::creases), at
 // most `most` of them, nearest first, into `faces`; their count, 0 where there is none. The
-// faces' planes are read from the field at kProbes points h from x along its nearest face (x
-// at distance phi, normal n), so that every face within h lies behind or beside one of them and
-// its own normal is the field's there: on a crease's bisector x's own normal blends the two
-// faces' (or, on the field's kink, is none), but the probes a spacing away read each face's
-// own. The nearest pair that meets in a crease is one (inside a cup's round wall the probes
-// also see its tangent planes farther round), the nearest face meeting both a corner.
-// surface(q, gradient) is the field's distance at q and its gradient (not normalised).
-constexpr int kProbes = CREASE_PROBES;
+// faces' planes are read from the field at probes about x (at distance phi, normal n), on two
+// rings of CREASE_PROBES: one h from x along its nearest face, so that every face within h lies
+// behind or beside a probe, and one CREASE_REACH h out, lifted CREASE_LIFT of that along n to
+// the fluid's side, as the first ring's probes cross a wall a spacing thick (a glass's) and
+// read its far side. On a crease's bisector x's own normal blends the two faces' (or, on the
+// field's kink, is none), but the probes read each face's own. The nearest pair that meets in a
+// crease is one (inside a cup's round wall the probes also see its tangent planes farther
+// round), the nearest face meeting both a corner. surface(q, gradient) is the field's distance
+// at q and its gradient (not normalised).
+constexpr int kProbes = 2 * CREASE_PROBES;
 template <class Surface>
 int crease_faces(Surface&& surface, const glm::dvec3& x, double phi, const glm::dvec3& n, double h,
-                 double in_front, int most, Plane faces[3]) {
+                 double in_front, double meet_within, int most, Plane faces[3]) {
   const glm::dvec3 side = std::abs(n.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
   const glm::dvec3 u = glm::normalize(glm::cross(n, side)), w = glm::cross(n, u);
   Face seen[kProbes];
   for (int k = 0; k < kProbes; ++k) {
-    const double turn = k * (2 * M_PI / kProbes);
-    const glm::dvec3 q = x + h * (std::cos(turn) * u + std::sin(turn) * w);
-    glm::dvec3 gradient;
+    const double turn = k * (2 * M_PI / CREASE_PROBES);
+    const glm::dvec3 along = std::cos(turn) * u + std::sin(turn) * w;
+    const glm::dvec3 q = x + (k < CREASE_PROBES ? h * along : CREASE_REACH * h * (along + CREASE_LIFT * n));
+    glm::dvec3 gradient, unused;
     const double at_q = surface(q, gradient);
     seen[k] = face_at(q, at_q, gradient);
+    // A probe in the solid may read the far side of a thin wall: a face is x's only where the
+    // way from x to its foot lies in the fluid.
+    if (at_q < 0 && surface(0.5 * (x + seen[k].foot), unused) < 0) seen[k].clean = false;
   }
+  // A lifted probe's face is taken over the first ring's only where it is nearer by `in_front`:
+  // where two readings tie (a corner's trisector), a lifted probe's may be a blend.
+  auto lifted = [&](int k) { return k < CREASE_PROBES ? 0.0 : in_front; };
   int chosen[3] = {-1, -1, -1};
   double best = h;
   for (int a = 0; a < kProbes; ++a)
     for (int b = a + 1; b < kProbes; ++b)
-      if (const double r = crease_reach(seen[a], seen[b], x, phi, h, in_front); r < best) best = r, chosen[0] = a, chosen[1] = b;
+      if (const double r = crease_reach(seen[a], seen[b], x, phi, h, in_front); r < best - lifted(b)) best = r, chosen[0] = a, chosen[1] = b;
   // Where a surface curves the tests above can pass two planes that are no crease's. At a
   // crease x moved just behind a face lies in the solid, behind a convex edge's (a cup's rim) in
   // the fluid beside it; and the faces' line of meeting is on the surface, where two tangent
@@ -86,20 +95,42 @@ int crease_faces(Surface&& surface, const glm::dvec3& x, double phi, const glm::
     const glm::dvec3 &np = seen[a].plane.normal, &nq = seen[b].plane.normal;
     const double k = glm::dot(np, nq), gp = seen[a].gap(x), gq = seen[b].gap(x);
     const glm::dvec3 line = x - ((gp - k * gq) * np + (gq - k * gp) * nq) / (1 - k * k);  // the line's point nearest x
-    return std::abs(surface(line, unused)) < in_front;
+    return std::abs(surface(line, unused)) < meet_within;
   };
   if (chosen[0] < 0 || most < 2 || !behind(chosen[0]) || !behind(chosen[1]) || !meet(chosen[0], chosen[1])) return 0;
   best = h;
   for (int c = 0; c < kProbes && most > 2; ++c) {
     const double r = std::max(crease_reach(seen[c], seen[chosen[0]], x, phi, h, in_front),
                               crease_reach(seen[c], seen[chosen[1]], x, phi, h, in_front));
-    if (r < best) best = r, chosen[2] = c;
+    if (r < best - lifted(c)) best = r, chosen[2] = c;
   }
   if (chosen[2] >= 0 && (!behind(chosen[2]) || !meet(chosen[0], chosen[2]) || !meet(chosen[1], chosen[2]))) chosen[2] = -1;
   const int count = chosen[2] < 0 ? 2 : 3;
   std::sort(chosen, chosen + count, [&](int a, int b) { return seen[a].gap(x) < seen[b].gap(x); });
   for (int f = 0; f < count; ++f) faces[f] = seen[chosen[f]].plane;
   return count;
+}
+
+// Whether both faces of a crease are flat along it for 1.5 h one way or the other (a crease's end
+// is a corner): the field's normal read half a voxel in front of each, two voxels from the
+// crease, is the face's to a cosine of CREASE_FLAT. Round a cup's inner floor edge (its wall 2 h
+// in radius) the faces' planes are the facets', whose mirrors read the fluid there thin and
+// stirred the cup at rest (0.057 m/s after 4 s); there the nearest face's pair image stands.
+template <class Surface>
+bool flat_crease(Surface&& surface, const glm::dvec3& x, const Plane& p, const Plane& q, double h, double voxel) {
+  const double k = glm::dot(p.normal, q.normal), gp = p.height(x), gq = q.height(x);
+  const glm::dvec3 line = x - ((gp - k * gq) * p.normal + (gq - k * gp) * q.normal) / (1 - k * k);
+  const glm::dvec3 along = glm::normalize(glm::cross(p.normal, q.normal));
+  auto flat = [&](const Plane& f, const Plane& g, double way) {
+    const glm::dvec3 off = glm::normalize(g.normal - glm::dot(g.normal, f.normal) * f.normal);  // on f, from g
+    for (int step = 1; step <= 3; ++step) {
+      glm::dvec3 gradient;
+      surface(line + way * step * 0.5 * h * along + 2 * voxel * off + 0.5 * voxel * f.normal, gradient);
+      if (glm::length(gradient) == 0 || glm::dot(glm::normalize(gradient), f.normal) < CREASE_FLAT) return false;
+    }
+    return true;
+  };
+  return (flat(p, q, 1) && flat(q, p, 1)) || (flat(p, q, -1) && flat(q, p, -1));
 }
 
 }  // namespace
@@ -117,8 +148,8 @@ void mark_creases(DistanceField& field, double h, double keep_out) {
         const double phi = surface(at, gradient);
         const glm::dvec3 normal = glm::length(gradient) > 0 ? glm::normalize(gradient) : glm::dvec3(0, 1, 0);  // as Obstacle::surface's
         Plane faces[3];
-        if (phi > 0 && phi < h)
-          found[field.index({x, y, z})] = crease_faces(surface, at, phi, normal, h, 0.5 * keep_out, 2, faces) > 0;
+        if (phi > 0 && phi < h && crease_faces(surface, at, phi, normal, h, 0.5 * keep_out, CREASE_MEET * field.voxel, 2, faces) > 0)
+          found[field.index({x, y, z})] = flat_crease(surface, at, faces[0], faces[1], h, field.voxel);
       }
   // Each node's neighbours' too: a particle between nodes may see the crease its nearest misses.
   field.creases.assign((count + 31) / 32, 0u);
@@ -169,7 +200,8 @@ Creases find_creases(const Derived& d, const Mirrors& m) {
     return c;
   Plane faces[3];
   auto surface = [&](const glm::dvec3& q, glm::dvec3& gradient) { return m.obstacle.mesh_surface(q, gradient); };
-  const int count = crease_faces(surface, m.at, m.distance, m.normal, d.h, 0.5 * d.keep_out, 1 + std::popcount(unsigned(free)), faces);
+  const int count = crease_faces(surface, m.at, m.distance, m.normal, d.h, 0.5 * d.keep_out, CREASE_MEET * m.obstacle.field->voxel,
+                                   1 + std::popcount(unsigned(free)), faces);
   if (count == 0) return c;
   c.first = faces[0];
   for (int f = 1; f < count; ++f) {

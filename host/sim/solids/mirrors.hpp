@@ -82,8 +82,8 @@ inline double push_work(const glm::dvec3& dx, const glm::dvec3& moved, double dt
 Mirrors mirrors_near(const Derived& d, const glm::dvec3& x);
 
 // The creases of the mesh among mirrors `m` near its particle, where its field marks one near
-// (DistanceField::creases): the faces' planes read from the field at points h from the particle
-// along its nearest face (mirrors.cpp, crease_faces, says how). shaders/solids.glsl runs the same.
+// (DistanceField::creases): the faces' planes read from the field at points about the particle
+// (mirrors.cpp, crease_faces, says how). shaders/solids.glsl runs the same.
 Creases find_creases(const Derived& d, const Mirrors& m);
 
 // Marks field.creases (DistanceField) at the nodes within h of a concave crease or corner of
