@@ -344,14 +344,14 @@ void probe_creases(inout Mirrors m, int o, int free) {
   for (int k = 0; k < 2 * CREASE_PROBES; ++k) {
     float turn = float(k) * (6.283185307 / float(CREASE_PROBES));
     vec3 along = cos(turn) * u + sin(turn) * w;
-    vec3 q = m.at + (k < CREASE_PROBES ? sim.h * along : CREASE_REACH * sim.h * (along + CREASE_LIFT * n)), gradient;
+    vec3 q = m.at + (k < CREASE_PROBES ? sim.h * along : CREASE_REACH * sim.h * (along + CREASE_LIFT * n)), gradient, unused;
     float phi = field_distance(o, to_body(o, POSE_NOW, q), gradient), steep = length(gradient);
     vec3 normal = steep > 0.0 ? to_world_direction(o, POSE_NOW, gradient / steep) : vec3(0.0);
     feet[k] = q - phi * normal;
     // A blend of two faces' normals (within a voxel of a crease's bisector) is neither's, nor a
     // face whose foot the particle sees through the solid (a thin wall's far side): its plane
     // is put beyond h, where it meets none (CREASE_STEEP, mirrors.cpp).
-    bool seen = phi >= 0.0 || field_distance(o, to_body(o, POSE_NOW, 0.5 * (m.at + feet[k])), gradient) >= 0.0;
+    bool seen = phi >= 0.0 || field_distance(o, to_body(o, POSE_NOW, 0.5 * (m.at + feet[k])), unused) >= 0.0;
     planes[k] = vec4(normal, abs(steep - 1.0) < 1.0 - CREASE_STEEP && seen ? dot(normal, feet[k]) : -3.4e38);
   }
   // The chosen faces are kept as values, not indices: an array indexed at run time lives in

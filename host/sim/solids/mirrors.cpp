@@ -33,6 +33,12 @@ Face face_at(const glm::dvec3& q, double phi, const glm::dvec3& g) {
   return {q - phi * n, {n, glm::dot(n, q) - phi}, std::abs(steep - 1) < 1 - CREASE_STEEP};
 }
 
+// The point nearest x of the line where planes p and q meet (they are not parallel).
+glm::dvec3 meeting_point(const Plane& p, const Plane& q, const glm::dvec3& x) {
+  const double k = glm::dot(p.normal, q.normal), gp = p.height(x), gq = q.height(x);
+  return x - ((gp - k * gq) * p.normal + (gq - k * gp) * q.normal) / (1 - k * k);
+}
+
 // How far from x the farther of faces p and q lies where they meet in a concave crease within h
 // of x (at distance phi from the surface), h where they do not. They do where their normals part
 // by over 75 degrees (a crease about square: at wider ones, and inside a cup's round wall, the
@@ -92,10 +98,7 @@ int crease_faces(Surface&& surface, const glm::dvec3& x, double phi, const glm::
   glm::dvec3 unused;
   auto behind = [&](int k) { return surface(x - (seen[k].gap(x) + 2 * in_front) * seen[k].plane.normal, unused) < 0; };
   auto meet = [&](int a, int b) {
-    const glm::dvec3 &np = seen[a].plane.normal, &nq = seen[b].plane.normal;
-    const double k = glm::dot(np, nq), gp = seen[a].gap(x), gq = seen[b].gap(x);
-    const glm::dvec3 line = x - ((gp - k * gq) * np + (gq - k * gp) * nq) / (1 - k * k);  // the line's point nearest x
-    return std::abs(surface(line, unused)) < meet_within;
+    return std::abs(surface(meeting_point(seen[a].plane, seen[b].plane, x), unused)) < meet_within;
   };
   if (chosen[0] < 0 || most < 2 || !behind(chosen[0]) || !behind(chosen[1]) || !meet(chosen[0], chosen[1])) return 0;
   best = h;
@@ -118,9 +121,7 @@ int crease_faces(Surface&& surface, const glm::dvec3& x, double phi, const glm::
 // stirred the cup at rest (0.057 m/s after 4 s); there the nearest face's pair image stands.
 template <class Surface>
 bool flat_crease(Surface&& surface, const glm::dvec3& x, const Plane& p, const Plane& q, double h, double voxel) {
-  const double k = glm::dot(p.normal, q.normal), gp = p.height(x), gq = q.height(x);
-  const glm::dvec3 line = x - ((gp - k * gq) * p.normal + (gq - k * gp) * q.normal) / (1 - k * k);
-  const glm::dvec3 along = glm::normalize(glm::cross(p.normal, q.normal));
+  const glm::dvec3 line = meeting_point(p, q, x), along = glm::normalize(glm::cross(p.normal, q.normal));
   auto flat = [&](const Plane& f, const Plane& g, double way) {
     const glm::dvec3 off = glm::normalize(g.normal - glm::dot(g.normal, f.normal) * f.normal);  // on f, from g
     for (int step = 1; step <= 3; ++step) {
