@@ -296,6 +296,34 @@ TEST_F(ObstacleTest, ALatticeAtRestReadsRho0BesideABox) {
   EXPECT_LT(edge, 1e-4);
 }
 
+// A lattice at rest on each solver (the reference's first): the worst |rho/rho0 - 1| by the
+// count of faces within h that `faces` gives a particle (-1: not counted) and how many of each,
+// printed.
+struct ByFaces {
+  double worst[4] = {0, 0, 0, 0};  // beside a face, an edge, a corner (by index)
+  int count[4] = {0, 0, 0, 0};
+};
+std::vector<ByFaces> lattice_by_faces(const Derived& d, const std::vector<glm::dvec3>& lattice,
+                                      const std::function<int(const glm::dvec3&)>& faces) {
+  ReferenceSolver reference(d, lattice);
+  GpuSolver gpu(test::gpu(), d, lattice);
+  std::vector<ByFaces> by;
+  for (Solver* solver : {static_cast<Solver*>(&reference), static_cast<Solver*>(&gpu)}) {
+    solver->advance(0);
+    const ParticleState s = solver->download();
+    ByFaces b;
+    for (size_t i = 0; i < s.x.size(); ++i)
+      if (const int f = faces(s.x[i]); f >= 0) {
+        b.worst[f] = std::max(b.worst[f], std::abs(s.rho[i] / d.rho0 - 1));
+        ++b.count[f];
+      }
+    std::printf("  %s: |rho/rho0 - 1| at most beside a face %.2e (%d particles), an edge %.2e (%d), a corner %.2e (%d)\n",
+                solver == &gpu ? "GPU" : "reference", b.worst[1], b.count[1], b.worst[2], b.count[2], b.worst[3], b.count[3]);
+    by.push_back(b);
+  }
+  return by;
+}
+
 // A box-shaped mesh as the tank (domain.mesh), its faces half a spacing from the lattice's
 // layers: its bottom edges and corners are concave creases, where each face is a plane mirror
 // as the tank's own walls are (Mirrors::creases), so the lattice reads rho0 there as beside a
@@ -310,26 +338,16 @@ TEST_F(ObstacleTest, ALatticeAtRestReadsRho0InAMeshTanksCreases) {
   for (const glm::dvec3& x : lattice_particles(load_scene("hydrostatic", {"particle_spacing=0.02"})))
     if (glm::all(glm::greaterThan(x, glm::dvec3(0.025))) && glm::all(glm::lessThan(x, glm::dvec3(0.455))) && x.y < 0.3)
       lattice.push_back(x);
-  ReferenceSolver reference(d, lattice);
-  GpuSolver gpu(test::gpu(), d, lattice);
-  for (Solver* solver : {static_cast<Solver*>(&reference), static_cast<Solver*>(&gpu)}) {
-    solver->advance(0);
-    const ParticleState s = solver->download();
-    double worst[4] = {0, 0, 0, 0};  // by the faces within h: one, two (an edge), three (a corner)
-    int count[4] = {0, 0, 0, 0};
-    for (size_t i = 0; i < s.x.size(); ++i) {
-      const glm::dvec3 x = s.x[i];
-      if (x.y > 0.3 - d.h) continue;  // the free surface
-      int faces = x.y - 0.02 < d.h;
-      for (int a : {0, 2}) faces += std::min(x[a] - 0.02, 0.46 - x[a]) < d.h;
-      worst[faces] = std::max(worst[faces], std::abs(s.rho[i] / d.rho0 - 1));
-      ++count[faces];
-    }
-    std::printf("  %s: |rho/rho0 - 1| at most beside a face %.2e (%d particles), an edge %.2e (%d), a corner %.2e (%d)\n",
-                solver == &gpu ? "GPU" : "reference", worst[1], count[1], worst[2], count[2], worst[3], count[3]);
-    ASSERT_GT(count[2], 100);
-    ASSERT_GT(count[3], 10);
-    for (int f = 1; f <= 3; ++f) EXPECT_LT(worst[f], 1e-4) << f << " faces";  // float sums
+  auto faces = [&](const glm::dvec3& x) {
+    if (x.y > 0.3 - d.h) return -1;  // the free surface
+    int f = x.y - 0.02 < d.h;
+    for (int a : {0, 2}) f += std::min(x[a] - 0.02, 0.46 - x[a]) < d.h;
+    return f;
+  };
+  for (const ByFaces& b : lattice_by_faces(d, lattice, faces)) {
+    ASSERT_GT(b.count[2], 100);
+    ASSERT_GT(b.count[3], 10);
+    for (int f = 1; f <= 3; ++f) EXPECT_LT(b.worst[f], 1e-4) << f << " faces";  // float sums
   }
 }
 
@@ -349,28 +367,18 @@ TEST_F(ObstacleTest, ALatticeAtRestReadsRho0InAThinWalledGlass) {
   std::vector<glm::dvec3> lattice;  // the tank's lattice in and around the glass, up to 0.3 m
   for (const glm::dvec3& x : lattice_particles(load_scene("hydrostatic", {"particle_spacing=0.02"})))
     if (x.y < 0.3 && (across(x) < 0.08 ? x.y > 0.02 : across(x) > 0.1)) lattice.push_back(x);
-  ReferenceSolver reference(d, lattice);
-  GpuSolver gpu(test::gpu(), d, lattice);
-  for (Solver* solver : {static_cast<Solver*>(&reference), static_cast<Solver*>(&gpu)}) {
-    solver->advance(0);
-    const ParticleState s = solver->download();
-    double worst[4] = {0, 0, 0, 0};  // inside the glass, by the faces within h: one, two, three
-    int count[4] = {0, 0, 0, 0};
-    for (size_t i = 0; i < s.x.size(); ++i) {
-      const glm::dvec3 x = s.x[i];
-      if (across(x) > 0.08 || x.y > 0.1) continue;  // outside, or within h of the rim
-      int faces = x.y - 0.02 < d.h;
-      for (int a : {0, 2}) faces += 0.08 - std::abs(x[a] - 0.3) < d.h;
-      worst[faces] = std::max(worst[faces], std::abs(s.rho[i] / d.rho0 - 1));
-      ++count[faces];
-    }
-    std::printf("  %s: |rho/rho0 - 1| at most beside a face %.2e (%d particles), an edge %.2e (%d), a corner %.2e (%d)\n",
-                solver == &gpu ? "GPU" : "reference", worst[1], count[1], worst[2], count[2], worst[3], count[3]);
-    ASSERT_GT(count[2], 50);
-    ASSERT_GT(count[3], 10);
-    EXPECT_LT(worst[1], 1e-4);  // float sums
-    EXPECT_LT(worst[2], 0.01);
-    EXPECT_LT(worst[3], 0.025);
+  auto faces = [&](const glm::dvec3& x) {
+    if (across(x) > 0.08 || x.y > 0.1) return -1;  // outside, or within h of the rim
+    int f = x.y - 0.02 < d.h;
+    for (int a : {0, 2}) f += 0.08 - std::abs(x[a] - 0.3) < d.h;
+    return f;
+  };
+  for (const ByFaces& b : lattice_by_faces(d, lattice, faces)) {
+    ASSERT_GT(b.count[2], 50);
+    ASSERT_GT(b.count[3], 10);
+    EXPECT_LT(b.worst[1], 1e-4);  // float sums
+    EXPECT_LT(b.worst[2], 0.01);
+    EXPECT_LT(b.worst[3], 0.025);
   }
 }
 
