@@ -89,6 +89,14 @@
 #define SHAPE_MIN_NEIGHBOURS 6
 #define SHAPE_SWEEPS 4
 
+// Where the fluid does not slip along an obstacle (its scene key "slip": false), the viscosity
+// pass pulls a particle's velocity along the surface towards its images', which move as their
+// neighbours reversed relative to the solid, by this gain times each image's kernel volume
+// (Mirrors::stick): the wall layer's slip relaxes by about 40 % a step, and the largest
+// eigenvalue of the pull stays under 1 (the images' share of a neighbourhood is under a half of
+// up to 1.2 rho0), so that it never overshoots.
+#define NO_SLIP_GAIN 0.5
+
 // The obstacle buffer (host/sim/solids/obstacles.hpp's pack_obstacles, shaders/solids.glsl): vec4 0 the
 // count and margin, then TANK_KICK_VEC4S of the tank's kick, then OBSTACLE_VEC4S per obstacle.
 #define TANK_KICK_VEC4S 7

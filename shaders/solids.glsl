@@ -148,8 +148,11 @@ bool push_body(int k, vec3 x, vec3 dx) {
   return true;
 }
 
-// How far the solid's point now at x moved over the step (Obstacle::displacement).
-vec3 obstacle_displacement(int k, vec3 x) { return MOVING ? x - to_world(k, POSE_BEFORE, to_body(k, POSE_NOW, x)) : vec3(0.0); }
+// How far the solid moves at x over a step: the chord centred on x (Obstacle::displacement).
+vec3 obstacle_displacement(int k, vec3 x) {
+  if (!MOVING) return vec3(0.0);
+  return 0.5 * (to_world(k, POSE_NOW, to_body(k, POSE_BEFORE, x)) - to_world(k, POSE_BEFORE, to_body(k, POSE_NOW, x)));
+}
 // The work per unit mass of a push dx by a solid whose surface moved by `moved` over the step:
 // its force m dx / dt^2 times its velocity moved / dt, for dt (push_work in sim/solids/mirrors.hpp).
 float push_work(vec3 dx, vec3 moved) { return MOVING ? dot(dx, moved) / (sim.dt * sim.dt) : 0.0; }
@@ -507,6 +510,17 @@ vec3 across_walls(Mirrors m, int k, vec3 x) {
   if (MIRRORS_OBSTACLES && any(lessThanEqual(mix(vec3(1.0), beyond, reflected(k)), vec3(0.0)))) return vec3(FAR_AWAY);
   return mix(x, m.plane2 - x, reflected(k));
 }
+// Whether the fluid sticks to any obstacle (Derived::sticky): the pull along it is compiled in.
+layout(constant_id = 97) const bool STICKY = false;
+bool sticks(int k) { return STICKY && obstacle_data[obstacle_header(k) + 2].w > 0.5; }
+// The pull of image k of a neighbour moving at vj on the particle moving at vi where the fluid
+// does not slip along the obstacle, per kernel volume (Mirrors::stick).
+vec3 stick(Mirrors m, int k, vec3 vi, vec3 vj) {
+  if (k != OBSTACLE_MIRROR || !sticks(one_of_the_obstacles(m.obstacle))) return vec3(0.0);
+  vec3 n = mirrors_mesh() && m.creases != 0 ? m.first.xyz : m.normal;
+  vec3 both = vi + vj - 2.0 * m.solid_velocity;  // u_i + u_j, each relative to the solid
+  return dot(both, n) * n - both;
+}
 // Whether image k lies behind the obstacle (Mirrors::solid): its share of a push is the solid's.
 bool solid_image(Mirrors m, int k) { return (k & (OBSTACLE_MIRROR | m.creases)) != 0; }
 // Neighbour j at x as image k shows it.
@@ -596,6 +610,11 @@ vec3 stop_at_solids(vec3 from, vec3 to, inout float work) {
     float t = first_entry(k, a, b, contact);
     if (t >= 1.0) continue;
     vec3 stopped = to_world(k, POSE_NOW, a + t * (b - a));
+    if (!sticks(k)) {  // only the move's part into the solid is stopped (obstacles.cpp, stop_at)
+      vec3 normal;
+      obstacle_surface(k, from, normal);
+      stopped = to + dot(stopped - to, normal) * normal;
+    }
     if (!push_body(k, stopped, stopped - to)) work += push_work(stopped - to, obstacle_displacement(k, stopped));
     to = stopped;
   }

@@ -64,6 +64,7 @@ void main() {
   vec3 damp = vec3(0.0), damp_solid = vec3(0.0);  // and the obstacle's images' share
   float density = 0.0;
   float rho_i = max(own.w, sim.rho0);
+  float volume = sim.mass / sim.rho0;
   Mirrors mirrors = neighbour_mirrors(i, xi);
   int image;
   FOR_EACH_NEIGHBOUR(i, xi, mirrors, j, image) {
@@ -83,10 +84,10 @@ void main() {
     // drove them: blow-up).
     float c = min(SOLVER_DAMPING, DAMPING_LIMIT * sim.rho0 / max(rho_i, vj.w));
     vec3 pushed = dashpot(d, vij, c);
+    if (STICKY) pushed += (NO_SLIP_GAIN * volume * w) * stick(mirrors, image, vi, vj.xyz);
     damp += pushed;
     if (MOVING && solid_image(mirrors, image)) damp_solid += pushed;
   }
-  float volume = sim.mass / sim.rho0;
   v_out[i] = vec4(vi + (SOLVER_XSPH * volume) * smooth_v + damp, 0.0);
   if (VORTICITY) curl[i] = vec4(volume * curl_i, 0.0);
   rho[i] = sim.mass * density;

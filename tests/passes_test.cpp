@@ -37,6 +37,13 @@ constexpr const char* kMovingInTheColumn =
          "motion": {"type": "rotate", "axis": [0, 1, 0], "rate": 300}},
         {"type": "sphere", "centre": [0.2, 0.5, 0.2], "radius": 0.1,
          "motion": {"type": "oscillate", "axis": [1, 0, 0], "amplitude": 0.05, "period": 0.5}}])";
+// The same solids, the fluid sticking to them ("slip": false): pulled along their surfaces in
+// the viscosity pass, and stopped where it meets them rather than along their normals.
+constexpr const char* kStickyInTheColumn =
+    R"([{"type": "box", "min": [0.25, 0, 0.1], "max": [0.45, 0.2, 0.3], "slip": false,
+         "motion": {"type": "rotate", "axis": [0, 1, 0], "rate": 300}},
+        {"type": "sphere", "centre": [0.2, 0.5, 0.2], "radius": 0.1, "slip": false,
+         "motion": {"type": "oscillate", "axis": [1, 0, 0], "amplitude": 0.05, "period": 0.5}}])";
 // The dam break's tank shaken sideways and up at once (keyframes, a kick at each key).
 constexpr const char* kShakenTank =
     R"({"min": [0, 0, 0], "max": [1.6, 1.0, 0.4], "motion": {"type": "keyframes", "keys": [
@@ -353,6 +360,7 @@ INSTANTIATE_TEST_SUITE_P(Lists, PassTest,
                          ::testing::Values(ListCase{"listed", -1}, ListCase{"some_full", 24}, ListCase{"all_full", 1},
                                            ListCase{"no_lists", 0}, ListCase{"obstacles", -1, kObstaclesInTheColumn},
                                            ListCase{"obstacles_all_full", 1, kObstaclesInTheColumn},
+                                           ListCase{"sticky", -1, kStickyInTheColumn},
                                            ListCase{"mesh", -1, kMeshInTheColumn.c_str()},
                                            ListCase{"mesh_some_full", 24, kMeshInTheColumn.c_str()},
                                            ListCase{"mesh_no_lists", 0, kMeshInTheColumn.c_str()},
@@ -446,6 +454,7 @@ INSTANTIATE_TEST_SUITE_P(Methods, StepTest,
                                            StepCase{"pbf_mesh", "pbf", kMeshInTheColumn.c_str()},
                                            StepCase{"pbf_moving", "pbf", kMovingInTheColumn},
                                            StepCase{"ldc_moving", "ldc", kMovingInTheColumn},
+                                           StepCase{"pbf_sticky", "pbf", kStickyInTheColumn},
                                            StepCase{"pbf_shaken", "pbf", "[]", kShakenTank},
                                            StepCase{"ldc_turning", "ldc", "[]", kTurningTank},
                                            StepCase{"ldc_steered", "ldc", kObstaclesInTheColumn, kDamBreakDomain, true},

@@ -45,7 +45,8 @@ const SceneKey kKeys[] = {
      "(s)}` (a sine from rest position), `{\"type\": \"rotate\", axis, centre, rate (degrees/s)}` or `{\"type\": "
      "\"keyframes\", keys: [{t, position, rotation}, ...], centre}` (times increasing; position a displacement from "
      "where the scene places it, rotation as above about centre, the solid's middle if left out; linear and slerp "
-     "between keys, held before the first and after the last); its surface at most half a particle_spacing a step",
+     "between keys, held before the first and after the last); its surface at most half a particle_spacing a step. "
+     "The fluid slips along each; `\"slip\": false` makes it stick, carried at the surface's velocity",
      "", {}},
     {"bodies", K::Shapes, "[]", {}, {}, "m, kg/m^3, kg, m/s, degrees/s",
      "rigid bodies the water moves and that move it: `{\"type\": \"box\", min, max}`, `{\"type\": \"sphere\", "

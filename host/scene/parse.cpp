@@ -344,6 +344,7 @@ Obstacle obstacle(const json& o, const std::string& path, const Scene& s, const 
   json shape = o;
   shape.erase("type");
   shape.erase("motion");
+  shape.erase("slip");
   Obstacle ob;
   if (o["type"] == "mesh") {
     ob = mesh_solid(scene_mesh(shape, path, files), s, path);
@@ -358,6 +359,10 @@ Obstacle obstacle(const json& o, const std::string& path, const Scene& s, const 
   }
   require(glm::all(glm::lessThan(ob.low(), s.domain.max)) && glm::all(glm::greaterThan(ob.high(), s.domain.min)),
           path + " lies wholly outside the domain");
+  if (o.contains("slip")) {
+    require(o["slip"].is_boolean(), path + ".slip must be true or false");
+    ob.slip = o["slip"].get<bool>();
+  }
   if (o.contains("motion")) {
     ob.motion = motion(o["motion"], path + ".motion", ob.middle());
     ob.pose = ob.previous = ob.motion.at(0);
@@ -371,7 +376,7 @@ Obstacle body(const json& b, const std::string& path, Scene& s, const SceneFiles
   json shape = b;
   if (shape.is_object())
     for (const char* key : {"density", "mass", "rotation", "velocity", "angular_velocity"}) shape.erase(key);
-  require(!shape.contains("motion"), "unknown scene key '" + path + ".motion'");
+  for (const char* key : {"motion", "slip"}) require(!shape.contains(key), "unknown scene key '" + path + "." + key + "'");
   Obstacle ob = obstacle(shape, path, s, files);
   require(b.contains("density") != b.contains("mass"), path + " needs a \"density\" (kg/m^3) or a \"mass\" (kg), one of them");
   const double density = number(b, "density", 0), mass = number(b, "mass", 0);

@@ -70,6 +70,10 @@ bool Derived::moving() const {
          std::any_of(obstacles.begin(), obstacles.end(), [](const Obstacle& o) { return o.moves(); });
 }
 
+bool Derived::sticky() const {
+  return std::any_of(obstacles.begin(), obstacles.end(), [](const Obstacle& o) { return !o.slip; });
+}
+
 void Derived::make_steerable() {
   steerable = true;
   for (Obstacle& o : obstacles) o.draggable = true;

@@ -154,6 +154,7 @@ struct Derived {
   bool steerable = false;
   void make_steerable();
   bool moving() const;  // whether any obstacle moves, or the tank, or a viewer may move them
+  bool sticky() const;  // whether the fluid sticks to any obstacle (Obstacle::slip false)
   // Obstacle k's placement shifted by `shift` (m, from where the scene places it), reached at
   // most kSolidStep spacings a step less what its own motion takes (steerable only); a body is
   // held by the hand (Obstacle::held) until released.

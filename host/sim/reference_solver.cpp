@@ -162,7 +162,7 @@ void ReferenceSolver::predict() {
 dvec3 ReferenceSolver::move_outside_solids(const dvec3& from, dvec3 to, double& work) const {
   // Each obstacle can only shorten the move, so the last shortening is the first entry.
   for (const Obstacle& o : d_.obstacles) {
-    const dvec3 stopped = stop_at(o, from, to, kContact * d_.h);
+    const dvec3 stopped = stop_at(o, from, to, kContact * d_.h, d_.keep_out);
     if (stopped != to && !push_body(o.body, stopped, stopped - to))
       work += push_work(stopped - to, o.displacement(stopped), d_.dt);
     to = stopped;
@@ -352,7 +352,8 @@ void ReferenceSolver::viscosity_vorticity() {
       }
       const double c = std::min(d_.solver.damping, d_.damping_limit * d_.rho0 / std::max(rho_i, state.rho[j]));
       if (r2 <= 0 || r2 >= d_.h * d_.h) return;
-      const dvec3 pushed = c * (1 - std::sqrt(r2) / d_.h) * glm::dot(vij, d) / r2 * d;
+      const dvec3 pushed = c * (1 - std::sqrt(r2) / d_.h) * glm::dot(vij, d) / r2 * d +
+                           NO_SLIP_GAIN * volume * kernels::poly6(r2, d_.h) * m.mirrors->stick(m.k, state.v[i], state.v[j]);
       damp += pushed;
       if (m.mirrors->solid(m.k) && !push_body(m.mirrors->obstacle.body, state.x[i], pushed))  // the images' drag
         solid_work_ += glm::dot(pushed, m.mirrors->solid_velocity);

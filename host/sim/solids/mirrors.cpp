@@ -254,6 +254,13 @@ glm::dvec3 Mirrors::of(int k, const glm::dvec3& x, bool listed) const {
   return y;
 }
 
+glm::dvec3 Mirrors::stick(int k, const glm::dvec3& v_i, const glm::dvec3& v) const {
+  if (k != kObstacleMirror || obstacle.slip) return glm::dvec3(0.0);
+  const glm::dvec3 n = creases.bits ? creases.first.normal : normal;
+  const glm::dvec3 both = v_i + v - 2.0 * solid_velocity;  // u_i + u_j, each relative to the solid
+  return glm::dot(both, n) * n - both;
+}
+
 glm::dvec3 Mirrors::velocity(int k, const glm::dvec3& v) const {
   glm::dvec3 u = v;
   auto across = [&](const glm::dvec3& n) { u -= 2 * glm::dot(u - solid_velocity, n) * n; };

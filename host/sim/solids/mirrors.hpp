@@ -56,6 +56,12 @@ struct Mirrors {
   // An image moves as its particle, mirrored: across an obstacle, its velocity relative to the
   // solid's surface is (the normal part reversed, so the fluid slips along a moving solid too).
   glm::dvec3 velocity(int k, const glm::dvec3& v) const;
+  // Where the fluid does not slip along the obstacle (Obstacle::slip), the pull of the image k
+  // of a neighbour moving at v on the particle moving at v_i, per kernel volume: the image
+  // moves as the neighbour reversed relative to the solid, and the pull is the difference's
+  // part along the surface. A pair's two pulls see one distance, so the pull only removes
+  // energy (in the solid's frame: -|P (u_i + u_j)|^2 W for the pair). Zero for other images.
+  glm::dvec3 stick(int k, const glm::dvec3& v_i, const glm::dvec3& v) const;
 
   // The obstacle's image of neighbour x: at D from the particle, D^2 = |x_i - x|^2 + 4 phi_i
   // phi_x with phi the distance to the surface, along grad_i D. Across a plane this is the

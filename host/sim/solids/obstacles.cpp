@@ -210,15 +210,24 @@ glm::dvec3 stop_at_rest(const Obstacle& o, const glm::dvec3& from, const glm::dv
   }
   return t_enter < t_exit ? from + t_enter * d : to;
 }
-}  // namespace
 
-glm::dvec3 stop_at(const Obstacle& o, const glm::dvec3& from, const glm::dvec3& to, double contact) {
+// Where the move from -> to first meets `o`, carried with the solid where it moves.
+glm::dvec3 first_hit(const Obstacle& o, const glm::dvec3& from, const glm::dvec3& to, double contact) {
   if (o.pose == Pose{} && o.previous == Pose{}) return stop_at_rest(o, from, to, contact);
   // Moving: the move as the solid sees it, from its start pose to its end pose.
   Obstacle still = o;
   still.pose = still.previous = Pose{};
   const glm::dvec3 b = o.pose.body(to), hit = stop_at_rest(still, o.previous.body(from), b, contact);
   return hit == b ? to : o.pose.world(hit);
+}
+}  // namespace
+
+glm::dvec3 stop_at(const Obstacle& o, const glm::dvec3& from, const glm::dvec3& to, double contact, double margin) {
+  const glm::dvec3 hit = first_hit(o, from, to, contact);
+  if (hit == to || !o.slip) return hit;
+  glm::dvec3 normal;
+  o.grown(-margin).surface(from, normal);
+  return to + glm::dot(hit - to, normal) * normal;
 }
 
 bool any_mesh(const std::vector<Obstacle>& solids) {
@@ -265,6 +274,7 @@ std::vector<glm::vec4> pack_obstacle_header(const std::vector<Obstacle>& obstacl
     }
     data.back().y = o.moves() ? 1.0f : 0.0f;
     data.back().z = o.dynamic() ? float(o.body + 1) : 0.0f;  // 0: no body moves it (solids.glsl's body_of)
+    data.back().w = o.slip ? 0.0f : 1.0f;
     pack_pose(o.pose, data);
     pack_pose(o.previous, data);
   }

@@ -28,6 +28,9 @@ struct Obstacle {
   // The domain's mesh (scene key domain.mesh): the solid is all outside the mesh, its field the
   // mesh's negated; it moves with the tank and is never dragged.
   bool container = false;
+  // Whether the fluid slips along it (scene key "slip"); where not, the fluid beside it is
+  // carried at its surface's velocity (Mirrors::stick).
+  bool slip = true;
   Motion motion;
   Pose pose, previous;  // where it is at the end of the current step, and was at its start
   // A viewer's hand (pbflow serve, Derived::drag): the placement shifted by `shift`, which
@@ -50,8 +53,14 @@ struct Obstacle {
   // A mesh's signed distance at x and its field's gradient there, not normalised: a unit vector
   // where one face is nearest, shorter within a voxel of where two meet (a crease's bisector).
   double mesh_surface(const glm::dvec3& x, glm::dvec3& gradient) const;
-  // How far the solid's point now at x moved over the step (0 for a solid that stands still).
-  glm::dvec3 displacement(const glm::dvec3& x) const { return x - previous.world(pose.body(x)); }
+  // How far the solid moves at x over a step (0 for a solid that stands still): half the chord
+  // from where its point at x came from to where the step's motion would take it next, so that
+  // a turning surface's is along it. The chord that ends at x leans out of a turning surface by
+  // R w^2 dt / 2: a frictionless ball turning in place read as swelling into the water and was
+  // credited 1.3 W of work it never did (pressure times that speed, all over its surface).
+  glm::dvec3 displacement(const glm::dvec3& x) const {
+    return 0.5 * (pose.world(previous.body(x)) - previous.world(pose.body(x)));
+  }
   // The body-frame sphere holding the shape: its centre and radius (where motion may reach).
   glm::dvec3 middle() const { return kind == Kind::Sphere ? centre : 0.5 * (min + max); }
   double extent() const { return kind == Kind::Sphere ? radius : 0.5 * glm::length(max - min); }
@@ -76,10 +85,15 @@ glm::dvec3 project_out(const Obstacle& o, const glm::dvec3& x, const glm::dvec3&
 // Where the move from -> to first enters `o`, in its body frame (`from` at the step's start
 // pose, `to` at its end): the entry point, or `to` when the segment misses it. Keeps a fast
 // particle from tunnelling through a thin obstacle within one step; project_out then settles it
-// on the surface. A start within `contact` of the
-// obstacle counts as touching it and is left to project_out, so that rounding (float on
-// the GPU, double here) cannot decide between the two.
-glm::dvec3 stop_at(const Obstacle& o, const glm::dvec3& from, const glm::dvec3& to, double contact);
+// on the surface. A start within `contact` of the obstacle counts as touching it and is left to
+// project_out, so that rounding (float on the GPU, double here) cannot decide between the two.
+// Where the fluid slips along `o` (grown by `margin`) the stop takes only the move's part into
+// it, along its own surface's normal at `from` (round at a box's edges; at the point met, a
+// mesh's field turns between facets and float and double parted there): the rest of the move, and
+// a turning solid's, stays the particle's (a frictionless ball turning in place carried the
+// particles it stopped round with it and stirred settled water at 0.16 m/s). Where the fluid
+// does not slip, the particle stays where it met the surface, carried with it.
+glm::dvec3 stop_at(const Obstacle& o, const glm::dvec3& from, const glm::dvec3& to, double contact, double margin);
 
 // A node of the coarse grid gathers with the tent (1 - |t|) per axis about its centre, `reach`
 // to each side, sampled at (2 COARSE_OPEN_SAMPLES)^3 points. Its open share is the tent's weight
@@ -95,9 +109,10 @@ double open_share(std::span<const uint64_t> inside);
 // The GPU layout: vec4 0 holds 0 (the shaders take the count as OBSTACLE_COUNT, a specialisation
 // constant) and the keep-out margin the shapes are grown by, vec4s
 // 1-7 the tank's kick this step (Derived::tank_kick: linear, then of_x's and of_v's columns);
-// then kObstacleVec4s per obstacle: its shape, box (min, 0) (max, 0) (0, moves); sphere (centre, 1)
-// (radius, 0, 0, 0) (0, moves); mesh (field origin, 2) (dims, voxel) (first value, moves, 0, 0),
-// `moves` 1 where it has a motion; then its pose and previous pose, each as the rows of the body
+// then kObstacleVec4s per obstacle: its shape, box (min, 0) (max, 0); sphere (centre, 1)
+// (radius, 0, 0, 0); mesh (field origin, 2) (dims, voxel); then (a mesh's first value or 0,
+// moves, body, sticks), `moves` 1 where it has a motion, `body` its body's index + 1 where one
+// moves it, `sticks` 1 where the fluid does not slip along it; then its pose and previous pose, each as the rows of the body
 // transform (world to body, rotation | shift); then the meshes' field values, four a vec4, each
 // mesh's followed by its crease bits (DistanceField::creases), value 0 at vec4
 // obstacle_header_vec4s(count). The header (all but the field values) is what a step's
