@@ -22,6 +22,8 @@ float coarse_overrelaxation() {
 
 int node_index(ivec3 p) { return (p.z * NODES_Y + p.y) * NODES_X + p.x; }
 
+// The node nearest x: the centre of the cell it lies in (coarse_node_at).
+int coarse_node_at(vec3 x) { return node_index(clamp(ivec3(floor((x - sim.wall_min) / cell())), ivec3(0), nodes() - 1)); }
 // The eight nodes around x and their trilinear weights: node k of 8 (bits: the axes stepped).
 struct CoarseCorner {
   ivec3 base;

@@ -1,6 +1,7 @@
 #version 450
 // The coarse correction, 4 of 5 (contract.h): phi's gradient at each fluid node by central
-// differences (one-sided against a wall, where phi's flux is 0); 0 at the other nodes.
+// differences (one-sided against a wall, where phi's flux is 0; against air past a wall, 0
+// there); 0 at the other nodes.
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x_id = 0) in;
 #include "common.glsl"
@@ -15,13 +16,16 @@ void main() {
   int k = int(thread_index());
   if (k >= NODES_X * NODES_Y * NODES_Z) return;
   vec3 g = vec3(0.0);
-  if (sums[2 * k] != 0u) {
+  uint flags = sums[COARSE_WORDS * k];
+  if (flags != 0u) {
     ivec3 p = ivec3(k % NODES_X, (k / NODES_X) % NODES_Y, k / (NODES_X * NODES_Y));
     for (int a = 0; a < 3; ++a) {
       ivec3 lo = p, hi = p;
       lo[a] -= 1;
       hi[a] += 1;
-      float below = lo[a] >= 0 ? phi[node_index(lo)] : phi[k], above = hi[a] < nodes()[a] ? phi[node_index(hi)] : phi[k];
+      float wall_lo = (flags & (COARSE_AIR_PAST << (2 * a))) != 0u ? 0.0 : phi[k];
+      float wall_hi = (flags & (COARSE_AIR_PAST << (2 * a + 1))) != 0u ? 0.0 : phi[k];
+      float below = lo[a] >= 0 ? phi[node_index(lo)] : wall_lo, above = hi[a] < nodes()[a] ? phi[node_index(hi)] : wall_hi;
       g[a] = (above - below) / (2.0 * cell()[a]);
     }
   }

@@ -26,7 +26,7 @@ float phi_at(int k) { return WHOLE ? phi_shared[k] : phi[k]; }
 
 // phi at the j-th node of a colour moves toward the value that zeroes its Laplacian's residual,
 // each neighbour weighed by 1 / (its axis's cell)^2; a neighbour past a wall is left out (no
-// flux), one without fluid reads 0. The
+// flux) or, past a wall none of the node's particles touches, reads 0 as one without fluid. The
 // j-th node is on row j / per_row, at x = 2 (j % per_row) or one more, as the row's parity
 // makes the colour.
 void sweep_node(int j, int colour, float overrelaxation) {
@@ -35,20 +35,22 @@ void sweep_node(int j, int colour, float overrelaxation) {
   p.x = 2 * (j % per_row) + (colour + p.y + p.z) % 2;
   if (p.x >= NODES_X) return;
   int k = node_index(p);
-  if (sums[2 * k] == 0u) return;  // not fluid
+  uint flags = sums[COARSE_WORDS * k];
+  if (flags == 0u) return;  // not fluid
   float sum = 0.0, weights = 0.0;
   for (int a = 0; a < 3; ++a) {
     float w = 1.0 / (cell()[a] * cell()[a]);
-    for (int dir = -1; dir <= 1; dir += 2) {
+    for (int side = 0; side < 2; ++side) {
       ivec3 q = p;
-      q[a] += dir;
-      if (q[a] < 0 || q[a] >= nodes()[a]) continue;
-      sum += w * phi_at(node_index(q));
+      q[a] += 2 * side - 1;
+      bool past = q[a] < 0 || q[a] >= nodes()[a];
+      if (past && (flags & (COARSE_AIR_PAST << (2 * a + side))) == 0u) continue;
+      if (!past) sum += w * phi_at(node_index(q));
       weights += w;
     }
   }
   if (weights == 0.0) return;
-  float relaxed = mix(phi_at(k), (sum - uintBitsToFloat(sums[2 * k + 1])) / weights, overrelaxation);
+  float relaxed = mix(phi_at(k), (sum - uintBitsToFloat(sums[COARSE_WORDS * k + 1])) / weights, overrelaxation);
   if (WHOLE) phi_shared[k] = relaxed;
   else phi[k] = relaxed;
 }

@@ -223,6 +223,12 @@ int default_smoothing(int iterations, double travel);
 // stay under 1.3x at the real-time step; only a collapsing column (docs/physics.md) passes 2x.
 constexpr double kNeighbourHeadroom = 2.0;
 
+// The coarse node nearest x: the centre of the cell it lies in (shaders/coarse.glsl).
+inline int coarse_node_at(const Derived& d, const glm::dvec3& x) {
+  const glm::ivec3 cell = glm::ivec3(glm::floor((x - d.wall_min) / d.coarse.cell));
+  return d.coarse.index(glm::clamp(cell, glm::ivec3(0), d.coarse.nodes - 1));
+}
+
 // The eight coarse nodes around x with their trilinear weights (shaders/coarse.glsl).
 template <class F>
 void for_each_coarse_node(const Derived& d, const glm::dvec3& x, F&& visit) {

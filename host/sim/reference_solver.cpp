@@ -233,29 +233,57 @@ void ReferenceSolver::constraint_apply(double relaxation) {
   state.x_pred = std::move(next);
 }
 
+namespace {
+// The walls a particle at x touches (within a quarter of h), as coarse_deposit.comp's bits.
+uint32_t walls_touched(const Derived& d, const glm::dvec3& x) {
+  uint32_t touched = 0;
+  for (int a = 0; a < 3; ++a) {
+    if (x[a] - d.wall_min[a] < 0.25 * d.h) touched |= 1u << (2 * a);
+    if (d.wall_max[a] - x[a] < 0.25 * d.h) touched |= 2u << (2 * a);
+  }
+  return touched;
+}
+
+// A node's flags (coarse_prepare.comp): COARSE_FLUID, and air past each wall it borders that
+// none of the particles nearest it touches, where its deposit makes it fluid and no solid is in
+// its reach.
+uint32_t coarse_flags(const Derived::Coarse& c, int k, bool deposited, uint32_t touched) {
+  if (!deposited && c.open[k] >= COARSE_FILL) return 0;
+  uint32_t flags = COARSE_FLUID;
+  if (!deposited || c.open[k] <= 1 - COARSE_FILL) return flags;
+  const glm::ivec3 p = c.node(k);
+  for (int a = 0; a < 3; ++a) {
+    if (p[a] == 0 && !(touched & (1u << (2 * a)))) flags |= COARSE_AIR_PAST << (2 * a);
+    if (p[a] == c.nodes[a] - 1 && !(touched & (2u << (2 * a)))) flags |= COARSE_AIR_PAST << (2 * a + 1);
+  }
+  return flags;
+}
+}  // namespace
+
 // As coarse_deposit, coarse_prepare and coarse_sweep.comp, in their order and fixed-point sums:
-// phi on the coarse grid, into coarse_phi_; which nodes hold fluid.
-std::vector<char> ReferenceSolver::coarse_solve() {
+// phi on the coarse grid, into coarse_phi_; each node's flags.
+std::vector<uint32_t> ReferenceSolver::coarse_solve() {
   const Derived::Coarse& c = d_.coarse;
   const int count = c.count();
-  std::vector<uint32_t> filled(count, 0), excess(count, 0);
+  std::vector<uint32_t> filled(count, 0), excess(count, 0), touched(count, 0);
   for (size_t i = 0; i < state.x.size(); ++i) {
     const double compression = std::clamp(state.rho[i] / d_.rho0 - 1.0 - COARSE_FLOOR, 0.0, COARSE_MAX_COMPRESSION);
     for_each_coarse_node(d_, state.x_pred[i], [&](int k, double w) {
       filled[k] += uint32_t(w * COARSE_UNIT + 0.5);
       excess[k] += uint32_t(w * compression * COARSE_UNIT + 0.5);
     });
+    touched[coarse_node_at(d_, state.x_pred[i])] |= walls_touched(d_, state.x_pred[i]);
   }
   // grad^2 phi = the excess volume per volume, phi = 0 at nodes without fluid (a node a solid
-  // fills counts as fluid at rest), no flux through the walls: x_pred moves along grad phi, away
-  // from the compressed fluid.
+  // fills counts as fluid at rest), no flux through the walls the fluid touches: x_pred moves
+  // along grad phi, away from the compressed fluid.
   const double volume = d_.mass / d_.rho0, cell_volume = c.cell.x * c.cell.y * c.cell.z;
-  std::vector<char> fluid(count);
+  std::vector<uint32_t> flags(count);
   std::vector<double>& phi = coarse_phi_;  // from the last step's (coarse_sweep.comp says why)
   phi.resize(count, 0.0);
   for (int k = 0; k < count; ++k) {
-    fluid[k] = filled[k] / COARSE_UNIT * volume > COARSE_FILL * c.open[k] * cell_volume || c.open[k] < COARSE_FILL;
-    if (!fluid[k]) phi[k] = 0.0;
+    flags[k] = coarse_flags(c, k, filled[k] / COARSE_UNIT * volume > COARSE_FILL * c.open[k] * cell_volume, touched[k]);
+    if (!flags[k]) phi[k] = 0.0;
   }
   const glm::ivec3 n = c.nodes;
   auto value = [&](glm::ivec3 p) { return phi[c.index(p)]; };  // 0 at nodes without fluid
@@ -265,15 +293,16 @@ std::vector<char> ReferenceSolver::coarse_solve() {
     for (int colour = 0; colour < 2; ++colour)
       for (int k = 0; k < count; ++k) {
         const glm::ivec3 p = c.node(k);
-        if (!fluid[k] || (p.x + p.y + p.z) % 2 != colour) continue;
+        if (!flags[k] || (p.x + p.y + p.z) % 2 != colour) continue;
         double sum = 0, weights = 0;  // each neighbour weighed by 1 / (its axis's cell)^2
         for (int a = 0; a < 3; ++a) {
           const double w = 1.0 / (c.cell[a] * c.cell[a]);
-          for (int dir = -1; dir <= 1; dir += 2) {
+          for (int side = 0; side < 2; ++side) {
             glm::ivec3 q = p;
-            q[a] += dir;
-            if (q[a] < 0 || q[a] >= n[a]) continue;
-            sum += w * value(q);
+            q[a] += 2 * side - 1;
+            const bool past = q[a] < 0 || q[a] >= n[a];  // a wall: no flux, or air (0)
+            if (past && !(flags[k] & (COARSE_AIR_PAST << (2 * a + side)))) continue;
+            if (!past) sum += w * value(q);
             weights += w;
           }
         }
@@ -282,7 +311,7 @@ std::vector<char> ReferenceSolver::coarse_solve() {
           phi[k] += overrelaxation * (gauss_seidel - phi[k]);
         }
       }
-  return fluid;
+  return flags;
 }
 
 // Then as coarse_gradient and coarse_apply.comp: x_pred moved along grad phi.
@@ -304,19 +333,21 @@ void ReferenceSolver::coarse_correction() {
   }
 }
 
-// grad phi at each fluid node, central differences, one-sided at the walls (coarse_gradient.comp).
-std::vector<dvec3> ReferenceSolver::coarse_gradient(const std::vector<char>& fluid) const {
+// grad phi at each fluid node, central differences, one-sided at the walls, against 0 where air
+// lies past one (coarse_gradient.comp).
+std::vector<dvec3> ReferenceSolver::coarse_gradient(const std::vector<uint32_t>& flags) const {
   const Derived::Coarse& c = d_.coarse;
   const std::vector<double>& phi = coarse_phi_;
   std::vector<dvec3> grad(c.count(), dvec3(0.0));
   for (int k = 0; k < c.count(); ++k) {
-    if (!fluid[k]) continue;
+    if (!flags[k]) continue;
     const glm::ivec3 p = c.node(k);
     for (int a = 0; a < 3; ++a) {
       glm::ivec3 lo = p, hi = p;
       lo[a] -= 1;
       hi[a] += 1;
-      const double below = lo[a] >= 0 ? phi[c.index(lo)] : phi[k], above = hi[a] < c.nodes[a] ? phi[c.index(hi)] : phi[k];
+      auto wall = [&](int side) { return flags[k] & (COARSE_AIR_PAST << (2 * a + side)) ? 0.0 : phi[k]; };
+      const double below = lo[a] >= 0 ? phi[c.index(lo)] : wall(0), above = hi[a] < c.nodes[a] ? phi[c.index(hi)] : wall(1);
       grad[k][a] = (above - below) / (2 * c.cell[a]);
     }
   }

@@ -117,9 +117,9 @@ class ReferenceSolver : public Solver {
   void answer_bodies(bool kick);
   // The coarse correction's share (BodyCoupling::add_buoyancy), each body's water line from x_pred.
   void add_buoyancy(const std::vector<glm::dvec3>& grad);
-  std::vector<char> coarse_solve();  // phi into coarse_phi_; which nodes hold fluid
+  std::vector<uint32_t> coarse_solve();  // phi into coarse_phi_; each node's flags (contract.h, COARSE_WORDS)
   // grad phi at the coarse nodes with fluid (`fluid`), from coarse_phi_.
-  std::vector<glm::dvec3> coarse_gradient(const std::vector<char>& fluid) const;
+  std::vector<glm::dvec3> coarse_gradient(const std::vector<uint32_t>& flags) const;
   void watch_step(int step, Divergence& watch) const;  // the divergence watch (shaders/watch.comp)
 
   Derived d_;
