@@ -29,9 +29,12 @@ void main() {
   if (deposited && open[k] > 1.0 - COARSE_FILL) {
     ivec3 p = ivec3(k % NODES_X, (k / NODES_X) % NODES_Y, k / (NODES_X * NODES_Y));
     uint touched = sums[first + 2];
+    float g = length(sim.gravity);
+    vec3 up = g > 0.0 ? -sim.gravity / g : vec3(0.0);
     for (int a = 0; a < 3; ++a) {
-      if (p[a] == 0 && (touched & (1u << (2 * a))) == 0u) flags |= COARSE_AIR_PAST << (2 * a);
-      if (p[a] == nodes()[a] - 1 && (touched & (2u << (2 * a))) == 0u) flags |= COARSE_AIR_PAST << (2 * a + 1);
+      if (p[a] == 0 && -up[a] > COARSE_UP && (touched & (1u << (2 * a))) == 0u) flags |= COARSE_AIR_PAST << (2 * a);
+      if (p[a] == nodes()[a] - 1 && up[a] > COARSE_UP && (touched & (2u << (2 * a))) == 0u)
+        flags |= COARSE_AIR_PAST << (2 * a + 1);
     }
   }
   sums[first] = flags;

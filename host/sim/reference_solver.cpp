@@ -244,17 +244,18 @@ uint32_t walls_touched(const Derived& d, const glm::dvec3& x) {
   return touched;
 }
 
-// A node's flags (coarse_prepare.comp): COARSE_FLUID, and air past each wall it borders that
-// none of the particles nearest it touches, where its deposit makes it fluid and no solid is in
-// its reach.
-uint32_t coarse_flags(const Derived::Coarse& c, int k, bool deposited, uint32_t touched) {
+// A node's flags (coarse_prepare.comp): COARSE_FLUID, and air past each wall above it it borders
+// that none of the particles nearest it touches, where its deposit makes it fluid and no solid
+// is in its reach.
+uint32_t coarse_flags(const Derived::Coarse& c, const glm::dvec3& gravity, int k, bool deposited, uint32_t touched) {
   if (!deposited && c.open[k] >= COARSE_FILL) return 0;
   uint32_t flags = COARSE_FLUID;
   if (!deposited || c.open[k] <= 1 - COARSE_FILL) return flags;
   const glm::ivec3 p = c.node(k);
+  const glm::dvec3 up = glm::length(gravity) > 0 ? -glm::normalize(gravity) : glm::dvec3(0.0);
   for (int a = 0; a < 3; ++a) {
-    if (p[a] == 0 && !(touched & (1u << (2 * a)))) flags |= COARSE_AIR_PAST << (2 * a);
-    if (p[a] == c.nodes[a] - 1 && !(touched & (2u << (2 * a)))) flags |= COARSE_AIR_PAST << (2 * a + 1);
+    if (p[a] == 0 && -up[a] > COARSE_UP && !(touched & (1u << (2 * a)))) flags |= COARSE_AIR_PAST << (2 * a);
+    if (p[a] == c.nodes[a] - 1 && up[a] > COARSE_UP && !(touched & (2u << (2 * a)))) flags |= COARSE_AIR_PAST << (2 * a + 1);
   }
   return flags;
 }
@@ -282,7 +283,7 @@ std::vector<uint32_t> ReferenceSolver::coarse_solve() {
   std::vector<double>& phi = coarse_phi_;  // from the last step's (coarse_sweep.comp says why)
   phi.resize(count, 0.0);
   for (int k = 0; k < count; ++k) {
-    flags[k] = coarse_flags(c, k, filled[k] / COARSE_UNIT * volume > COARSE_FILL * c.open[k] * cell_volume, touched[k]);
+    flags[k] = coarse_flags(c, d_.gravity, k, filled[k] / COARSE_UNIT * volume > COARSE_FILL * c.open[k] * cell_volume, touched[k]);
     if (!flags[k]) phi[k] = 0.0;
   }
   const glm::ivec3 n = c.nodes;
