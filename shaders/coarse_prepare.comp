@@ -4,8 +4,8 @@
 // A node is fluid where its deposit fills more than COARSE_FILL of its reach's open part, or
 // where a solid fills all but COARSE_FILL of it (fluid at rest); phi is 0 at the others (the
 // free surface and the air, beside a solid too) and stays 0, as no sweep updates them. Past a
-// wall the node borders is air where none of the particles nearest it touches the wall
-// (COARSE_WORDS).
+// wall above the node that it borders is air where none of the particles nearest it touches
+// the wall (COARSE_WORDS).
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x_id = 0) in;
 #include "common.glsl"

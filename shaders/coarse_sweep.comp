@@ -26,7 +26,7 @@ float phi_at(int k) { return WHOLE ? phi_shared[k] : phi[k]; }
 
 // phi at the j-th node of a colour moves toward the value that zeroes its Laplacian's residual,
 // each neighbour weighed by 1 / (its axis's cell)^2; a neighbour past a wall is left out (no
-// flux) or, past a wall none of the node's particles touches, reads 0 as one without fluid. The
+// flux) or, past a lid the water does not touch (COARSE_AIR_PAST), reads 0 as one without fluid. The
 // j-th node is on row j / per_row, at x = 2 (j % per_row) or one more, as the row's parity
 // makes the colour.
 void sweep_node(int j, int colour, float overrelaxation) {

@@ -244,9 +244,9 @@ uint32_t walls_touched(const Derived& d, const glm::dvec3& x) {
   return touched;
 }
 
-// A node's flags (coarse_prepare.comp): COARSE_FLUID, and air past each wall above it it borders
-// that none of the particles nearest it touches, where its deposit makes it fluid and no solid
-// is in its reach.
+// A node's flags (coarse_prepare.comp): COARSE_FLUID, and air past each wall above the node that
+// it borders and none of the particles nearest it touches, where its deposit makes it fluid and
+// no solid is in its reach.
 uint32_t coarse_flags(const Derived::Coarse& c, const glm::dvec3& gravity, int k, bool deposited, uint32_t touched) {
   if (!deposited && c.open[k] >= COARSE_FILL) return 0;
   uint32_t flags = COARSE_FLUID;
@@ -276,8 +276,8 @@ std::vector<uint32_t> ReferenceSolver::coarse_solve() {
     touched[coarse_node_at(d_, state.x_pred[i])] |= walls_touched(d_, state.x_pred[i]);
   }
   // grad^2 phi = the excess volume per volume, phi = 0 at nodes without fluid (a node a solid
-  // fills counts as fluid at rest), no flux through the walls the fluid touches: x_pred moves
-  // along grad phi, away from the compressed fluid.
+  // fills counts as fluid at rest), no flux through the walls but past a lid the water does not
+  // touch (air): x_pred moves along grad phi, away from the compressed fluid.
   const double volume = d_.mass / d_.rho0, cell_volume = c.cell.x * c.cell.y * c.cell.z;
   std::vector<uint32_t> flags(count);
   std::vector<double>& phi = coarse_phi_;  // from the last step's (coarse_sweep.comp says why)
