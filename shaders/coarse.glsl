@@ -21,6 +21,7 @@ float coarse_overrelaxation() {
 }
 
 int node_index(ivec3 p) { return (p.z * NODES_Y + p.y) * NODES_X + p.x; }
+ivec3 node_at(int k) { return ivec3(k % NODES_X, (k / NODES_X) % NODES_Y, k / (NODES_X * NODES_Y)); }  // node_index's inverse
 
 // The node nearest x: the centre of the cell it lies in (coarse_node_at).
 int coarse_node_at(vec3 x) { return node_index(clamp(ivec3(floor((x - sim.wall_min) / cell())), ivec3(0), nodes() - 1)); }

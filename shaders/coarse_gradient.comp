@@ -18,7 +18,7 @@ void main() {
   vec3 g = vec3(0.0);
   uint flags = sums[COARSE_WORDS * k];
   if (flags != 0u) {
-    ivec3 p = ivec3(k % NODES_X, (k / NODES_X) % NODES_Y, k / (NODES_X * NODES_Y));
+    ivec3 p = node_at(k);
     for (int a = 0; a < 3; ++a) {
       ivec3 lo = p, hi = p;
       lo[a] -= 1;

@@ -27,7 +27,7 @@ void main() {
   sums[first + 1] = floatBitsToUint(float(sums[first + 1]) / COARSE_UNIT * volume / cell_volume);
   uint flags = filled ? COARSE_FLUID : 0u;
   if (deposited && open[k] > 1.0 - COARSE_FILL) {
-    ivec3 p = ivec3(k % NODES_X, (k / NODES_X) % NODES_Y, k / (NODES_X * NODES_Y));
+    ivec3 p = node_at(k);
     uint touched = sums[first + 2];
     float g = length(sim.gravity);
     vec3 up = g > 0.0 ? -sim.gravity / g : vec3(0.0);

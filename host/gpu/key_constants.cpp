@@ -24,8 +24,8 @@ KeyConstants::KeyConstants(const Derived& d) {
   constants_.emplace_back("WALLS", d.walls_mirror);  // whether the box's walls mirror (not for a mesh tank)
   constants_.emplace_back("BODIES", !d.bodies.empty());  // whether any obstacle is a body: its pushes are summed
   constants_.emplace_back("OBSTACLE_MIRRORS", true);  // but not in the far list readers (GpuSolver::neighbour_pass)
-  constants_.emplace_back("DISTANCES", keeps_distances(d));
-  constants_.emplace_back("STICKY", d.sticky());  // whether the fluid sticks to any obstacle  // the particles' distances from the obstacles, kept
+  constants_.emplace_back("DISTANCES", keeps_distances(d));  // the particles' distances from the obstacles, kept
+  constants_.emplace_back("STICKY", d.sticky());  // whether the fluid sticks to any obstacle
   for (const ParamKey& k : d.shader_keys) {
     auto offer = [&](auto value) { constants_.emplace_back(names_.emplace_back(shader_name(k.name)), value); };
     auto offer_member = [&](const auto& params) {
