@@ -6,10 +6,12 @@ each particle within a kernel radius (2 spacings) of one solid's surface (a wall
 of no other is
 compared with the median density of the interior particles in its layer (one spacing high;
 interior: farther than 2 kernel radii from every solid and below the free surface by as much).
-Prints a Markdown row per solid: particles, median deviation, 1st and 99th percentiles; and
-the frame's largest speed. With --where, each box obstacle's particles are split by where they
-stand (above its top face, beside a side face, round an edge or corner) and their distance from
-it in half spacings.
+A layer with no interior (the floor's first 2 h) is held to the nearest one that has, whose
+density differs by ~0.1 %. Prints a Markdown row per solid: particles, median deviation, 1st and
+99th percentiles, and the median and 99th percentile of its size (issue 65's bars); and the
+frame's largest speed. With --where, each box obstacle's particles are split by where they stand
+(above its top face, beside a side face, round an edge or corner) and their distance from it in
+half spacings.
   bench/boundary.py [--where] RUN_DIR [FRAME]     (FRAME: default the last)"""
 import glob
 import json
@@ -90,9 +92,16 @@ def main(args):
                 p["y"] < top - 2 * h:
             interior.setdefault(layer(p), []).append(p["density"])
     reference = {k: percentile(v, 0.5) for k, v in interior.items()}
+    # A layer with no interior (the floor's first 2 h, every solid's reach) takes its nearest
+    # interior layer's density: the interior's layers differ by ~0.1 % over 2 h.
+    for k in range(min(interior), max(interior)):
+        if k not in reference:
+            reference[k] = reference[min((j for j in interior), key=lambda j: abs(j - k))]
+    for k in range(0, min(interior)):
+        reference[k] = reference[min(interior)]
     print(f"{os.path.basename(path)}: largest speed {max(math.sqrt(p['vx']**2 + p['vy']**2 + p['vz']**2) for p in particles):.3f} m/s")
-    print("| beside | particles | median deviation | 1st percentile | 99th percentile |")
-    print("|---|---|---|---|---|")
+    print("| beside | particles | median deviation | 1st percentile | 99th percentile | median abs | 99th pct abs |")
+    print("|---|---|---|---|---|---|---|")
     solids = [("the tank's walls", walls[0])] + [(f"obstacle {k} ({o.get('type')})", o) for k, o in enumerate(obstacles)]
     beside = {}
     for name, solid in solids:  # a particle beside this solid alone, below the surface's layers
@@ -102,7 +111,9 @@ def main(args):
         deviation = [d for _, d in rows]
         beside[name] = rows
         print(f"| {name} | {len(deviation)} | {100 * percentile(deviation, 0.5):+.2f} % | "
-              f"{100 * percentile(deviation, 0.01):+.2f} % | {100 * percentile(deviation, 0.99):+.2f} % |")
+              f"{100 * percentile(deviation, 0.01):+.2f} % | {100 * percentile(deviation, 0.99):+.2f} % | "
+              f"{100 * percentile([abs(d) for d in deviation], 0.5):.2f} % | "
+              f"{100 * percentile([abs(d) for d in deviation], 0.99):.2f} % |")
     for name, solid in solids[1:] if where else []:
         if solid.get("type", "box") == "box":
             print(f"\n{name}:")
