@@ -1,9 +1,10 @@
 #version 450
 // The coarse correction, 3 of 5 (contract.h): red-black sweeps of over-relaxed Gauss-Seidel
-// for grad^2 phi = the excess volume per volume at the fluid nodes, COARSE_SWEEPS of them from
-// the last step's phi (it changes little from step to step). A Jacobi pass corrects a density mode by a gain that falls
-// as (k spacing)^2, so the long modes that carry a column's weight stay compressed; here they
-// are solved whole (docs/physics.md).
+// for grad^2 phi = the excess volume per volume at the fluid nodes (less its mean where no node
+// has air: COARSE_TOTALS), COARSE_SWEEPS of them from the last step's phi (it changes little
+// from step to step). A Jacobi pass corrects a density mode by a gain that falls as
+// (k spacing)^2, so the long modes that carry a column's weight stay compressed; here they are
+// solved whole (docs/physics.md).
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x_id = 0) in;
 #include "common.glsl"
@@ -29,7 +30,7 @@ float phi_at(int k) { return WHOLE ? phi_shared[k] : phi[k]; }
 // flux) or, past a lid the water does not touch (COARSE_AIR_PAST), reads 0 as one without fluid. The
 // j-th node is on row j / per_row, at x = 2 (j % per_row) or one more, as the row's parity
 // makes the colour.
-void sweep_node(int j, int colour, float overrelaxation) {
+void sweep_node(int j, int colour, float overrelaxation, float mean) {
   int per_row = (NODES_X + 1) / 2, row = j / per_row;
   ivec3 p = ivec3(0, row % NODES_Y, row / NODES_Y);
   p.x = 2 * (j % per_row) + (colour + p.y + p.z) % 2;
@@ -50,23 +51,32 @@ void sweep_node(int j, int colour, float overrelaxation) {
     }
   }
   if (weights == 0.0) return;
-  float relaxed = mix(phi_at(k), (sum - uintBitsToFloat(sums[COARSE_WORDS * k + 1])) / weights, overrelaxation);
+  float relaxed = mix(phi_at(k), (sum - (uintBitsToFloat(sums[COARSE_WORDS * k + 1]) - mean)) / weights, overrelaxation);
   if (WHOLE) phi_shared[k] = relaxed;
   else phi[k] = relaxed;
+}
+
+// The fluid nodes' mean right-hand side where no node has air (contract.h, COARSE_TOTALS), else 0.
+float mean_source() {
+  int totals = COARSE_WORDS * NODES_X * NODES_Y * NODES_Z;
+  uint fluid = sums[totals + COARSE_TOTAL_FLUID];
+  if (fluid == 0u || sums[totals + COARSE_TOTAL_AIR] != 0u) return 0.0;
+  float excess = float(sums[totals + COARSE_TOTAL_EXCESS + 1]) * 4294967296.0 + float(sums[totals + COARSE_TOTAL_EXCESS]);
+  return excess / float(fluid) / COARSE_UNIT * (sim.mass / sim.rho0) / (CELL_X * CELL_Y * CELL_Z);
 }
 
 void main() {
   int per_colour = (NODES_X + 1) / 2 * NODES_Y * NODES_Z;  // Derived::Coarse::per_colour
   int first = int(thread_index());
   int stride = int(gl_NumWorkGroups.x * gl_NumWorkGroups.y * gl_WorkGroupSize.x);
-  float overrelaxation = coarse_overrelaxation();
+  float overrelaxation = coarse_overrelaxation(), mean = mean_source();
   if (WHOLE) {
     for (int k = first; k < SHARED_NODES; k += stride) phi_shared[k] = phi[k];
     barrier();
   }
   for (int sweep = 0; sweep < (WHOLE ? COARSE_SWEEPS : 1); ++sweep)
     for (int c = 0; c < (WHOLE ? 2 : 1); ++c) {
-      for (int j = first; j < per_colour; j += stride) sweep_node(j, (FIRST_COLOUR + c) % 2, overrelaxation);
+      for (int j = first; j < per_colour; j += stride) sweep_node(j, (FIRST_COLOUR + c) % 2, overrelaxation, mean);
       if (WHOLE) barrier();
     }
   if (WHOLE)

@@ -272,6 +272,14 @@ TEST_F(CoarseTest, SweepsADispatchAHalfSweepOnALargeGrid) {
   expect_coarse_correction_matches(d, test::jittered_state(wide), "coarse correction on a large grid");
 }
 
+// A closed tank full to its lid has no node of air: both solvers take the mean excess off every
+// node's source (contract.h, COARSE_TOTALS), the GPU from its fixed-point totals.
+TEST_F(CoarseTest, AFullClosedTanksSourceLosesItsMean) {
+  Scene full = load_scene("dam_break", {"particle_spacing=0.04", "solver.iterations=2", "domain.max=[0.4,0.4,0.4]",
+                                        R"(fluid_blocks=[{"min":[0,0,0],"max":[0.4,0.4,0.4]}])"});
+  expect_coarse_correction_matches(derive(full), test::jittered_state(full), "coarse correction in a full tank");
+}
+
 // A later iteration reads the lists the first built, at positions that have moved since.
 TEST_P(PassTest, SecondIterationReadsTheFirstOnesLists) {
   ParticleState g = run_gpu([&] {

@@ -170,19 +170,23 @@ INSTANTIATE_TEST_SUITE_P(RealStepSlow, RestTest,
 // A tank whose lid lies a spacing or two above the water (0.3 m tall, the water 0.26 and 0.28 m
 // deep): the coarse cells under the lid hold the free surface, so the solve had no node of air
 // and no solution (a wall without flux all round), and the settled tank churned at 0.14-0.2 m/s.
-// Past a wall the fluid does not touch is air to it now. Settled, then 1 s: still, as the
-// tank with room above.
+// Past a wall the fluid does not touch is air to it now. Settled, then 1 s: still, as the tank
+// with room above. Filled to the lid no node has air, and the solve takes its source's mean
+// away (without it, 0.23 m/s); the settled lattice, squeezed 1.4-3.3 % with nowhere to go,
+// rearranges in the first two seconds (up to 0.065 m/s, a few particles), so it runs 4 s and
+// the last second counts.
 struct Lid {
   const char* name;
   double depth;
   const char* method;
   int iterations;
+  int seconds = 1;
 };
 void PrintTo(const Lid& l, std::ostream* os) { *os << l.name; }
 
 class LidTest : public test::GpuTest, public ::testing::WithParamInterface<Lid> {};
 
-TEST_P(LidTest, WaterJustUnderTheLidStandsStill) {
+TEST_P(LidTest, WaterUpToTheLidStandsStill) {
   const Lid& l = GetParam();
   Scene scene = load_scene("hydrostatic", {"domain.max=[0.3,0.3,0.3]",
                                            "fluid_blocks=[{\"min\":[0,0,0],\"max\":[0.3," + std::to_string(l.depth) + ",0.3]}]",
@@ -193,21 +197,23 @@ TEST_P(LidTest, WaterJustUnderTheLidStandsStill) {
   ASSERT_TRUE(settle(solver, d).converged);
   EnergyGain energy;
   energy.add(solver.advance(0));
-  double fastest = 0;
-  for (int f = 0; f < scene.fps; ++f) {
+  double fastest = 0;  // over the last second
+  for (int f = 0; f < l.seconds * scene.fps; ++f) {
     const FrameStats s = solver.advance(scene.solver.substeps);
     ASSERT_FALSE(s.divergence.any()) << "frame " << f;
     energy.add(s);
-    fastest = std::max(fastest, s.max_speed);
+    if (f >= (l.seconds - 1) * scene.fps) fastest = std::max(fastest, s.max_speed);
   }
-  std::printf("  %s: the largest speed over 1 s %.3f m/s, energy gain %+.5f\n", l.name, fastest, energy.largest());
+  std::printf("  %s: the largest speed over the last of %d s %.3f m/s, energy gain %+.5f\n", l.name, l.seconds, fastest,
+              energy.largest());
   EXPECT_LT(fastest, 0.05);
   EXPECT_LE(energy.largest(), 1e-3);
 }
 
 INSTANTIATE_TEST_SUITE_P(RealStepSlow, LidTest,
                          ::testing::Values(Lid{"pbf2_two_spacings", 0.26, "pbf", 2}, Lid{"pbf2_one_spacing", 0.28, "pbf", 2},
-                                           Lid{"ldc1_two_spacings", 0.26, "ldc", 1}),
+                                           Lid{"ldc1_two_spacings", 0.26, "ldc", 1}, Lid{"pbf2_filled", 0.3, "pbf", 2, 4},
+                                           Lid{"ldc1_filled", 0.3, "ldc", 1, 4}),
                          [](const auto& info) { return std::string(info.param.name); });
 
 // Finer than the scenes' spacing and deeper than their water, at 60 fps x 2 substeps: the

@@ -59,7 +59,7 @@ SolverBuffers plan_buffers(const Derived& d, uint64_t particles, FrameOutputs ou
   b.adaptive_words = d.solver.target_compression > 0 ? 2 * sizeof(glm::vec4) : 0;
   if (d.coarse.strength > 0) {
     const uint64_t nodes = uint64_t(d.coarse.count());
-    b.coarse_sums = COARSE_WORDS * nodes * sizeof(uint32_t);
+    b.coarse_sums = (COARSE_WORDS * nodes + COARSE_TOTALS) * sizeof(uint32_t);
     b.coarse_phi = nodes * sizeof(float);
     b.coarse_open = nodes * sizeof(float);
     b.coarse_grad = nodes * sizeof(glm::vec4);

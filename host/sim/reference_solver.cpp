@@ -259,6 +259,17 @@ uint32_t coarse_flags(const Derived::Coarse& c, const glm::dvec3& gravity, int k
   }
   return flags;
 }
+
+// The fluid nodes' mean right-hand side where no node has air, else 0 (contract.h,
+// COARSE_TOTALS; coarse_sweep.comp's mean_source, its float sum of the fixed-point excess).
+double mean_source(const std::vector<uint32_t>& flags, const std::vector<uint32_t>& excess, double per_unit) {
+  uint64_t fluid = 0, total = 0;
+  for (size_t k = 0; k < flags.size(); ++k) {
+    if (flags[k] != COARSE_FLUID) return 0;  // air, or air past a wall
+    ++fluid, total += excess[k];
+  }
+  return fluid ? double(float(total) / float(fluid) / float(COARSE_UNIT) * float(per_unit)) : 0.0;
+}
 }  // namespace
 
 // As coarse_deposit, coarse_prepare and coarse_sweep.comp, in their order and fixed-point sums:
@@ -287,6 +298,7 @@ std::vector<uint32_t> ReferenceSolver::coarse_solve() {
     if (!flags[k]) phi[k] = 0.0;
   }
   const glm::ivec3 n = c.nodes;
+  const double mean = mean_source(flags, excess, volume / cell_volume);
   auto value = [&](glm::ivec3 p) { return phi[c.index(p)]; };  // 0 at nodes without fluid
   const int longest = std::max({n.x, n.y, n.z});  // coarse.glsl's coarse_overrelaxation
   const double overrelaxation = 2.0 / (1.0 + std::sin(std::numbers::pi / (2.0 * longest)));
@@ -308,7 +320,7 @@ std::vector<uint32_t> ReferenceSolver::coarse_solve() {
           }
         }
         if (weights > 0) {
-          const double gauss_seidel = (sum - double(float(excess[k] / COARSE_UNIT * volume / cell_volume))) / weights;
+          const double gauss_seidel = (sum - (double(float(excess[k] / COARSE_UNIT * volume / cell_volume)) - mean)) / weights;
           phi[k] += overrelaxation * (gauss_seidel - phi[k]);
         }
       }
