@@ -19,6 +19,11 @@ import random
 import sys
 
 
+# The cup's section, counter-clockwise in (r, y): the floor's underside out to the outer wall,
+# up it, over the rim, down the inner wall to the floor's top (bench/cup_places.py turns it too).
+CUP_SECTION = [(0.0, 0.0), (0.1, 0.0), (0.1, 0.15), (0.08, 0.15), (0.08, 0.02), (0.0, 0.02)]
+
+
 def icosphere(levels):
     t = (1 + 5 ** 0.5) / 2
     v = [(-1, t, 0), (1, t, 0), (-1, -t, 0), (1, -t, 0), (0, -1, t), (0, 1, t),
@@ -95,10 +100,7 @@ def main():
     write_obj(os.path.join(out, "ball.obj"), [tuple(0.1 * c for c in p) for p in v], f)
     rng = random.Random(65)
     write_obj(os.path.join(out, "rock.obj"), [tuple(0.1 * (1 + rng.uniform(-0.15, 0.15)) * c for c in p) for p in v], f)
-    # The cup's section, counter-clockwise in (r, y): the floor's underside out to the outer
-    # wall, up it, over the rim, down the inner wall to the floor's top.
-    cup = [(0.0, 0.0), (0.1, 0.0), (0.1, 0.15), (0.08, 0.15), (0.08, 0.02), (0.0, 0.02)]
-    write_obj(os.path.join(out, "cup.obj"), *lathe(cup, 48))
+    write_obj(os.path.join(out, "cup.obj"), *lathe(CUP_SECTION, 48))
     # The bowl's section, counter-clockwise in (r, y): from the bottom's middle round the
     # hemisphere to its rim, up the wall, in along the lid.
     rim = 0.24
