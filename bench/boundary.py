@@ -33,6 +33,30 @@ def read_ply(path):
     return [dict(zip(names, values[k * len(names):(k + 1) * len(names)])) for k in range(n)]
 
 
+def script_arguments(doc):
+    """PBFLOW OUT [SECONDS] [-- extra pbflow arguments] of the scripts that run scenes and count
+    places (mesh_tank.py, cup_places.py): (pbflow, out, seconds, extra); exits with doc if short."""
+    if len(sys.argv) < 3:
+        sys.exit(doc)
+    seconds = float(sys.argv[3]) if len(sys.argv) > 3 and sys.argv[3] != "--" else 1.0
+    extra = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+    os.makedirs(sys.argv[2], exist_ok=True)
+    return sys.argv[1], sys.argv[2], seconds, extra
+
+
+PLACE_HEADER = ("| place | particles | median | 1st pct | 99th pct | median abs | 99th pct abs | median speed | largest |\n"
+                "|---|---|---|---|---|---|---|---|---|")
+
+
+def place_row(place, values):
+    """A Markdown row of PLACE_HEADER from (deviation in %, speed) pairs."""
+    d, s = sorted(x for x, _ in values), sorted(x for _, x in values)
+    size = sorted(abs(x) for x in d)
+    return "| %s | %d | %+.2f %% | %+.2f %% | %+.2f %% | %.2f %% | %.2f %% | %.4f | %.4f |" % (
+        place, len(values), percentile(d, 0.5), percentile(d, 0.01), percentile(d, 0.99),
+        percentile(size, 0.5), percentile(size, 0.99), percentile(s, 0.5), s[-1])
+
+
 def distance_to(solid, p):
     """Distance from p to a solid's surface: a box {min, max} or a sphere {centre, radius}."""
     if solid.get("type") == "sphere":

@@ -16,7 +16,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scripts"))
-from boundary import read_ply  # noqa: E402
+from boundary import PLACE_HEADER, place_row, read_ply, script_arguments  # noqa: E402
 from make_meshes import CUP_SECTION, lathe, write_obj  # noqa: E402
 
 SPACING = 0.02
@@ -86,11 +86,7 @@ def rows(run, frame, segments, scale):
         speed = math.sqrt(p["vx"] ** 2 + p["vy"] ** 2 + p["vz"] ** 2)
         groups.setdefault(where, []).append((100 * (p["density"] / rho - 1), speed))
     for where, v in sorted(groups.items()):
-        d, s = sorted(x for x, _ in v), sorted(x for _, x in v)
-        size = sorted(abs(x) for x in d)
-        yield "| %s | %d | %+.2f %% | %+.2f %% | %+.2f %% | %.2f %% | %.2f %% | %.4f | %.4f |" % (
-            where, len(v), statistics.median(d), d[len(d) // 100], d[len(d) * 99 // 100],
-            statistics.median(size), size[len(size) * 99 // 100], statistics.median(s), s[-1])
+        yield place_row(where, v)
 
 
 def run(pbflow, out, name, obj, frames, extra):
@@ -109,20 +105,14 @@ def run(pbflow, out, name, obj, frames, extra):
 
 
 def main():
-    if len(sys.argv) < 3:
-        sys.exit(__doc__)
-    pbflow, out = sys.argv[1], sys.argv[2]
-    seconds = float(sys.argv[3]) if len(sys.argv) > 3 and sys.argv[3] != "--" else 1.0
-    extra = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
-    os.makedirs(out, exist_ok=True)
+    pbflow, out, seconds, extra = script_arguments(__doc__)
     write_obj(os.path.join(out, "glass.obj"), *lathe([(r * math.sqrt(2), y) for r, y in CUP_SECTION], 4))
     frames = int(round(seconds * 60)) + 1
     repository = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
     for name, obj, segments, scale in solids(repository):
         directory = run(pbflow, out, name, os.path.abspath(os.path.join(out, obj)), frames, extra)
         print("\n%s, %g s after the settle\n" % (name, seconds))
-        print("| place | particles | median | 1st pct | 99th pct | median abs | 99th pct abs | median speed | largest |")
-        print("|---|---|---|---|---|---|---|---|---|")
+        print(PLACE_HEADER)
         for row in rows(directory, frames - 1, segments, scale):
             print(row)
 

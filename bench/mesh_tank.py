@@ -3,8 +3,8 @@
 the same box as the tank's own walls: how the fluid reads at the mesh's faces, edges and corners
 (its concave creases) after the settle and `seconds` later. Writes the box's OBJ and the two
 scenes under OUT, runs both (`--export ply`) and prints a Markdown row per place: particles,
-median deviation from the interior at the same depth, 1st and 99th percentiles, median and
-largest speed.
+median deviation from the interior at the same depth, 1st and 99th percentiles, the median and
+99th percentile of |deviation|, median and largest speed.
   bench/mesh_tank.py PBFLOW OUT [SECONDS] [-- extra pbflow arguments, e.g. --device cpu]"""
 import math
 import os
@@ -13,7 +13,7 @@ import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from boundary import read_ply  # noqa: E402
+from boundary import PLACE_HEADER, place_row, read_ply, script_arguments  # noqa: E402
 
 LO, HI, SPACING = 0.02, 0.46, 0.02
 H = 2 * SPACING
@@ -60,18 +60,11 @@ def rows(run, frame):
         speed = math.sqrt(p["vx"] ** 2 + p["vy"] ** 2 + p["vz"] ** 2)
         groups.setdefault(place, []).append((100 * (p["density"] / rho - 1), speed))
     for place, v in sorted(groups.items()):
-        d, s = sorted(x for x, _ in v), sorted(x for _, x in v)
-        yield "| %s | %d | %+.2f %% | %+.2f %% | %+.2f %% | %.4f | %.4f |" % (
-            place, len(v), statistics.median(d), d[len(d) // 100], d[len(d) * 99 // 100], statistics.median(s), s[-1])
+        yield place_row(place, v)
 
 
 def main():
-    if len(sys.argv) < 3:
-        sys.exit(__doc__)
-    pbflow, out = sys.argv[1], sys.argv[2]
-    seconds = float(sys.argv[3]) if len(sys.argv) > 3 and sys.argv[3] != "--" else 1.0
-    extra = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
-    os.makedirs(out, exist_ok=True)
+    pbflow, out, seconds, extra = script_arguments(__doc__)
     write_box(os.path.join(out, "box.obj"))
     frames = int(round(seconds * 60)) + 1
     for name, mesh in (("mesh", True), ("walls", False)):
@@ -81,8 +74,7 @@ def main():
         subprocess.run([pbflow, "run", path, "--no-render", "--export", "ply", "--frames", str(frames),
                         "--out", os.path.join(out, name)] + extra, check=True, stdout=subprocess.DEVNULL)
         print("\n%s tank, %g s after the settle\n" % (name, seconds))
-        print("| place | particles | median | 1st percentile | 99th percentile | median speed | largest |")
-        print("|---|---|---|---|---|---|---|")
+        print(PLACE_HEADER)
         for row in rows(os.path.join(out, name), frames - 1):
             print(row)
 
