@@ -44,6 +44,17 @@ def script_arguments(doc):
     return sys.argv[1], sys.argv[2], seconds, extra
 
 
+def nearest_layer(layers, k):
+    """The value of the layer in `layers` (index: height in spacings) nearest layer k."""
+    return layers[min(layers, key=lambda j: abs(j - k))]
+
+
+def deviation_and_speed(p, interior, spacing):
+    """A particle's density against its nearest interior layer's (in %) and its speed."""
+    rho = nearest_layer(interior, int(p["y"] / spacing))
+    return 100 * (p["density"] / rho - 1), math.sqrt(p["vx"] ** 2 + p["vy"] ** 2 + p["vz"] ** 2)
+
+
 PLACE_HEADER = ("| place | particles | median | 1st pct | 99th pct | median abs | 99th pct abs | median speed | largest |\n"
                 "|---|---|---|---|---|---|---|---|---|")
 
@@ -115,14 +126,10 @@ def main(args):
         if all(not near(s, p) and distance_to(s, (p["x"], p["y"], p["z"])) >= 2 * h for s in walls + obstacles) and \
                 p["y"] < top - 2 * h:
             interior.setdefault(layer(p), []).append(p["density"])
-    reference = {k: percentile(v, 0.5) for k, v in interior.items()}
+    medians = {k: percentile(v, 0.5) for k, v in interior.items()}
     # A layer with no interior (the floor's first 2 h, every solid's reach) takes its nearest
     # interior layer's density: the interior's layers differ by ~0.1 % over 2 h.
-    for k in range(min(interior), max(interior)):
-        if k not in reference:
-            reference[k] = reference[min((j for j in interior), key=lambda j: abs(j - k))]
-    for k in range(0, min(interior)):
-        reference[k] = reference[min(interior)]
+    reference = {k: nearest_layer(medians, k) for k in range(max(interior) + 1)}
     print(f"{os.path.basename(path)}: largest speed {max(math.sqrt(p['vx']**2 + p['vy']**2 + p['vz']**2) for p in particles):.3f} m/s")
     print("| beside | particles | median deviation | 1st percentile | 99th percentile | median abs | 99th pct abs |")
     print("|---|---|---|---|---|---|---|")
@@ -133,11 +140,11 @@ def main(args):
                 if near(solid, p) and not any(near(o, p) for _, o in solids if o is not solid)
                 and layer(p) in reference and p["y"] < top - 2 * h]
         deviation = [d for _, d in rows]
+        size = [abs(d) for d in deviation]
         beside[name] = rows
         print(f"| {name} | {len(deviation)} | {100 * percentile(deviation, 0.5):+.2f} % | "
               f"{100 * percentile(deviation, 0.01):+.2f} % | {100 * percentile(deviation, 0.99):+.2f} % | "
-              f"{100 * percentile([abs(d) for d in deviation], 0.5):.2f} % | "
-              f"{100 * percentile([abs(d) for d in deviation], 0.99):.2f} % |")
+              f"{100 * percentile(size, 0.5):.2f} % | {100 * percentile(size, 0.99):.2f} % |")
     for name, solid in solids[1:] if where else []:
         if solid.get("type", "box") == "box":
             print(f"\n{name}:")

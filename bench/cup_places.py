@@ -16,7 +16,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scripts"))
-from boundary import PLACE_HEADER, place_row, read_ply, script_arguments  # noqa: E402
+from boundary import PLACE_HEADER, deviation_and_speed, place_row, read_ply, script_arguments  # noqa: E402
 from make_meshes import CUP_SECTION, lathe, write_obj  # noqa: E402
 
 SPACING = 0.02
@@ -81,10 +81,7 @@ def rows(run, frame, segments, scale):
         where = place(p, segments, scale)
         if where is None:
             continue
-        layer = int(p["y"] / SPACING)
-        rho = interior[min(interior, key=lambda k: abs(k - layer))]
-        speed = math.sqrt(p["vx"] ** 2 + p["vy"] ** 2 + p["vz"] ** 2)
-        groups.setdefault(where, []).append((100 * (p["density"] / rho - 1), speed))
+        groups.setdefault(where, []).append(deviation_and_speed(p, interior, SPACING))
     for where, v in sorted(groups.items()):
         yield place_row(where, v)
 

@@ -6,14 +6,13 @@ scenes under OUT, runs both (`--export ply`) and prints a Markdown row per place
 median deviation from the interior at the same depth, 1st and 99th percentiles, the median and
 99th percentile of |deviation|, median and largest speed.
   bench/mesh_tank.py PBFLOW OUT [SECONDS] [-- extra pbflow arguments, e.g. --device cpu]"""
-import math
 import os
 import statistics
 import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from boundary import PLACE_HEADER, place_row, read_ply, script_arguments  # noqa: E402
+from boundary import PLACE_HEADER, deviation_and_speed, place_row, read_ply, script_arguments  # noqa: E402
 
 LO, HI, SPACING = 0.02, 0.46, 0.02
 H = 2 * SPACING
@@ -55,10 +54,7 @@ def rows(run, frame):
         walls = len(near) - (2 in near)
         place = {0: "floor", 1: "wall", 2: "vertical edge"}[min(walls, 2)] if 2 not in near or walls == 0 else \
             {1: "bottom edge", 2: "bottom corner"}[min(walls, 2)]
-        layer = int(p["y"] / SPACING)
-        rho = interior[min(interior, key=lambda k: abs(k - layer))]
-        speed = math.sqrt(p["vx"] ** 2 + p["vy"] ** 2 + p["vz"] ** 2)
-        groups.setdefault(place, []).append((100 * (p["density"] / rho - 1), speed))
+        groups.setdefault(place, []).append(deviation_and_speed(p, interior, SPACING))
     for place, v in sorted(groups.items()):
         yield place_row(place, v)
 
