@@ -10,8 +10,8 @@ A layer with no interior (the floor's first 2 h) is held to the nearest one that
 density differs by ~0.1 %. Prints a Markdown row per solid: particles, median deviation, 1st and
 99th percentiles, and the median and 99th percentile of its size (issue 65's bars); and the
 frame's largest speed. With --where, each box obstacle's particles are split by where they stand
-(above its top face, beside a side face, round an edge or corner) and their distance from it in
-half spacings.
+(above its top face, under its bottom face, beside a side face, round an edge or corner) and
+their distance from it in half spacings.
   bench/boundary.py [--where] RUN_DIR [FRAME]     (FRAME: default the last)"""
 import glob
 import json
@@ -85,9 +85,12 @@ def percentile(values, q):
 
 
 def place(box, p):
-    """Where p stands beside a box: above its top face, beside a side face, or round an edge."""
+    """Where p stands beside a box: above its top face, under its bottom face, beside a side
+    face, or round an edge."""
     out = [a for a in range(3) if p[a] < box["min"][a] or p[a] > box["max"][a]]
-    return "above its top face" if out == [1] else "beside a side face" if len(out) == 1 else "round an edge or corner"
+    if out == [1]:
+        return "above its top face" if p[1] > box["max"][1] else "under its bottom face"
+    return "beside a side face" if len(out) == 1 else "round an edge or corner"
 
 
 def print_places(box, rows, spacing):
