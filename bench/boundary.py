@@ -9,9 +9,10 @@ interior: farther than 2 kernel radii from every solid and below the free surfac
 A layer with no interior (the floor's first 2 h) is held to the nearest one that has, whose
 density differs by ~0.1 %. Prints a Markdown row per solid: particles, median deviation, 1st and
 99th percentiles, and the median and 99th percentile of its size (issue 65's bars); and the
-frame's largest speed. With --where, each box obstacle's particles are split by where they stand
-(above its top face, under its bottom face, beside a side face, round an edge or corner) and
-their distance from it in half spacings.
+frame's largest speed. With --where, each box's and sphere's particles are split by where they
+stand (a box: above its top face, under its bottom face, beside a side face, round an edge or
+corner; a sphere: over or under its caps within 45 degrees of the vertical, beside its upper or
+lower side) and their distance from it in half spacings.
   bench/boundary.py [--where] RUN_DIR [FRAME]     (FRAME: default the last)"""
 import glob
 import json
@@ -84,21 +85,27 @@ def percentile(values, q):
     return s[min(len(s) - 1, max(0, int(round(q * (len(s) - 1)))))] if s else float("nan")
 
 
-def place(box, p):
-    """Where p stands beside a box: above its top face, under its bottom face, beside a side
-    face, or round an edge."""
+def place(solid, p):
+    """Where p stands beside a solid: a box's top face, bottom face, side face or edges; a
+    sphere's cap within 45 degrees of the top or the bottom, or its upper or lower side."""
+    if solid.get("type") == "sphere":
+        c = solid["centre"]
+        up = (p[1] - c[1]) / max(math.dist(p, c), 1e-12)
+        return ("over its top cap" if up > math.sqrt(0.5) else "beside its upper side" if up > 0 else
+                "beside its lower side" if up > -math.sqrt(0.5) else "under its bottom cap")
+    box = solid
     out = [a for a in range(3) if p[a] < box["min"][a] or p[a] > box["max"][a]]
     if out == [1]:
         return "above its top face" if p[1] > box["max"][1] else "under its bottom face"
     return "beside a side face" if len(out) == 1 else "round an edge or corner"
 
 
-def print_places(box, rows, spacing):
-    """rows: (position, deviation) of one box's particles; a row per place and distance."""
+def print_places(solid, rows, spacing):
+    """rows: (position, deviation) of one solid's particles; a row per place and distance."""
     groups = {}
     for p, deviation in rows:
-        distance = round(distance_to(box, p) / spacing * 2) / 2
-        groups.setdefault((place(box, p), distance), []).append(deviation)
+        distance = round(distance_to(solid, p) / spacing * 2) / 2
+        groups.setdefault((place(solid, p), distance), []).append(deviation)
     print("| where | distance | particles | median | least |")
     print("|---|---|---|---|---|")
     for (where, distance), v in sorted(groups.items()):
@@ -149,7 +156,7 @@ def main(args):
               f"{100 * percentile(deviation, 0.01):+.2f} % | {100 * percentile(deviation, 0.99):+.2f} % | "
               f"{100 * percentile(size, 0.5):.2f} % | {100 * percentile(size, 0.99):.2f} % |")
     for name, solid in solids[1:] if where else []:
-        if solid.get("type", "box") == "box":
+        if solid.get("type", "box") in ("box", "sphere"):
             print(f"\n{name}:")
             print_places(solid, beside[name], spacing)
 

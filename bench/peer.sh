@@ -12,10 +12,8 @@
 # Time: the peer's is its own "Time sum: SimStep" (the steps only: no set-up, volume map or
 # export); pbflow's the whole run's wall time (set-up, measures and stats included), so the
 # ratio leans the peer's way.
-# The peer: SPlisHSPlasH at $commit, cloned into $PEER_SRC (any path; default
-# bench_out/peer/SPlisHSPlasH) and built there once (~10 min on two cores). Its GUI library
-# needs X11 headers, which this script installs (Debian packages, as scripts/setup.sh does).
-# A machine without network brings its own checkout: PEER_SRC=DIR, used as it is.
+# The peer: SPlisHSPlasH at a pinned commit, built once by bench/peer/build.sh (PEER_SRC=DIR
+# names a checkout of its own on a machine without network).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 rounds="${1:-3}" ours_iterations="${2:-3}" peer_iterations="${3:-4}"
@@ -23,22 +21,9 @@ for n in "$rounds" "$ours_iterations" "$peer_iterations"; do
   [[ "$n" =~ ^[1-9][0-9]*$ ]] ||
     { echo "peer.sh: ROUNDS and the iteration counts must be positive whole numbers (got '$n')" >&2; exit 2; }
 done
-commit=c5a063ddd33d0172ce951f412fec769929ff57ee
-# Absolute: the peer resolves a scene's relative paths against its own bin/.
-src="$(realpath -m "${PEER_SRC:-bench_out/peer/SPlisHSPlasH}")"
-sim="$src/bin/SPHSimulator"
 [ -x build/pbflow ] || { echo "peer.sh: build/pbflow is missing: run scripts/setup.sh first" >&2; exit 1; }
-
-if [ ! -x "$sim" ]; then
-  if [ ! -d "$src" ]; then
-    git clone https://github.com/InteractiveComputerGraphics/SPlisHSPlasH "$src" ||
-      { echo "peer.sh: cannot clone SPlisHSPlasH (no network?): set PEER_SRC to a checkout" >&2; exit 1; }
-    git -C "$src" checkout -q "$commit"
-  fi
-  scripts/install-packages.sh libxrandr-dev libxinerama-dev libxcursor-dev libxi-dev libgl-dev
-  cmake -S "$src" -B "$src/build" -DCMAKE_BUILD_TYPE=Release -DUSE_PYTHON_BINDINGS=OFF
-  cmake --build "$src/build" --target SPHSimulator -j "$(nproc)"
-fi
+sim="$(bench/peer/build.sh)"
+src="$(dirname "$(dirname "$sim")")"
 # The scene names its tank's mesh relative to itself: it goes beside the peer's own scenes,
 # with the peer's iterations and its densities exported for its compression.
 scene="$src/data/Scenes/peer_dam_break_pbf$peer_iterations.json"
