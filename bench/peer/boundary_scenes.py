@@ -9,7 +9,7 @@ volume maps, Bender et al. 2019).
   boundary_scenes.py scenes RUN_JSON OUT_DIR FILL_VTK SECONDS
       -> OUT_DIR/fluid.pda (that lattice less what lies in or within 1.5 radii of an obstacle),
          sphere.obj, scene.json (the pbflow scene at the peer's spacing, for bench/boundary.py),
-         and a peer scene per variant: dfsph2.json, dfsph.json, pbf2.json (VARIANTS)"""
+         and a peer scene per variant: dfsph2.json, dfsph.json, pbf2.json, pbf2cfl.json (VARIANTS)"""
 import json
 import math
 import os
@@ -37,6 +37,8 @@ VARIANTS = {
                             "enableDivergenceSolver": True}}, None),
     "pbf2": (2, {"PBF": {"minIterations": 2, "maxIterations": 2, "maxError": 0.01, "velocityUpdateMethod": 0}},
              "pbflow"),
+    "pbf2cfl": (2, {"PBF": {"minIterations": 2, "maxIterations": 2, "maxError": 0.01, "velocityUpdateMethod": 0}},
+                None),
 }
 
 
@@ -88,7 +90,8 @@ def peer_scene(config, rigid, fluid):
 def fill(scene, out, unit_box):
     block = scene["fluid_blocks"][0]
     top = block["min"][1] + FILL_HEIGHT * (block["max"][1] - block["min"][1])
-    s = peer_scene(configuration(scene, 0.01, 4, VARIANTS["dfsph2"][1], None), [box_body(scene["domain"], unit_box, True)], [])
+    tank = [box_body(scene["domain"], unit_box, True)]
+    s = peer_scene(configuration(scene, 0.01, 4, VARIANTS["dfsph2"][1], None), tank, [])
     del s["FluidModels"]
     s["FluidBlocks"] = [{"denseMode": 0, "start": block["min"], "end": [block["max"][0], top, block["max"][2]]}]
     json.dump(s, open(os.path.join(out, "fill.json"), "w"), indent=1)
