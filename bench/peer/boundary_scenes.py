@@ -54,7 +54,7 @@ def box_body(box, unit_box, tank):
             "rotationAxis": [1, 0, 0], "rotationAngle": 0, "mapThickness": 0.0, "mapResolution": [40, 40, 40]}
 
 
-def bodies(scene, unit_box, sphere):
+def rigid_bodies(scene, unit_box, sphere):
     out = [box_body(scene["domain"], unit_box, True)]
     for o in scene.get("obstacles", []):
         if o.get("type") == "sphere":
@@ -114,7 +114,7 @@ def scenes(scene, out, unit_box, fill_vtk, seconds):
     v, faces = icosphere(5)  # a unit sphere, edges ~0.06 of its radius
     sphere = os.path.join(out, "sphere.obj")
     write_obj(sphere, v, faces)
-    rigid = bodies(scene, unit_box, sphere)
+    rigid = rigid_bodies(scene, unit_box, sphere)
     fluid = [{"particleFile": os.path.join(out, "fluid.pda"), "translation": [0, 0, 0], "scale": [1, 1, 1]}]
     for name, (method, solver, step) in VARIANTS.items():
         s = peer_scene(configuration(scene, seconds, method, solver, step), rigid, fluid)
