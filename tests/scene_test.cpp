@@ -36,7 +36,9 @@ TEST_F(SceneTest, EveryBuiltinSceneRunsAFewFramesInsideItsDomain) {
     EXPECT_TRUE(std::isfinite(s.kinetic_energy)) << b.name;
     ParticleState state = solver->download();
     ASSERT_EQ(state.x.size(), s.count);
-    if (scene.emitters.empty() && scene.drains.empty()) ASSERT_EQ(state.x.size(), x0.size()) << b.name;
+    if (scene.emitters.empty() && scene.drains.empty()) {
+      ASSERT_EQ(state.x.size(), x0.size()) << b.name;
+    }
     for (const glm::dvec3& x : state.x) {
       ASSERT_TRUE(finite(x)) << b.name;
       ASSERT_TRUE(glm::all(glm::greaterThanEqual(x, scene.domain.min)) &&
