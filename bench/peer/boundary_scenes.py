@@ -29,16 +29,16 @@ VOLUME_FACTOR = 0.8
 # the surface stands where pbflow's does (bench/boundary.py leaves out 2 h below it).
 FILL_HEIGHT = 1.25
 
+# The peer's PBF at 2 iterations, as pbflow's pbf@2.
+PBF2 = {"PBF": {"minIterations": 2, "maxIterations": 2, "maxError": 0.01, "velocityUpdateMethod": 0}}
 # variant -> (simulationMethod, the solver's block, fixed step or None for the peer's CFL step).
 VARIANTS = {
     "dfsph2": (4, {"DFSPH": {"maxIterations": 2, "maxError": 0.01, "maxIterationsV": 2, "maxErrorV": 0.1,
                              "enableDivergenceSolver": True}}, None),
     "dfsph": (4, {"DFSPH": {"maxIterations": 100, "maxError": 0.01, "maxIterationsV": 100, "maxErrorV": 0.1,
                             "enableDivergenceSolver": True}}, None),
-    "pbf2": (2, {"PBF": {"minIterations": 2, "maxIterations": 2, "maxError": 0.01, "velocityUpdateMethod": 0}},
-             "pbflow"),
-    "pbf2cfl": (2, {"PBF": {"minIterations": 2, "maxIterations": 2, "maxError": 0.01, "velocityUpdateMethod": 0}},
-                None),
+    "pbf2": (2, PBF2, "pbflow"),
+    "pbf2cfl": (2, PBF2, None),
 }
 
 
