@@ -93,10 +93,9 @@ def place(solid, p):
         up = (p[1] - c[1]) / max(math.dist(p, c), 1e-12)
         return ("over its top cap" if up > math.sqrt(0.5) else "beside its upper side" if up > 0 else
                 "beside its lower side" if up > -math.sqrt(0.5) else "under its bottom cap")
-    box = solid
-    out = [a for a in range(3) if p[a] < box["min"][a] or p[a] > box["max"][a]]
+    out = [a for a in range(3) if p[a] < solid["min"][a] or p[a] > solid["max"][a]]
     if out == [1]:
-        return "above its top face" if p[1] > box["max"][1] else "under its bottom face"
+        return "above its top face" if p[1] > solid["max"][1] else "under its bottom face"
     return "beside a side face" if len(out) == 1 else "round an edge or corner"
 
 

@@ -46,21 +46,24 @@ def radius(scene):
     return scene["particle_spacing"] / (2 * VOLUME_FACTOR ** (1 / 3))
 
 
+def rigid_body(mesh, translation, scale, tank=False):
+    """A static peer rigid body with a volume map of 40^3 nodes; a tank's map inverted."""
+    return {"geometryFile": mesh, "isDynamic": False, "isWall": tank, "mapInvert": tank,
+            "translation": translation, "scale": scale, "rotationAxis": [1, 0, 0], "rotationAngle": 0,
+            "mapThickness": 0.0, "mapResolution": [40, 40, 40]}
+
+
 def box_body(box, unit_box, tank):
-    """A peer rigid body: the peer's unit box stretched over box {min, max}; a tank inverted."""
-    return {"geometryFile": unit_box, "isDynamic": False, "isWall": tank, "mapInvert": tank,
-            "translation": [(a + b) / 2 for a, b in zip(box["min"], box["max"])],
-            "scale": [b - a for a, b in zip(box["min"], box["max"])],
-            "rotationAxis": [1, 0, 0], "rotationAngle": 0, "mapThickness": 0.0, "mapResolution": [40, 40, 40]}
+    """The peer's unit box stretched over box {min, max}."""
+    return rigid_body(unit_box, [(a + b) / 2 for a, b in zip(box["min"], box["max"])],
+                      [b - a for a, b in zip(box["min"], box["max"])], tank)
 
 
 def rigid_bodies(scene, unit_box, sphere):
     out = [box_body(scene["domain"], unit_box, True)]
     for o in scene.get("obstacles", []):
         if o.get("type") == "sphere":
-            out.append({"geometryFile": sphere, "isDynamic": False, "isWall": False, "mapInvert": False,
-                        "translation": o["centre"], "scale": [o["radius"]] * 3, "rotationAxis": [1, 0, 0],
-                        "rotationAngle": 0, "mapThickness": 0.0, "mapResolution": [40, 40, 40]})
+            out.append(rigid_body(sphere, o["centre"], [o["radius"]] * 3))
         elif o.get("type", "box") == "box":
             out.append(box_body(o, unit_box, False))
         else:

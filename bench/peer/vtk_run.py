@@ -12,18 +12,21 @@ import re
 import struct
 import sys
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from peer.compression import frame_number  # noqa: E402
-
 
 def field(data, header, components):
     """The values after a header line of the form `NAME COMPONENTS N TYPE`, or `POINTS N TYPE`."""
     m = re.search(rb"\n" + header + rb" (\d+) (float|double)\n", data)
     if not m:
-        raise SystemExit(f"vtk_run.py: no {header.decode()} in a VTK file")
+        raise SystemExit(f"no {header.decode()} field in a SPlisHSPlasH VTK file")
     n, kind = int(m.group(1)), "f" if m.group(2) == b"float" else "d"
     values = struct.unpack_from(f">{components * n}{kind}", data, m.end())
     return [values[k * components:(k + 1) * components] for k in range(n)]
+
+
+def frame_number(path):
+    """The last number in a peer file's name: its frame, for sorting."""
+    found = re.findall(r"(\d+)", path)
+    return int(found[-1]) if found else 0
 
 
 def write_ply(path, rows):
